@@ -1,0 +1,55 @@
+//! Bending–torsion energy of one vertex, paper eq. (6):
+//! `W = h̄ ½ ΔKᵀ C_K ΔK`, `K = 2 log(q_a* q_b)/h̄`, `ΔK = K − K0`.
+//!
+//! At an attached end the vertex-based boundary frame (`q_0` or `q_N`) plays the role of
+//! `q_a` or `q_b` and `h̄` is the half-cell weight `h/2` (DESIGN §1).
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+use super::{ElementDerivatives, RelativeRotation};
+
+/// Inputs of one vertex element; local unknowns `(δθ_a, δθ_b)`.
+#[derive(Clone, Copy, Debug)]
+pub struct BendTwist<'a> {
+    /// Frame before the vertex (`q_{j-1/2}` or the boundary frame `q_0`).
+    pub frame_a: &'a UnitQuaternion<f64>,
+    /// Frame after the vertex (`q_{j+1/2}` or the boundary frame `q_N`).
+    pub frame_b: &'a UnitQuaternion<f64>,
+    /// Vertex weight `h̄_j` in m.
+    pub weight: f64,
+    /// `diag(C_K) = (EI1, EI2, GJ)` in N·m².
+    pub stiffness: &'a Vector3<f64>,
+    /// Stress-free curvature `K0` in 1/m.
+    pub rest_curvature: &'a Vector3<f64>,
+}
+
+impl BendTwist<'_> {
+    /// The material curvature `K` in 1/m.
+    pub fn curvature(&self) -> Vector3<f64> {
+        crate::so3::relative_rotation_vector(self.frame_a, self.frame_b) / self.weight
+    }
+
+    /// Element energy in J.
+    pub fn energy(&self) -> f64 {
+        let delta = self.curvature() - self.rest_curvature;
+        0.5 * self.weight * delta.dot(&self.stiffness.component_mul(&delta))
+    }
+}
+
+/// Energy, gradient and Hessian of the vertex element in `(δθ_a, δθ_b)`.
+///
+/// With `M = C_K ΔK` the gradient is `Jᵀ M` (`J = ∂φ/∂(α, β)`), the Hessian
+/// `Jᵀ C_K J / h̄ + ∇²(M·φ)`. The `β` part of the gradient, rotated to space by `R_b`,
+/// is the exact spatial moment the vertex transmits (see [`crate::sectional`]).
+pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
+    let rel = RelativeRotation::new(e.frame_a, e.frame_b);
+    let delta = rel.phi / e.weight - e.rest_curvature;
+    let moment = e.stiffness.component_mul(&delta);
+    let c = Matrix3::from_diagonal(e.stiffness);
+    let hessian = rel.jacobian.transpose() * c * rel.jacobian / e.weight + rel.contracted_hessian(&moment);
+    ElementDerivatives {
+        energy: 0.5 * e.weight * delta.dot(&moment),
+        gradient: rel.jacobian.transpose() * moment,
+        hessian,
+    }
+}
