@@ -1,1 +1,28 @@
-//! placeholder
+//! # strand-system
+//!
+//! Rods plus supports assembled into one energy minimisation (DESIGN §2).
+//!
+//! A [`System`] lists rods with their end conditions and loads. [`Model::try_new`]
+//! validates it and performs the *symbolic* phase once: the numbering of unknowns
+//! ([`Dofs`]; attached vertices and boundary frames are eliminated, not constrained) and
+//! the fixed sparsity pattern of the Hessian with the scatter map of every element.
+//! [`Model::evaluate`] is the *numeric* phase: energy, gradient and Hessian values of a
+//! [`SystemState`]. Reactions follow from the gradient with respect to the eliminated
+//! coordinates.
+
+mod dofs;
+mod initial;
+mod model;
+mod pattern;
+mod reactions;
+mod system;
+
+pub use dofs::{BlockKind, Dofs};
+pub use initial::initial_state;
+pub use model::{Evaluation, Model, Residual};
+pub use pattern::HessianPattern;
+pub use reactions::Reaction;
+pub use system::{End, EndLoad, RodHandle, RodSpec, Support, System, SystemError, SystemState};
+
+#[cfg(test)]
+mod tests;

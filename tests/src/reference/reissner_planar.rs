@@ -328,6 +328,52 @@ fn newton_clamp_moment(
     (gm.abs() < ACCEPT_RESIDUAL).then_some(m)
 }
 
+/// Natural-parameter continuation `μ: 0 → 1` for `K` unknowns.
+///
+/// `solve(μ, predictor)` runs a corrector (Newton) from the predictor.
+/// The predictor is the secant extrapolation of the last two converged
+/// points.  A step is rejected (and halved) if the corrector fails or lands
+/// farther than `0.25 (|u| + scale)` from the predictor in any component,
+/// which keeps the path on one continuous solution branch.
+///
+/// # Panics
+/// If the step size drops below 1e-8 (limit point or non-convergence).
+fn continuation<const K: usize>(
+    start: [f64; K],
+    scales: [f64; K],
+    max_step: f64,
+    what: &str,
+    solve: impl Fn(f64, [f64; K]) -> Option<[f64; K]>,
+) -> [f64; K] {
+    let (mut prev, mut last) = ((0.0, start), (0.0, start));
+    let mut step = max_step;
+    while last.0 < 1.0 {
+        let mu = (last.0 + step).min(1.0);
+        let predictor: [f64; K] = std::array::from_fn(|j| {
+            if last.0 > prev.0 {
+                last.1[j] + (last.1[j] - prev.1[j]) / (last.0 - prev.0) * (mu - last.0)
+            } else {
+                last.1[j]
+            }
+        });
+        let accepted = solve(mu, predictor).filter(|u| {
+            (0..K).all(|j| (u[j] - predictor[j]).abs() <= 0.25 * (last.1[j].abs() + scales[j]))
+        });
+        match accepted {
+            Some(u) => {
+                prev = last;
+                last = (mu, u);
+                step = (1.5 * step).min(max_step);
+            }
+            None => {
+                step *= 0.5;
+                assert!(step > 1e-8, "{what}: continuation failed at μ = {}", last.0);
+            }
+        }
+    }
+    last.1
+}
+
 /// Equilibrium of the rod under the dead tip load `force = [nₓ, n_y]` (N)
 /// with a moment-free tip, using the default integrator.
 ///
@@ -347,36 +393,11 @@ pub fn dead_load_tip(p: &PlanarRod, force: [f64; 2]) -> PlanarSolution {
 /// # Panics
 /// If the continuation fails.
 pub fn dead_load_tip_with(p: &PlanarRod, force: [f64; 2], integ: &Gbs) -> PlanarSolution {
-    let scaled = |lambda: f64| [lambda * force[0], lambda * force[1]];
-    // (λ, m0) of the last two converged points, for a secant predictor.
-    let mut prev: (f64, f64) = (0.0, 0.0);
-    let mut last: (f64, f64) = (0.0, 0.0);
-    let mut d_lambda = 1.0 / 20.0;
-    while last.0 < 1.0 {
-        let lambda = (last.0 + d_lambda).min(1.0);
-        let slope = if last.0 > prev.0 {
-            (last.1 - prev.1) / (last.0 - prev.0)
-        } else {
-            0.0
-        };
-        let predictor = last.1 + slope * (lambda - last.0);
-        match newton_clamp_moment(p, scaled(lambda), predictor, integ, 20) {
-            Some(m0) => {
-                prev = last;
-                last = (lambda, m0);
-                d_lambda = (1.5 * d_lambda).min(1.0 / 20.0);
-            }
-            None => {
-                d_lambda *= 0.5;
-                assert!(
-                    d_lambda > 1e-8,
-                    "dead_load_tip: load continuation failed at λ = {}",
-                    last.0
-                );
-            }
-        }
-    }
-    integrate_ivp_with(p, force, last.1, integ)
+    let [m0] = continuation([0.0], [p.moment_scale()], 1.0 / 20.0, "dead_load_tip", |lambda, [pred]| {
+        let f = [lambda * force[0], lambda * force[1]];
+        newton_clamp_moment(p, f, pred, integ, 20).map(|m| [m])
+    });
+    integrate_ivp_with(p, force, m0, integ)
 }
 
 /// Scaled residual `[m(L) L/EI, (x(L) − X)/L, (y(L) − Y)/L]` of the
@@ -425,7 +446,6 @@ fn newton_position(
             }
         }
         let step = jac.lu().solve(&nalgebra::Vector3::from(r_vec))?;
-        eprintln!("  u {u:?} r {r:e} step {step:?} det {}", jac.determinant());
         let trial = |alpha: f64| -> [f64; 3] { std::array::from_fn(|j| u[j] - alpha * step[j]) };
         let mut alpha = 1.0;
         let mut r_new_vec = residual(trial(alpha));
@@ -455,9 +475,13 @@ fn newton_position(
 /// the rod).
 ///
 /// Method: the dead-load equilibrium for `guess_force` (N) is computed
-/// first; then the prescribed tip is moved from that equilibrium's tip to
-/// `tip` in adaptive continuation steps, each solved by Newton on
-/// `(m₀, f₁, f₂)` with a finite-difference Jacobian.
+/// first; then the prescribed tip is moved quasi-statically from that
+/// equilibrium's tip to `tip` (polar angle linear, chord length quadratic
+/// in the path parameter) in adaptive continuation steps, each solved by
+/// Newton on `(m₀, f₁, f₂)` with a finite-difference Jacobian.  Position
+/// control does not select a unique equilibrium in general; the one
+/// returned is the end of this path, so pass a `guess_force` close to the
+/// expected force (`[0, 0]` works for moderate deflections).
 ///
 /// # Panics
 /// If the continuation fails (e.g. for an unreachable tip position).
@@ -476,35 +500,38 @@ pub fn position_controlled_with(
     integ: &Gbs,
 ) -> PlanarSolution {
     let start = dead_load_tip_with(p, guess_force, integ);
-    let start_tip = start.tip;
-    let target = |mu: f64| -> [f64; 2] {
-        [
-            start_tip[0] + mu * (tip[0] - start_tip[0]),
-            start_tip[1] + mu * (tip[1] - start_tip[1]),
-        ]
-    };
-    let mut u = [start.clamp_moment, guess_force[0], guess_force[1]];
-    let mut mu: f64 = 0.0;
-    let mut d_mu: f64 = 1.0;
-    while mu < 1.0 {
-        let mu_next = (mu + d_mu).min(1.0);
-        match newton_position(p, target(mu_next), u, integ, 30) {
-            Some(u_new) => {
-                u = u_new;
-                mu = mu_next;
-                d_mu = (2.0 * d_mu).min(1.0);
-            }
-            None => {
-                eprintln!("fail mu {mu} d_mu {d_mu} u {u:?} target {:?}", target(mu_next));
-                d_mu *= 0.5;
-                assert!(
-                    d_mu > 1e-8,
-                    "position_controlled: continuation failed at μ = {mu}"
-                );
-            }
-        }
-    }
+    let path = tip_path(start.tip, tip);
+    let u0 = [start.clamp_moment, guess_force[0], guess_force[1]];
+    let scales = [p.moment_scale(), p.force_scale(), p.force_scale()];
+    let u = continuation(u0, scales, 0.25, "position_controlled", |mu, pred| {
+        newton_position(p, path(mu), pred, integ, 30)
+    });
     integrate_ivp_with(p, [u[1], u[2]], u[0], integ)
+}
+
+/// Path of prescribed tip positions from `from` (μ = 0) to `to` (μ = 1)
+/// in polar coordinates about the clamp: the polar angle varies linearly
+/// and the chord length quadratically in μ.  Near the straight rod the
+/// chord shortening of a bent rod is quadratic in the tip deflection, so
+/// this path stays close to low-force equilibria (a straight segment would
+/// demand huge compressive forces and end on higher buckling modes).
+fn tip_path(from: [f64; 2], to: [f64; 2]) -> impl Fn(f64) -> [f64; 2] {
+    let (rho0, psi0) = (from[0].hypot(from[1]), from[1].atan2(from[0]));
+    let (rho1, psi1) = (to[0].hypot(to[1]), to[1].atan2(to[0]));
+    let mut d_psi = psi1 - psi0;
+    if d_psi > std::f64::consts::PI {
+        d_psi -= 2.0 * std::f64::consts::PI;
+    } else if d_psi < -std::f64::consts::PI {
+        d_psi += 2.0 * std::f64::consts::PI;
+    }
+    move |mu: f64| {
+        if mu >= 1.0 {
+            return to;
+        }
+        let rho = rho0 + mu * mu * (rho1 - rho0);
+        let (sn, cs) = (psi0 + mu * d_psi).sin_cos();
+        [rho * cs, rho * sn]
+    }
 }
 
 #[cfg(test)]
@@ -637,7 +664,13 @@ mod tests {
     #[test]
     fn position_controlled_recovers_dead_load() {
         let rod = lead_rod();
-        for (force, guess) in [([2.0, 1.0], [0.0, 0.0]), ([17.8, -12.8], [10.0, -5.0])] {
+        let cases = [
+            ([2.0, 1.0], [0.0, 0.0]),
+            ([2.0, 1.0], [1.0, 3.0]),
+            ([17.8, -12.8], [0.0, 0.0]),
+            ([17.8, -12.8], [10.0, -5.0]),
+        ];
+        for (force, guess) in cases {
             let dead = dead_load_tip(&rod, force);
             let pc = position_controlled(&rod, dead.tip, guess);
             assert!((pc.force[0] - force[0]).abs() < 1e-8, "{:?}", pc.force);
@@ -665,20 +698,5 @@ mod tests {
         let ax = dead_load_tip(&rod, [5.0, 0.0]);
         assert!((ax.tip[0] - l * (1.0 + 5.0 / rod.ea)).abs() < 1e-14);
         assert!(ax.tip[1].abs() < 1e-15 && ax.clamp_moment.abs() < 1e-15);
-    }
-}
-#[cfg(test)]
-mod diag {
-    use super::*;
-    #[test]
-    fn diag_print() {
-        for rod in [PlanarRod::new(1.0, 1.0, 1e4, 3e4), PlanarRod::new(1.0, 1.0, 1e12, 1e12), PlanarRod::kirchhoff(1.0, 1.0)] {
-            for force in [[2.0, 1.0], [17.8, -12.8]] {
-                for integ in [Gbs::default(), Gbs::new(128, 8), Gbs::new(40, 10), Gbs::new(256,6)] {
-                    let s = dead_load_tip_with(&rod, force, &integ);
-                    println!("{:?} {:?} {:?}: tip {:.15} {:.15} m0 {:.15} mL {:e}", rod.ea, force, integ, s.tip[0], s.tip[1], s.clamp_moment, s.tip_moment);
-                }
-            }
-        }
     }
 }

@@ -1,0 +1,90 @@
+//! Numbering of the unknowns: 3-blocks of vertex positions and edge rotation increments.
+//! Vertices held by a support are eliminated (they have no block).
+
+use crate::system::System;
+
+/// What a 3-block of unknowns is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockKind {
+    /// A vertex position (m); its gradient is a force (N).
+    Position,
+    /// An edge rotation increment (rad); its gradient is a moment (N·m).
+    Rotation,
+}
+
+/// Block numbering of a system's unknowns.
+#[derive(Clone, Debug)]
+pub struct Dofs {
+    vertex_blocks: Vec<Vec<Option<usize>>>,
+    edge_blocks: Vec<Vec<usize>>,
+    kinds: Vec<BlockKind>,
+    force_scale: Vec<f64>,
+}
+
+impl Dofs {
+    /// Numbers the unknowns rod by rod, interleaving vertices and edges along each rod
+    /// (a narrow band before any fill-reducing ordering).
+    pub fn new(system: &System) -> Self {
+        let mut dofs = Self { vertex_blocks: vec![], edge_blocks: vec![], kinds: vec![], force_scale: vec![] };
+        for spec in &system.rods {
+            let n = spec.rod.segments();
+            let mut vertices = vec![None; n + 1];
+            let mut edges = Vec::with_capacity(n);
+            for j in 0..=n {
+                let held = (j == 0 && spec.start.support.position().is_some())
+                    || (j == n && spec.end.support.position().is_some());
+                if !held {
+                    vertices[j] = Some(dofs.push(BlockKind::Position, 1.0));
+                }
+                if j < n {
+                    edges.push(dofs.push(BlockKind::Rotation, spec.rod.edge_length(j)));
+                }
+            }
+            dofs.vertex_blocks.push(vertices);
+            dofs.edge_blocks.push(edges);
+        }
+        dofs
+    }
+
+    fn push(&mut self, kind: BlockKind, scale: f64) -> usize {
+        self.kinds.push(kind);
+        self.force_scale.push(scale);
+        self.kinds.len() - 1
+    }
+
+    /// Number of 3-blocks.
+    pub fn block_count(&self) -> usize {
+        self.kinds.len()
+    }
+
+    /// Number of scalar unknowns (3 per block).
+    pub fn len(&self) -> usize {
+        3 * self.kinds.len()
+    }
+
+    /// Whether there are no unknowns at all.
+    pub fn is_empty(&self) -> bool {
+        self.kinds.is_empty()
+    }
+
+    /// Block of vertex `j` of rod `rod`, `None` if it is held by a support.
+    pub fn vertex(&self, rod: usize, vertex: usize) -> Option<usize> {
+        self.vertex_blocks[rod][vertex]
+    }
+
+    /// Block of the rotation of edge `e` of rod `rod`.
+    pub fn edge(&self, rod: usize, edge: usize) -> usize {
+        self.edge_blocks[rod][edge]
+    }
+
+    /// Kind of a block.
+    pub fn kind(&self, block: usize) -> BlockKind {
+        self.kinds[block]
+    }
+
+    /// Length (m) that turns the block's gradient into a force: 1 for positions, the
+    /// edge length for rotations (a moment per edge length is a force).
+    pub fn force_scale(&self, block: usize) -> f64 {
+        self.force_scale[block]
+    }
+}

@@ -1,0 +1,114 @@
+//! Initial guesses: a route polyline when the case gives one, otherwise a cubic Hermite
+//! curve between the held ends whose length matches the rod, or a straight rod hanging
+//! from its only held end. Frames follow the curve by parallel transport from the
+//! start's boundary frame.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use strand_rod::so3::frame_with_tangent;
+use strand_rod::RodState;
+
+use crate::system::{RodSpec, System, SystemState};
+
+/// The initial configuration of every rod.
+pub fn initial_state(system: &System) -> SystemState {
+    SystemState { rods: system.rods.iter().map(initial_rod_state).collect() }
+}
+
+fn initial_rod_state(spec: &RodSpec) -> RodState {
+    let length = spec.rod.length();
+    let start = &spec.start.support;
+    let end = &spec.end.support;
+    let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
+    let polyline: Vec<Vector3<f64>> = if let Some(route) = spec.route.as_ref().filter(|r| r.len() >= 2) {
+        route.clone()
+    } else {
+        match (start.position(), end.position()) {
+            (Some(a), Some(b)) => {
+                let chord = b - a;
+                let direction = if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() };
+                let t0 = tangent_of(start.frame()).unwrap_or(direction);
+                let t1 = tangent_of(end.frame()).unwrap_or(direction);
+                hermite_with_length(a, t0, b, t1, length)
+            }
+            (Some(a), None) => {
+                let t = tangent_of(start.frame()).unwrap_or(Vector3::x());
+                vec![a, a + t * length]
+            }
+            (None, Some(b)) => {
+                let t = tangent_of(end.frame()).unwrap_or(Vector3::x());
+                vec![b - t * length, b]
+            }
+            (None, None) => vec![Vector3::zeros(), Vector3::x() * length],
+        }
+    };
+    let positions = resample(&polyline, &spec.rod.arc_lengths(), length);
+    let first_frame = start.frame().unwrap_or_else(|| {
+        let t = positions[1] - positions[0];
+        frame_with_tangent(&t, &UnitQuaternion::identity())
+    });
+    let mut frames = Vec::with_capacity(spec.rod.segments());
+    let mut frame = first_frame;
+    for e in 0..spec.rod.segments() {
+        let t = positions[e + 1] - positions[e];
+        if t.norm() > 0.0 {
+            frame = frame_with_tangent(&t, &frame);
+        }
+        frames.push(frame);
+    }
+    RodState { positions, frames }
+}
+
+/// Points at the fractions `s / length` of the polyline's arc length.
+fn resample(polyline: &[Vector3<f64>], arc_lengths: &[f64], length: f64) -> Vec<Vector3<f64>> {
+    let mut cumulative = vec![0.0];
+    for w in polyline.windows(2) {
+        cumulative.push(cumulative.last().unwrap() + (w[1] - w[0]).norm());
+    }
+    let total = *cumulative.last().unwrap();
+    let mut segment = 0;
+    arc_lengths
+        .iter()
+        .map(|s| {
+            let target = total * s / length;
+            while segment + 2 < cumulative.len() && cumulative[segment + 1] < target {
+                segment += 1;
+            }
+            let span = cumulative[segment + 1] - cumulative[segment];
+            let t = if span > 0.0 { ((target - cumulative[segment]) / span).clamp(0.0, 1.0) } else { 0.0 };
+            polyline[segment] + (polyline[segment + 1] - polyline[segment]) * t
+        })
+        .collect()
+}
+
+/// A cubic Hermite curve from `a` (tangent `t0`) to `b` (tangent `t1`) sampled densely,
+/// with the tangent magnitude chosen by bisection so that its length is `length` (or as
+/// close as a Hermite curve gets).
+fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: Vector3<f64>, length: f64) -> Vec<Vector3<f64>> {
+    const SAMPLES: usize = 400;
+    let curve = |scale: f64| -> Vec<Vector3<f64>> {
+        (0..=SAMPLES)
+            .map(|i| {
+                let t = i as f64 / SAMPLES as f64;
+                let (t2, t3) = (t * t, t * t * t);
+                a * (2.0 * t3 - 3.0 * t2 + 1.0)
+                    + t0 * scale * (t3 - 2.0 * t2 + t)
+                    + b * (-2.0 * t3 + 3.0 * t2)
+                    + t1 * scale * (t3 - t2)
+            })
+            .collect()
+    };
+    let curve_length = |points: &[Vector3<f64>]| points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
+    let (mut lo, mut hi) = (0.0, 6.0 * length);
+    if curve_length(&curve(hi)) < length {
+        return curve(hi);
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if curve_length(&curve(mid)) < length {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    curve(0.5 * (lo + hi))
+}

@@ -1,0 +1,135 @@
+//! Finite-difference checks of the assembled gradient and Hessian.
+
+use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use strand_rod::so3::right_jacobian;
+use strand_rod::{Rod, Section};
+
+use crate::*;
+
+fn test_system() -> System {
+    let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
+    let clamp = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    let mut cantilever = End::free().with_force(Vector3::new(0.5, 1.0, -0.3));
+    cantilever.load.moment = Vector3::new(0.1, -0.2, 0.3);
+    cantilever.load.moment_reference = clamp;
+    System {
+        rods: vec![
+            RodSpec {
+                name: "cantilever".into(),
+                rod: Rod::try_straight(section, 1.0, 5).unwrap(),
+                start: End::clamped(Vector3::zeros(), clamp),
+                end: cantilever,
+                route: None,
+            },
+            RodSpec {
+                name: "bridge".into(),
+                rod: Rod::try_straight(section, 1.2, 4).unwrap(),
+                start: End::pinned(Vector3::new(0.0, 1.0, 0.0)),
+                end: End::clamped(Vector3::new(1.0, 1.0, 0.0), clamp),
+                route: None,
+            },
+        ],
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    }
+}
+
+fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
+    let state = initial_state(model.system());
+    let step: Vec<f64> = (0..model.dofs().len()).map(|_| rng.random_range(-0.2..0.2)).collect();
+    model.retract(&state, &step)
+}
+
+/// The gradient at chart point `x` of the chart at `state`.
+fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
+    let moved = model.retract(state, x.as_slice());
+    let mut eval = model.new_evaluation();
+    model.evaluate(&moved, &mut eval, false);
+    let mut g = DVector::from_vec(eval.gradient);
+    for b in 0..model.dofs().block_count() {
+        if model.dofs().kind(b) == BlockKind::Rotation {
+            let local = g.fixed_rows::<3>(3 * b).into_owned();
+            let jr = right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned());
+            g.fixed_rows_mut::<3>(3 * b).copy_from(&(jr.transpose() * local));
+        }
+    }
+    g
+}
+
+fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
+    let p = model.pattern();
+    let mut h = DMatrix::zeros(p.dim(), p.dim());
+    for c in 0..p.dim() {
+        for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+            let r = p.row_idx[k];
+            h[(r, c)] += values[k];
+            if r != c {
+                h[(c, r)] += values[k];
+            }
+        }
+    }
+    h
+}
+
+#[test]
+fn assembled_gradient_and_hessian_match_finite_differences() {
+    let model = Model::try_new(test_system()).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for _ in 0..3 {
+        let state = perturbed(&model, &mut rng);
+        let mut eval = model.new_evaluation();
+        model.evaluate(&state, &mut eval, true);
+        assert!((eval.energy - model.energy(&state)).abs() < 1e-12 * (1.0 + eval.energy.abs()));
+        let hessian = dense_hessian(&model, &eval.hessian);
+        let n = model.dofs().len();
+        let h = 1e-6;
+        for k in 0..n {
+            let mut e = DVector::zeros(n);
+            e[k] = h;
+            let plus = model.energy(&model.retract(&state, e.as_slice()));
+            let minus = model.energy(&model.retract(&state, (-&e).as_slice()));
+            let fd = (plus - minus) / (2.0 * h);
+            assert!((fd - eval.gradient[k]).abs() < 1e-6, "gradient {k}: fd {fd} vs {}", eval.gradient[k]);
+            let column = (chart_gradient(&model, &state, &e) - chart_gradient(&model, &state, &-&e)) / (2.0 * h);
+            for l in 0..n {
+                assert!(
+                    (column[l] - hessian[(l, k)]).abs() < 1e-5 * (1.0 + hessian[(l, k)].abs()),
+                    "hessian ({l},{k}): fd {} vs {}",
+                    column[l],
+                    hessian[(l, k)]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn validation_rejects_unreachable_ends_and_free_rods() {
+    let mut system = test_system();
+    system.rods[1].end.support = Support::Pinned { position: Vector3::new(5.0, 1.0, 0.0) };
+    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::TooShort { .. }));
+    let mut system = test_system();
+    system.rods[0].start = End::free();
+    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::Unsupported { .. }));
+    let mut system = test_system();
+    system.rods[0].end.load.force.x = f64::NAN;
+    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::NotFinite { .. }));
+}
+
+#[test]
+fn initial_guess_meets_held_ends_with_the_rod_length() {
+    let mut system = test_system();
+    system.rods[1].rod = Rod::try_straight(*system.rods[1].rod.section(), 1.2, 40).unwrap();
+    let state = initial_state(&system);
+    let bridge = &state.rods[1];
+    assert!((bridge.positions[0] - Vector3::new(0.0, 1.0, 0.0)).norm() < 1e-12);
+    assert!((bridge.positions[40] - Vector3::new(1.0, 1.0, 0.0)).norm() < 1e-12);
+    let polyline: f64 = bridge.positions.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    assert!((polyline - 1.2).abs() < 0.01, "length {polyline}");
+    // Frames follow the curve: a3 parallel to each edge.
+    for (e, q) in bridge.frames.iter().enumerate() {
+        let t = (bridge.positions[e + 1] - bridge.positions[e]).normalize();
+        assert!(((q * Vector3::z()) - t).norm() < 1e-9);
+    }
+}
