@@ -80,12 +80,24 @@ fn resample(polyline: &[Vector3<f64>], arc_lengths: &[f64], length: f64) -> Vec<
         .collect()
 }
 
-/// A cubic Hermite curve from `a` (tangent `t0`) to `b` (tangent `t1`) sampled densely,
-/// with the tangent magnitude chosen by bisection so that its length is `length` (or as
-/// close as a Hermite curve gets).
+/// A cubic Hermite curve from `a` (tangent `t0`) to `b` (tangent `t1`, both scaled by
+/// the chord length) plus a bow `β sin²(πt) n` (`n` ⟂ chord, sagging towards −z where
+/// possible), sampled densely, with `β ≥ 0` chosen by bisection so that the curve's
+/// length is `length`.
 fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: Vector3<f64>, length: f64) -> Vec<Vector3<f64>> {
     const SAMPLES: usize = 400;
-    let curve = |scale: f64| -> Vec<Vector3<f64>> {
+    let chord = b - a;
+    let scale = chord.norm().max(1e-3 * length);
+    let axis = if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() };
+    let mut normal = -Vector3::z() + axis * axis.z;
+    if normal.norm() < 1e-6 {
+        normal = axis.cross(&Vector3::x());
+        if normal.norm() < 1e-6 {
+            normal = axis.cross(&Vector3::y());
+        }
+    }
+    let normal = normal.normalize();
+    let curve = |bow: f64| -> Vec<Vector3<f64>> {
         (0..=SAMPLES)
             .map(|i| {
                 let t = i as f64 / SAMPLES as f64;
@@ -94,14 +106,15 @@ fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: V
                     + t0 * scale * (t3 - 2.0 * t2 + t)
                     + b * (-2.0 * t3 + 3.0 * t2)
                     + t1 * scale * (t3 - t2)
+                    + normal * bow * (std::f64::consts::PI * t).sin().powi(2)
             })
             .collect()
     };
     let curve_length = |points: &[Vector3<f64>]| points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
-    let (mut lo, mut hi) = (0.0, 6.0 * length);
-    if curve_length(&curve(hi)) < length {
-        return curve(hi);
+    if curve_length(&curve(0.0)) >= length {
+        return curve(0.0);
     }
+    let (mut lo, mut hi) = (0.0, length);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
         if curve_length(&curve(mid)) < length {
