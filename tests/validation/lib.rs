@@ -1,1 +1,10 @@
-//! validation
+//! Workspace-level validation of Strand against independent references: the planar
+//! Reissner elastica (shooting, `strand_tests::reference`), Kirchhoff's helix,
+//! Euler–Bernoulli beams, conservation laws (the paper's first integrals) and global
+//! equilibrium. One test binary; each module is one topic.
+
+mod balance;
+mod cantilever;
+mod common;
+mod elastica;
+mod helix;

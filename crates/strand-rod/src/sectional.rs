@@ -45,8 +45,7 @@ pub fn vertex_frames<'a>(
 /// The edge element of edge `e`.
 pub fn edge_element<'a>(rod: &'a Rod, state: &'a RodState, stiffness: &'a Vector3<f64>, e: usize) -> StretchShear<'a> {
     StretchShear {
-        start: &state.positions[e],
-        end: &state.positions[e + 1],
+        edge_vector: state.edge_vector(e),
         frame: &state.frames[e],
         length: rod.edge_length(e),
         stiffness,

@@ -55,7 +55,10 @@ fn initial_rod_state(spec: &RodSpec) -> RodState {
         }
         frames.push(frame);
     }
-    RodState { positions, frames }
+    if let Some(end_frame) = end.frame() {
+        distribute_twist(&mut frames, &end_frame, &spec.rod.arc_lengths());
+    }
+    RodState::new(positions, frames)
 }
 
 /// Points at the fractions `s / length` of the polyline's arc length.
@@ -124,4 +127,21 @@ fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: V
         }
     }
     curve(0.5 * (lo + hi))
+}
+
+/// Spreads the twist between the transported last frame and a clamped end frame
+/// linearly along the rod, so that neither end starts with a concentrated twist (for a
+/// route on a helix this recovers the Frenet-type frames exactly).
+fn distribute_twist(frames: &mut [UnitQuaternion<f64>], end_frame: &UnitQuaternion<f64>, arc_lengths: &[f64]) {
+    let last = *frames.last().expect("at least one edge");
+    // Twist angle about the last edge's a3 that best aligns its a1 with the end frame's.
+    let target_a1 = last.inverse() * (end_frame * Vector3::x());
+    let twist = target_a1.y.atan2(target_a1.x);
+    let length = *arc_lengths.last().expect("vertices");
+    let n = frames.len();
+    for (e, frame) in frames.iter_mut().enumerate() {
+        // The last edge receives the whole twist; the end vertex's half cell starts untwisted.
+        let share = if e + 1 == n { 1.0 } else { 0.5 * (arc_lengths[e] + arc_lengths[e + 1]) / length };
+        *frame *= UnitQuaternion::from_axis_angle(&Vector3::z_axis(), twist * share);
+    }
 }

@@ -271,14 +271,27 @@ impl Model {
         }
     }
 
+    /// Puts every held vertex of `state` at its support position (an initial guess from
+    /// elsewhere, e.g. a previous solution of a variant, may not satisfy the supports).
+    pub fn enforce_supports(&self, state: &mut SystemState) {
+        for (spec, rod_state) in self.system.rods.iter().zip(&mut state.rods) {
+            let last = rod_state.positions.len() - 1;
+            for (vertex, end) in [(0, &spec.start), (last, &spec.end)] {
+                if let Some(position) = end.support.position() {
+                    rod_state.set_position(vertex, position);
+                }
+            }
+        }
+    }
+
     /// The configuration moved by `step` (positions added, frames `q ⊗ exp(δθ/2)`).
     pub fn retract(&self, state: &SystemState, step: &[f64]) -> SystemState {
         let mut next = state.clone();
         let block = |b: usize| Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
         for (r, rod_state) in next.rods.iter_mut().enumerate() {
-            for (j, p) in rod_state.positions.iter_mut().enumerate() {
+            for j in 0..rod_state.positions.len() {
                 if let Some(b) = self.dofs.vertex(r, j) {
-                    *p += block(b);
+                    rod_state.translate_vertex(j, &block(b));
                 }
             }
             for (e, q) in rod_state.frames.iter_mut().enumerate() {

@@ -52,7 +52,12 @@ pub fn cantilever_tip_load(length: f64, ei: f64, load: f64) -> CantileverTipLoad
 /// deflection `P L/(kGA)` and shear slope `P/(kGA)`; `kga` (N) is the
 /// effective shear stiffness (shear correction factor included, the `GA`
 /// of the Reissner rod).  `kga = ∞` gives Euler–Bernoulli.
-pub fn cantilever_tip_load_timoshenko(length: f64, ei: f64, kga: f64, load: f64) -> CantileverTipLoad {
+pub fn cantilever_tip_load_timoshenko(
+    length: f64,
+    ei: f64,
+    kga: f64,
+    load: f64,
+) -> CantileverTipLoad {
     let rotation = load * length * length / (2.0 * ei);
     CantileverTipLoad {
         tip_deflection: load * length.powi(3) / (3.0 * ei) + load * length / kga,
@@ -193,7 +198,9 @@ impl ProppedCantilever {
     /// Deflection `w(x)` (m) by superposition of the load and the reaction.
     pub fn deflection(&self, x: f64) -> f64 {
         let w_load = match self.load {
-            BeamLoad::Uniform { q } => cantilever_uniform_load_deflection(x, self.length, q, self.ei),
+            BeamLoad::Uniform { q } => {
+                cantilever_uniform_load_deflection(x, self.length, q, self.ei)
+            }
             BeamLoad::Point { position, force } => {
                 cantilever_point_load_deflection(x, position, force, self.ei)
             }
@@ -234,7 +241,11 @@ mod tests {
     fn integrate_beam(moment: impl Fn(f64) -> f64, ei: f64, kinks: &[f64], x: f64) -> [f64; 2] {
         // y = [w, w']: w' = y[1], y[1]' = M/EI.
         let g = |s: f64, y: &[f64; 2]| [y[1], moment(s) / ei];
-        let mut knots: Vec<f64> = kinks.iter().copied().filter(|&k| k > 0.0 && k < x).collect();
+        let mut knots: Vec<f64> = kinks
+            .iter()
+            .copied()
+            .filter(|&k| k > 0.0 && k < x)
+            .collect();
         knots.push(0.0);
         knots.push(x);
         knots.sort_by(f64::total_cmp);
@@ -260,7 +271,11 @@ mod tests {
         assert!(close(c.clamp_moment, p * l, 1e-15) && c.clamp_force == p);
         for x in [0.3, 0.8, 1.7] {
             let [w, dw] = integrate_beam(|s| p * (l - s), ei, &[], x);
-            assert!(close(cantilever_point_load_deflection(x, l, p, ei), w, 1e-13));
+            assert!(close(
+                cantilever_point_load_deflection(x, l, p, ei),
+                w,
+                1e-13
+            ));
             assert!(close(cantilever_point_load_slope(x, l, p, ei), dw, 1e-13));
         }
     }
@@ -276,7 +291,11 @@ mod tests {
         assert!(close(c.tip_rotation, psi, 1e-13));
         assert!(close(c.tip_slope, psi + p / kga, 1e-13));
         let eb = cantilever_tip_load(l, ei, p);
-        assert!(close(c.tip_deflection - eb.tip_deflection, p * l / kga, 1e-13));
+        assert!(close(
+            c.tip_deflection - eb.tip_deflection,
+            p * l / kga,
+            1e-13
+        ));
     }
 
     #[test]
@@ -292,10 +311,18 @@ mod tests {
         let (l, ei, p, b, q) = (2.0, 1.3, 0.7, 1.2, 0.45);
         for x in [0.2, 1.0, 1.2, 1.5, 2.0] {
             let [w, dw] = integrate_beam(|s| p * (b - s).max(0.0), ei, &[b], x);
-            assert!(close(cantilever_point_load_deflection(x, b, p, ei), w, 1e-13));
+            assert!(close(
+                cantilever_point_load_deflection(x, b, p, ei),
+                w,
+                1e-13
+            ));
             assert!(close(cantilever_point_load_slope(x, b, p, ei), dw, 1e-13));
             let [w, dw] = integrate_beam(|s| 0.5 * q * (l - s).powi(2), ei, &[], x);
-            assert!(close(cantilever_uniform_load_deflection(x, l, q, ei), w, 1e-13));
+            assert!(close(
+                cantilever_uniform_load_deflection(x, l, q, ei),
+                w,
+                1e-13
+            ));
             assert!(close(cantilever_uniform_load_slope(x, l, q, ei), dw, 1e-13));
         }
         // Maxwell–Betti reciprocity.
@@ -310,12 +337,28 @@ mod tests {
     #[test]
     fn classic_propped_cantilever_values() {
         let (l, q, p) = (3.0, 2.0, 5.0);
-        assert!(close(propped_reaction_uniform(l, l, q), 3.0 * q * l / 8.0, 1e-15));
-        assert!(close(propped_reaction_point(l, l / 2.0, p), 5.0 * p / 16.0, 1e-15));
+        assert!(close(
+            propped_reaction_uniform(l, l, q),
+            3.0 * q * l / 8.0,
+            1e-15
+        ));
+        assert!(close(
+            propped_reaction_point(l, l / 2.0, p),
+            5.0 * p / 16.0,
+            1e-15
+        ));
         let u = ProppedCantilever::new(l, 1.0, l, BeamLoad::Uniform { q });
         assert!(close(u.clamp_force, 5.0 * q * l / 8.0, 1e-15));
         assert!(close(u.clamp_moment, q * l * l / 8.0, 1e-15));
-        let c = ProppedCantilever::new(l, 1.0, l, BeamLoad::Point { position: l / 2.0, force: p });
+        let c = ProppedCantilever::new(
+            l,
+            1.0,
+            l,
+            BeamLoad::Point {
+                position: l / 2.0,
+                force: p,
+            },
+        );
         assert!(close(c.clamp_force, 11.0 * p / 16.0, 1e-15));
         assert!(close(c.clamp_moment, 3.0 * p * l / 16.0, 1e-15));
         // Load applied at the support: carried entirely by the support.
@@ -358,7 +401,10 @@ mod tests {
     fn propped_cantilever_point_load() {
         let (l, ei, p) = (2.0, 0.9, 1.3);
         for (a, b) in [(1.5, 0.6), (1.5, 1.9), (2.0, 1.0), (1.0, 1.0)] {
-            let load = BeamLoad::Point { position: b, force: p };
+            let load = BeamLoad::Point {
+                position: b,
+                force: p,
+            };
             let beam = ProppedCantilever::new(l, ei, a, load);
             check_propped(beam, |s| p * (b - s).max(0.0), &[b]);
             assert!(close(beam.clamp_force + beam.reaction, p, 1e-15));

@@ -94,7 +94,11 @@ impl Helix {
     /// Centreline `r(s) = (ρ cos φ, ρ sin φ, s sin α)` (m).
     pub fn centreline(&self, s: f64) -> Vector3<f64> {
         let (sp, cp) = self.azimuth(s).sin_cos();
-        Vector3::new(self.radius * cp, self.radius * sp, s * self.pitch_angle.sin())
+        Vector3::new(
+            self.radius * cp,
+            self.radius * sp,
+            s * self.pitch_angle.sin(),
+        )
     }
 
     /// Unit tangent `t = r'` (dimensionless).
@@ -215,6 +219,16 @@ mod tests {
 
     const STATIONS: [f64; 4] = [0.0, 0.37, 1.9, 5.3];
 
+    /// Largest angular rate (1/m) of the helix quantities.
+    fn rate(h: &Helix) -> f64 {
+        (h.pitch_angle.cos() / h.radius).abs() + h.material_curvature(0.0).norm() + 1.0
+    }
+
+    /// Finite-difference step adapted to the helix (1/m rates ≈ 1e-3/h).
+    fn fd_step(h: &Helix) -> f64 {
+        2e-3 / rate(h)
+    }
+
     #[test]
     fn untwisted_curvature_formula() {
         let h = Helix::new(0.3, 0.4, 1.2, 0.8);
@@ -236,7 +250,7 @@ mod tests {
                 let r = h.material_frame(s);
                 assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-14);
                 assert!((r.determinant() - 1.0).abs() < 1e-14);
-                let dr = d_ds(|x| h.centreline(x), s, 1e-3);
+                let dr = d_ds(|x| h.centreline(x), s, fd_step(&h));
                 assert!((dr - r.column(2)).norm() < 1e-10);
                 assert!((h.tangent(s) - r.column(2)).norm() < 1e-15);
             }
@@ -248,9 +262,13 @@ mod tests {
         // R' = R [K]× by finite differences.
         for h in helices() {
             for s in STATIONS {
-                let dr = d_ds(|x| h.material_frame(x), s, 1e-3);
+                let dr = d_ds(|x| h.material_frame(x), s, fd_step(&h));
                 let want = h.material_frame(s) * skew(&h.material_curvature(s));
-                assert!((dr - want).norm() < 1e-9, "{}", (dr - want).norm());
+                assert!(
+                    (dr - want).norm() < 1e-9 * rate(&h),
+                    "{}",
+                    (dr - want).norm()
+                );
             }
         }
     }
@@ -259,6 +277,7 @@ mod tests {
     fn kirchhoff_balance_holds_with_axial_force() {
         for h in helices() {
             let n = h.internal_force();
+            let dh = fd_step(&h);
             for s in STATIONS {
                 // Constitutive moment in the material frame.
                 let m_of = |x: f64| {
@@ -267,14 +286,18 @@ mod tests {
                 };
                 assert!((m_of(s) - h.internal_moment(s)).norm() < 1e-13);
                 let t = h.tangent(s);
-                let t_prime = d_ds(|x| h.tangent(x), s, 1e-3);
+                let t_prime = d_ds(|x| h.tangent(x), s, dh);
                 let m_alt = t.cross(&t_prime) * h.ei + t * (h.gj * h.twist());
-                assert!((m_alt - m_of(s)).norm() < 1e-9);
-                let residual = d_ds(m_of, s, 1e-3) + t.cross(&n);
+                assert!((m_alt - m_of(s)).norm() < 1e-9 * h.ei.max(h.gj) * rate(&h));
+                let residual = d_ds(m_of, s, dh) + t.cross(&n);
                 let scale = h.bending_moment().abs() + h.torsional_moment().abs();
-                assert!(residual.norm() < 1e-9 * scale, "{}", residual.norm());
+                assert!(
+                    residual.norm() < 1e-9 * scale * rate(&h),
+                    "{}",
+                    residual.norm()
+                );
                 // The opposite sign of F would violate the balance.
-                let wrong = d_ds(m_of, s, 1e-3) - t.cross(&n);
+                let wrong = d_ds(m_of, s, dh) - t.cross(&n);
                 assert!(h.axial_force() == 0.0 || wrong.norm() > 1e-3 * scale);
                 // Conserved resultant moment: m + r × n = M e₃.
                 let total = m_of(s) + h.centreline(s).cross(&n);

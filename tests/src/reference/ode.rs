@@ -46,7 +46,10 @@ impl Gbs {
     /// # Panics
     /// If `steps == 0` or `levels == 0`.
     pub fn new(steps: usize, levels: usize) -> Self {
-        assert!(steps > 0 && levels > 0, "Gbs needs steps > 0 and levels > 0");
+        assert!(
+            steps > 0 && levels > 0,
+            "Gbs needs steps > 0 and levels > 0"
+        );
         Self { steps, levels }
     }
 
@@ -147,7 +150,13 @@ impl Gbs {
         F: Fn(f64, &[f64; N]) -> [f64; N],
     {
         let h = (s1 - s0) / self.steps as f64;
-        let node = |k: usize| if k == self.steps { s1 } else { s0 + k as f64 * h };
+        let node = |k: usize| {
+            if k == self.steps {
+                s1
+            } else {
+                s0 + k as f64 * h
+            }
+        };
         let mut y = *y0;
         let mut comp = [0.0; N];
         let (mut nodes, mut states) = (vec![s0], vec![*y0]);
@@ -198,7 +207,8 @@ mod tests {
         // With 2 levels (order 4) halving the step should reduce the
         // error by ≈ 2⁴ = 16.
         let f = |_s: f64, y: &[f64; 1]| [y[0]];
-        let err = |steps| (Gbs::new(steps, 2).integrate(&f, 0.0, 1.0, &[1.0])[0] - 1f64.exp()).abs();
+        let err =
+            |steps| (Gbs::new(steps, 2).integrate(&f, 0.0, 1.0, &[1.0])[0] - 1f64.exp()).abs();
         let ratio = err(8) / err(16);
         assert!((ratio - 16.0).abs() < 1.0, "ratio {ratio}");
     }

@@ -59,12 +59,7 @@ impl PlanarRod {
     /// Rod of length `length` (m) with bending stiffness `ei` (N·m²),
     /// shear stiffness `ga` (N) and axial stiffness `ea` (N).
     pub fn new(length: f64, ei: f64, ga: f64, ea: f64) -> Self {
-        Self {
-            length,
-            ei,
-            ga,
-            ea,
-        }
+        Self { length, ei, ga, ea }
     }
 
     /// Inextensible, unshearable (Kirchhoff / Euler elastica) rod of length
@@ -284,6 +279,11 @@ pub fn integrate_ivp_with(
 /// improved (round-off floor) is accepted (dimensionless).
 const ACCEPT_RESIDUAL: f64 = 1e-10;
 
+/// `true` if `new < old` (and neither is NaN).
+fn decreases(new: f64, old: f64) -> bool {
+    new < old
+}
+
 /// Newton iteration (central finite-difference derivative, backtracking)
 /// for `m(L; m₀) = 0` at fixed force, starting from `m0`.  Iterates until
 /// the update is at round-off level or the residual stops decreasing.
@@ -311,11 +311,11 @@ fn newton_clamp_moment(
         let step = -gm / dg;
         let mut alpha = 1.0;
         let mut g_new = g(m + step);
-        while !(g_new.abs() < gm.abs()) && alpha > 1e-3 {
+        while !decreases(g_new.abs(), gm.abs()) && alpha > 1e-3 {
             alpha *= 0.5;
             g_new = g(m + alpha * step);
         }
-        if !(g_new.abs() < gm.abs()) {
+        if !decreases(g_new.abs(), gm.abs()) {
             // No further decrease: round-off floor (or failure).
             return (gm.abs() < ACCEPT_RESIDUAL).then_some(m);
         }
@@ -393,10 +393,16 @@ pub fn dead_load_tip(p: &PlanarRod, force: [f64; 2]) -> PlanarSolution {
 /// # Panics
 /// If the continuation fails.
 pub fn dead_load_tip_with(p: &PlanarRod, force: [f64; 2], integ: &Gbs) -> PlanarSolution {
-    let [m0] = continuation([0.0], [p.moment_scale()], 1.0 / 20.0, "dead_load_tip", |lambda, [pred]| {
-        let f = [lambda * force[0], lambda * force[1]];
-        newton_clamp_moment(p, f, pred, integ, 20).map(|m| [m])
-    });
+    let [m0] = continuation(
+        [0.0],
+        [p.moment_scale()],
+        1.0 / 20.0,
+        "dead_load_tip",
+        |lambda, [pred]| {
+            let f = [lambda * force[0], lambda * force[1]];
+            newton_clamp_moment(p, f, pred, integ, 20).map(|m| [m])
+        },
+    );
     integrate_ivp_with(p, force, m0, integ)
 }
 
@@ -449,11 +455,11 @@ fn newton_position(
         let trial = |alpha: f64| -> [f64; 3] { std::array::from_fn(|j| u[j] - alpha * step[j]) };
         let mut alpha = 1.0;
         let mut r_new_vec = residual(trial(alpha));
-        while !(norm3(&r_new_vec) < r) && alpha > 1e-3 {
+        while !decreases(norm3(&r_new_vec), r) && alpha > 1e-3 {
             alpha *= 0.5;
             r_new_vec = residual(trial(alpha));
         }
-        if !(norm3(&r_new_vec) < r) {
+        if !decreases(norm3(&r_new_vec), r) {
             return (r < ACCEPT_RESIDUAL).then_some(u);
         }
         let u_new = trial(alpha);
@@ -553,7 +559,12 @@ mod tests {
     fn assert_tip(sol: &PlanarSolution, tip: [f64; 2], moment: f64, tip_tol: f64, rel_m: f64) {
         assert_close("tip x", sol.tip[0], tip[0], tip_tol);
         assert_close("tip y", sol.tip[1], tip[1], tip_tol);
-        assert_close("clamp moment", sol.clamp_moment, moment, rel_m * moment.abs());
+        assert_close(
+            "clamp moment",
+            sol.clamp_moment,
+            moment,
+            rel_m * moment.abs(),
+        );
         assert!(sol.tip_moment.abs() < 1e-11, "m(L) = {}", sol.tip_moment);
     }
 
@@ -571,7 +582,10 @@ mod tests {
 
     #[test]
     fn stiff_limit_is_kirchhoff_elastica() {
-        for rod in [PlanarRod::new(1.0, 1.0, 1e12, 1e12), PlanarRod::kirchhoff(1.0, 1.0)] {
+        for rod in [
+            PlanarRod::new(1.0, 1.0, 1e12, 1e12),
+            PlanarRod::kirchhoff(1.0, 1.0),
+        ] {
             let a = dead_load_tip(&rod, [2.0, 1.0]);
             assert_tip(&a, [0.980550, 0.180601], 0.61935, 1e-6, 1e-5);
             let b = dead_load_tip(&rod, [17.8, -12.8]);
@@ -620,13 +634,17 @@ mod tests {
     fn rk4_tip(p: &PlanarRod, force: [f64; 2], m0: f64, n: usize) -> [f64; 4] {
         let h = p.length / n as f64;
         let mut y = [0.0, 0.0, 0.0, m0];
-        let add = |y: &[f64; 4], c: f64, k: &[f64; 4]| -> [f64; 4] { std::array::from_fn(|i| y[i] + c * k[i]) };
+        let add = |y: &[f64; 4], c: f64, k: &[f64; 4]| -> [f64; 4] {
+            std::array::from_fn(|i| y[i] + c * k[i])
+        };
         for _ in 0..n {
             let k1 = p.rhs(force, &y);
             let k2 = p.rhs(force, &add(&y, 0.5 * h, &k1));
             let k3 = p.rhs(force, &add(&y, 0.5 * h, &k2));
             let k4 = p.rhs(force, &add(&y, h, &k3));
-            y = std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+            y = std::array::from_fn(|i| {
+                y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            });
         }
         y
     }
@@ -641,7 +659,10 @@ mod tests {
             for i in 0..4 {
                 let rich = (16.0 * fine[i] - coarse[i]) / 15.0;
                 let want = [sol.tip[0], sol.tip[1], sol.tip_angle, sol.tip_moment][i];
-                assert!((rich - want).abs() < 1e-11, "component {i}: {rich} vs {want}");
+                assert!(
+                    (rich - want).abs() < 1e-11,
+                    "component {i}: {rich} vs {want}"
+                );
             }
         }
     }

@@ -9,10 +9,8 @@ use crate::so3::skew;
 /// Inputs of one edge element; local unknowns `(r_a, r_b, δθ)`.
 #[derive(Clone, Copy, Debug)]
 pub struct StretchShear<'a> {
-    /// Start vertex `r_{j-1}` in m.
-    pub start: &'a Vector3<f64>,
-    /// End vertex `r_j` in m.
-    pub end: &'a Vector3<f64>,
+    /// Edge vector `r_j − r_{j-1}` in m.
+    pub edge_vector: Vector3<f64>,
     /// Edge frame `q_{j-1/2}`.
     pub frame: &'a UnitQuaternion<f64>,
     /// Reference edge length `h_{j-1/2}` in m.
@@ -26,7 +24,7 @@ pub struct StretchShear<'a> {
 impl StretchShear<'_> {
     /// The material strain `Γ`.
     pub fn strain(&self) -> Vector3<f64> {
-        self.frame.inverse_transform_vector(&(self.end - self.start)) / self.length
+        self.frame.inverse_transform_vector(&self.edge_vector) / self.length
     }
 
     /// The material sectional force `F = C_Γ (Γ − Γ0)` in N.

@@ -81,7 +81,7 @@ fn stretch_shear_derivatives() {
                 let a = ra + x.fixed_rows::<3>(0);
                 let b = rb + x.fixed_rows::<3>(3);
                 let frame = rotated(&q, x, 6);
-                let e = StretchShear { start: &a, end: &b, frame: &frame, length: h, stiffness: &stiffness, rest_strain: &rest };
+                let e = StretchShear { edge_vector: b - a, frame: &frame, length: h, stiffness: &stiffness, rest_strain: &rest };
                 let d = stretch_shear(&e);
                 assert!((d.energy - e.energy()).abs() < 1e-12);
                 d

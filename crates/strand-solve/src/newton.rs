@@ -1,0 +1,229 @@
+//! Newton's method with inertia correction and an Armijo line search.
+
+use std::time::Instant;
+
+use serde::Serialize;
+use strand_system::{Model, Residual, SystemState};
+
+use crate::{SolveError, SolverSettings, SparseCholesky};
+
+/// Why the iteration stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Termination {
+    /// The residual fell below the tolerance.
+    Converged,
+    /// The iteration limit was reached.
+    MaxIterations,
+    /// No step along the Newton direction decreased the energy (or the residual in the
+    /// round-off regime).
+    LineSearchFailed,
+    /// A non-finite number appeared.
+    NotFinite,
+}
+
+/// What the solver did and how good the result is.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolveReport {
+    /// Whether the residual reached the tolerance.
+    pub converged: bool,
+    /// Why the iteration stopped.
+    pub termination: Termination,
+    /// Residual of the returned state (N, N·m).
+    pub residual: Residual,
+    /// Tolerance used, N.
+    pub tolerance_n: f64,
+    /// Newton iterations performed.
+    pub iterations: usize,
+    /// Iterations whose Hessian needed a diagonal shift to become positive definite.
+    pub shifted_iterations: usize,
+    /// Whether the Hessian at the returned state is positive definite (a stable
+    /// equilibrium when converged).
+    pub stable: bool,
+    /// Total potential energy in J.
+    pub energy_j: f64,
+    /// Wall-clock time of the solve in s.
+    pub solve_seconds: f64,
+    /// Number of scalar unknowns.
+    pub unknowns: usize,
+}
+
+/// An equilibrium (or the best state reached) with its report.
+#[derive(Clone, Debug)]
+pub struct Solution {
+    /// The final configuration.
+    pub state: SystemState,
+    /// Convergence and stability report.
+    pub report: SolveReport,
+}
+
+/// Solves for the equilibrium of `model` starting from `initial`.
+///
+/// Returns `Err` only when solving cannot start (bad settings, an initial state that
+/// does not fit); a solve that does not converge returns a [`Solution`] whose report
+/// says so.
+pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> Result<Solution, SolveError> {
+    settings.validate()?;
+    check_initial_state(model, &initial)?;
+    let started = Instant::now();
+    let mut cholesky = SparseCholesky::try_new(model.pattern())?;
+    let longest_rod = model.system().rods.iter().map(|r| r.rod.length()).fold(0.0, f64::max);
+    let max_translation = settings.max_translation_step * longest_rod;
+
+    let n = model.dofs().len();
+    let mut state = initial;
+    model.enforce_supports(&mut state);
+    let mut eval = model.new_evaluation();
+    model.evaluate(&state, &mut eval, true);
+    let mut shifted_values = vec![0.0; eval.hessian.len()];
+    let diagonal = diagonal_positions(model);
+    let mut step = vec![0.0; n];
+    let mut shift = 0.0f64;
+    let mut iterations = 0;
+    let mut shifted_iterations = 0;
+    let mut termination = Termination::MaxIterations;
+    let mut stable_at_current: Option<bool> = None;
+
+    while iterations < settings.max_iterations {
+        let residual = model.residual(&eval.gradient);
+        if !residual.combined_n.is_finite() || !eval.energy.is_finite() {
+            termination = Termination::NotFinite;
+            break;
+        }
+        if residual.combined_n <= settings.tolerance_n {
+            termination = Termination::Converged;
+            break;
+        }
+        iterations += 1;
+
+        // Inertia correction: the smallest shift δ ∈ {0, δ0·10^k} with H + δI ≻ 0.
+        let unshifted_ok = cholesky.factor(&eval.hessian);
+        stable_at_current = Some(unshifted_ok);
+        if !unshifted_ok {
+            shifted_iterations += 1;
+            let scale = diagonal.iter().map(|&k| eval.hessian[k].abs()).fold(0.0, f64::max).max(1e-300);
+            shift = if shift == 0.0 { 1e-8 * scale } else { (shift / 3.0).max(1e-8 * scale) };
+            loop {
+                shifted_values.copy_from_slice(&eval.hessian);
+                for &k in &diagonal {
+                    shifted_values[k] += shift;
+                }
+                if cholesky.factor(&shifted_values) {
+                    break;
+                }
+                shift *= 10.0;
+                if !shift.is_finite() {
+                    termination = Termination::NotFinite;
+                    break;
+                }
+            }
+            if termination == Termination::NotFinite {
+                break;
+            }
+        } else {
+            shift = 0.0;
+        }
+        for (s, g) in step.iter_mut().zip(&eval.gradient) {
+            *s = -g;
+        }
+        cholesky.solve_in_place(&mut step);
+
+        // Step-length limits keep the manifold retraction and the line search sane.
+        let (rotation, translation) = model.step_size(&step);
+        let limit = (settings.max_rotation_step_rad / rotation.max(1e-300))
+            .min(max_translation / translation.max(1e-300))
+            .min(1.0);
+        let slope: f64 = limit * step.iter().zip(&eval.gradient).map(|(s, g)| s * g).sum::<f64>();
+
+        let mut t = limit;
+        let mut accepted = None;
+        for _ in 0..=settings.max_line_search_steps {
+            let scaled: Vec<f64> = step.iter().map(|s| s * t).collect();
+            let trial = model.retract(&state, &scaled);
+            let energy = model.energy(&trial);
+            let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
+            let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
+            if armijo && energy.is_finite() {
+                accepted = Some(trial);
+                break;
+            }
+            // Round-off regime: energy differences are below their noise; accept the
+            // step if it reduces the residual instead.
+            if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
+                let mut trial_eval = model.new_evaluation();
+                model.evaluate(&trial, &mut trial_eval, false);
+                if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
+                    accepted = Some(trial);
+                    break;
+                }
+            }
+            t *= 0.5;
+        }
+        match accepted {
+            Some(next) => {
+                state = next;
+                stable_at_current = None;
+                model.evaluate(&state, &mut eval, true);
+            }
+            None => {
+                termination = Termination::LineSearchFailed;
+                break;
+            }
+        }
+    }
+
+    let stable = match stable_at_current {
+        Some(s) => s,
+        None => cholesky.factor(&eval.hessian),
+    };
+    let residual = model.residual(&eval.gradient);
+    Ok(Solution {
+        report: SolveReport {
+            converged: termination == Termination::Converged,
+            termination,
+            residual,
+            tolerance_n: settings.tolerance_n,
+            iterations,
+            shifted_iterations,
+            stable,
+            energy_j: eval.energy,
+            solve_seconds: started.elapsed().as_secs_f64(),
+            unknowns: n,
+        },
+        state,
+    })
+}
+
+/// Value offsets of the diagonal entries in the upper-triangular CSC pattern.
+fn diagonal_positions(model: &Model) -> Vec<usize> {
+    let p = model.pattern();
+    (0..p.dim())
+        .map(|c| {
+            let rows = &p.row_idx[p.col_ptr[c]..p.col_ptr[c + 1]];
+            p.col_ptr[c] + rows.iter().position(|&r| r == c).expect("diagonal in pattern")
+        })
+        .collect()
+}
+
+fn check_initial_state(model: &Model, state: &SystemState) -> Result<(), SolveError> {
+    let rods = &model.system().rods;
+    if state.rods.len() != rods.len() {
+        return Err(SolveError::InitialState(format!("{} rod states for {} rods", state.rods.len(), rods.len())));
+    }
+    for (spec, rod_state) in rods.iter().zip(&state.rods) {
+        if rod_state.positions.len() != spec.rod.vertex_count() || rod_state.frames.len() != spec.rod.segments() {
+            return Err(SolveError::InitialState(format!(
+                "rod '{}' has {} vertices and {} frames; expected {} and {}",
+                spec.name,
+                rod_state.positions.len(),
+                rod_state.frames.len(),
+                spec.rod.vertex_count(),
+                spec.rod.segments()
+            )));
+        }
+        if !rod_state.is_finite() {
+            return Err(SolveError::InitialState(format!("rod '{}' has non-finite coordinates", spec.name)));
+        }
+    }
+    Ok(())
+}

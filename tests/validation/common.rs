@@ -1,0 +1,56 @@
+//! Builders shared by the validation modules.
+
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use strand_rod::{Rod, Section};
+use strand_solve::{Solution, SolverSettings, solve};
+use strand_system::{End, Model, RodSpec, System, initial_state};
+
+/// The paper's Elastica/helix section: EA = 30 kN, GA = 10 kN, EI = GJ = 1 N m².
+pub fn paper_section() -> Section {
+    Section::try_explicit(3e4, 1e4, 1.0, 1.0, 0.0, 0.0).unwrap()
+}
+
+/// A frame whose tangent `a3` is +x.
+pub fn frame_along_x() -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2)
+}
+
+/// A frame from director columns `(d1, d2, d3)`.
+pub fn frame_from_matrix(m: Matrix3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
+}
+
+/// One rod of the paper's section and length 1 m, clamped at the origin along +x.
+pub fn clamped_rod(segments: usize, end: End) -> System {
+    System {
+        rods: vec![RodSpec {
+            name: "rod".into(),
+            rod: Rod::try_straight(paper_section(), 1.0, segments).unwrap(),
+            start: End::clamped(Vector3::zeros(), frame_along_x()),
+            end,
+            route: None,
+        }],
+        gravity: Vector3::zeros(),
+    }
+}
+
+/// Solves from the default initial guess and asserts convergence and stability.
+pub fn solve_converged(system: System) -> (Model, Solution) {
+    solve_converged_with(system, &SolverSettings::default())
+}
+
+/// As [`solve_converged`] with explicit settings.
+pub fn solve_converged_with(system: System, settings: &SolverSettings) -> (Model, Solution) {
+    let model = Model::try_new(system).unwrap();
+    let solution = solve(&model, initial_state(model.system()), settings).unwrap();
+    let report = &solution.report;
+    assert!(report.converged, "not converged: {report:?}");
+    assert!(report.residual.combined_n <= settings.tolerance_n, "residual {}", report.residual.combined_n);
+    assert!(report.stable, "equilibrium not stable: {report:?}");
+    (model, solution)
+}
+
+/// Observed orders `log2(e_k / e_{k+1})` of a sequence of errors on meshes refined by 2.
+pub fn observed_orders(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
