@@ -99,3 +99,17 @@ fn hamiltonian_is_constant_up_to_discretisation_error() {
     let orders = observed_orders(&spreads);
     assert!(orders.iter().all(|p| *p > 1.7), "spreads {spreads:?} orders {orders:?}");
 }
+
+#[test]
+fn nested_iteration_reaches_the_same_equilibrium_in_fewer_fine_iterations() {
+    let tip = dead_load_tip(&reference_rod(), LOADS[1]).tip;
+    let system = clamped_rod(152, End::pinned(Vector3::new(tip[0], tip[1], 0.0)));
+    let plain = SolverSettings { nested_iteration: false, ..Default::default() };
+    let (_, direct) = solve_converged_with(system.clone(), &plain);
+    let (_, nested) = solve_converged(system);
+    assert!(nested.report.coarse_iterations > 0, "the coarse model was used");
+    assert!(nested.report.iterations < direct.report.iterations, "{} vs {}", nested.report.iterations, direct.report.iterations);
+    for (a, b) in direct.state.rods[0].positions.iter().zip(&nested.state.rods[0].positions) {
+        assert!((a - b).norm() < 1e-12, "same equilibrium");
+    }
+}

@@ -21,7 +21,7 @@ pub struct Rod {
 /// digits to the rounding of absolute coordinates, which caps the attainable force
 /// residual at about `EA · ulp(|r|) / h` (3e-9 N for EA = 30 kN, h = 1 mm). With it,
 /// the force residual can be driven to `EA · 1e-16`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct RodState {
     /// Vertex positions `r_0..r_N` in m.
     pub positions: Vec<Vector3<f64>>,
@@ -29,6 +29,19 @@ pub struct RodState {
     pub frames: Vec<UnitQuaternion<f64>>,
     /// Low-order parts of the positions in m (`r = positions + compensation`).
     compensation: Vec<Vector3<f64>>,
+}
+
+impl Clone for RodState {
+    fn clone(&self) -> Self {
+        Self { positions: self.positions.clone(), frames: self.frames.clone(), compensation: self.compensation.clone() }
+    }
+
+    /// Reuses the allocations of `self` (the line search clones states per trial).
+    fn clone_from(&mut self, source: &Self) {
+        self.positions.clone_from(&source.positions);
+        self.frames.clone_from(&source.frames);
+        self.compensation.clone_from(&source.compensation);
+    }
 }
 
 /// `a + b = s + e` exactly (Knuth's TwoSum).

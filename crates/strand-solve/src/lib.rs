@@ -10,6 +10,7 @@
 //! and whether the equilibrium is stable.
 
 mod linear;
+mod nested;
 mod newton;
 mod settings;
 

@@ -8,7 +8,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky,
 };
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use faer::perm::PermRef;
 use faer::sparse::linalg::amd;
@@ -18,8 +18,7 @@ use crate::SolveError;
 
 /// A reusable sparse `LLᵀ` factorisation of matrices with one fixed pattern.
 pub struct SparseCholesky {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    structure: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
     factor_values: Vec<f64>,
     factor_buffer: MemBuffer,
@@ -35,11 +34,9 @@ impl SparseCholesky {
     /// AMD ordering is analysed too and the one with the sparser factor is kept.
     pub fn try_new(pattern: &HessianPattern) -> Result<Self, SolveError> {
         let n = pattern.dim();
-        let col_ptr = pattern.col_ptr.clone();
-        let row_idx = pattern.row_idx.clone();
+        let structure = SymbolicSparseColMat::new_checked(n, n, pattern.col_ptr.clone(), None, pattern.row_idx.clone());
         let analyse = |ordering: SymmetricOrdering<'_, usize>| {
-            let structure = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-            factorize_symbolic_cholesky(structure, Side::Upper, ordering, CholeskySymbolicParams::default())
+            factorize_symbolic_cholesky(structure.as_ref(), Side::Upper, ordering, CholeskySymbolicParams::default())
                 .map_err(|e| SolveError::Linear(format!("symbolic analysis failed: {e:?}")))
         };
         let mut symbolic = analyse(SymmetricOrdering::Identity)?;
@@ -57,7 +54,7 @@ impl SparseCholesky {
         let solve_buffer =
             MemBuffer::try_new(solve_req).map_err(|_| SolveError::Linear("out of memory for solve".into()))?;
         let factor_values = vec![0.0; symbolic.len_val()];
-        Ok(Self { col_ptr, row_idx, symbolic, factor_values, factor_buffer, solve_buffer, factored: false })
+        Ok(Self { structure, symbolic, factor_values, factor_buffer, solve_buffer, factored: false })
     }
 
     /// Number of nonzeros of the factor `L`.
@@ -68,9 +65,7 @@ impl SparseCholesky {
     /// Numeric factorisation of the matrix with the model's pattern and `values`
     /// (upper triangle). Returns `false` if the matrix is not positive definite.
     pub fn factor(&mut self, values: &[f64]) -> bool {
-        let n = self.col_ptr.len() - 1;
-        let structure = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        let matrix = SparseColMatRef::new(structure, values);
+        let matrix = SparseColMatRef::new(self.structure.as_ref(), values);
         let result = self.symbolic.factorize_numeric_llt::<f64>(
             &mut self.factor_values,
             matrix,

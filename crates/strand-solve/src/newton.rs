@@ -5,7 +5,7 @@ use std::time::Instant;
 use serde::Serialize;
 use strand_system::{Model, Residual, SystemState};
 
-use crate::{SolveError, SolverSettings, SparseCholesky};
+use crate::{SolveError, SolverSettings, SparseCholesky, nested};
 
 /// Why the iteration stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -33,8 +33,11 @@ pub struct SolveReport {
     pub residual: Residual,
     /// Tolerance used, N.
     pub tolerance_n: f64,
-    /// Newton iterations performed.
+    /// Newton iterations performed on the model.
     pub iterations: usize,
+    /// Newton iterations of the coarse-model solve that produced the initial guess
+    /// (nested iteration; 0 when not used).
+    pub coarse_iterations: usize,
     /// Iterations whose Hessian needed a diagonal shift to become positive definite.
     pub shifted_iterations: usize,
     /// Whether the Hessian at the returned state is positive definite (a stable
@@ -66,6 +69,28 @@ pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> 
     settings.validate()?;
     check_initial_state(model, &initial)?;
     let started = Instant::now();
+    let mut coarse_iterations = 0;
+    let mut initial = initial;
+    if settings.nested_iteration {
+        if let Some((coarse_system, kept)) = nested::coarsen(model.system()) {
+            let coarse_model = Model::try_new(coarse_system).map_err(|e| SolveError::InitialState(e.to_string()))?;
+            let coarse_settings = SolverSettings { nested_iteration: false, ..settings.clone() };
+            let coarse = solve(&coarse_model, nested::restrict(&initial, &kept), &coarse_settings)?;
+            coarse_iterations = coarse.report.iterations;
+            if coarse.report.converged {
+                initial = nested::prolong(model, &coarse_model, &coarse.state, &kept);
+            }
+        }
+    }
+    let mut solution = newton(model, initial, settings)?;
+    solution.report.coarse_iterations = coarse_iterations;
+    solution.report.solve_seconds = started.elapsed().as_secs_f64();
+    Ok(solution)
+}
+
+/// Newton's method from `initial` on `model` (no nested iteration).
+fn newton(model: &Model, initial: SystemState, settings: &SolverSettings) -> Result<Solution, SolveError> {
+    let started = Instant::now();
     let mut cholesky = SparseCholesky::try_new(model.pattern())?;
     let longest_rod = model.system().rods.iter().map(|r| r.rod.length()).fold(0.0, f64::max);
     let max_translation = settings.max_translation_step * longest_rod;
@@ -78,6 +103,8 @@ pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> 
     let mut shifted_values = vec![0.0; eval.hessian.len()];
     let diagonal = diagonal_positions(model);
     let mut step = vec![0.0; n];
+    let mut trial = state.clone();
+    let mut trial_eval = model.new_evaluation();
     let mut shift = 0.0f64;
     let mut iterations = 0;
     let mut shifted_iterations = 0;
@@ -136,40 +163,34 @@ pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> 
         let slope: f64 = limit * step.iter().zip(&eval.gradient).map(|(s, g)| s * g).sum::<f64>();
 
         let mut t = limit;
-        let mut accepted = None;
+        let mut accepted = false;
         for _ in 0..=settings.max_line_search_steps {
-            let scaled: Vec<f64> = step.iter().map(|s| s * t).collect();
-            let trial = model.retract(&state, &scaled);
+            model.retract_into(&state, &step, t, &mut trial);
             let energy = model.energy(&trial);
             let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
             let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
             if armijo && energy.is_finite() {
-                accepted = Some(trial);
+                accepted = true;
                 break;
             }
             // Round-off regime: energy differences are below their noise; accept the
             // step if it reduces the residual instead.
             if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
-                let mut trial_eval = model.new_evaluation();
                 model.evaluate(&trial, &mut trial_eval, false);
                 if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
-                    accepted = Some(trial);
+                    accepted = true;
                     break;
                 }
             }
             t *= 0.5;
         }
-        match accepted {
-            Some(next) => {
-                state = next;
-                stable_at_current = None;
-                model.evaluate(&state, &mut eval, true);
-            }
-            None => {
-                termination = Termination::LineSearchFailed;
-                break;
-            }
+        if !accepted {
+            termination = Termination::LineSearchFailed;
+            break;
         }
+        std::mem::swap(&mut state, &mut trial);
+        stable_at_current = None;
+        model.evaluate(&state, &mut eval, true);
     }
 
     let stable = match stable_at_current {
@@ -184,6 +205,7 @@ pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> 
             residual,
             tolerance_n: settings.tolerance_n,
             iterations,
+            coarse_iterations: 0,
             shifted_iterations,
             stable,
             energy_j: eval.energy,

@@ -18,6 +18,9 @@ pub struct SolverSettings {
     pub max_translation_step: f64,
     /// Maximum number of step halvings in the line search.
     pub max_line_search_steps: usize,
+    /// Start rods of more than 64 segments from the solution of a coarsened copy of the
+    /// system (nested iteration). Turn off when warm-starting from a nearby solution.
+    pub nested_iteration: bool,
 }
 
 impl Default for SolverSettings {
@@ -28,6 +31,7 @@ impl Default for SolverSettings {
             max_rotation_step_rad: 0.5,
             max_translation_step: 0.25,
             max_line_search_steps: 40,
+            nested_iteration: true,
         }
     }
 }

@@ -287,8 +287,16 @@ impl Model {
     /// The configuration moved by `step` (positions added, frames `q ⊗ exp(δθ/2)`).
     pub fn retract(&self, state: &SystemState, step: &[f64]) -> SystemState {
         let mut next = state.clone();
-        let block = |b: usize| Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
-        for (r, rod_state) in next.rods.iter_mut().enumerate() {
+        self.retract_into(state, step, 1.0, &mut next);
+        next
+    }
+
+    /// Writes `state` moved by `scale · step` into `out` (same shape as `state`),
+    /// without allocating.
+    pub fn retract_into(&self, state: &SystemState, step: &[f64], scale: f64, out: &mut SystemState) {
+        out.clone_from(state);
+        let block = |b: usize| scale * Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
+        for (r, rod_state) in out.rods.iter_mut().enumerate() {
             for j in 0..rod_state.positions.len() {
                 if let Some(b) = self.dofs.vertex(r, j) {
                     rod_state.translate_vertex(j, &block(b));
@@ -299,7 +307,6 @@ impl Model {
                 q.renormalize_fast();
             }
         }
-        next
     }
 
     /// The size of a gradient in physical units.

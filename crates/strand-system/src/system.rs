@@ -119,10 +119,21 @@ pub struct System {
 }
 
 /// A configuration of the whole system: one [`RodState`] per rod.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct SystemState {
     /// Per-rod configurations, in the order of [`System::rods`].
     pub rods: Vec<RodState>,
+}
+
+impl Clone for SystemState {
+    fn clone(&self) -> Self {
+        Self { rods: self.rods.clone() }
+    }
+
+    /// Reuses the allocations of `self`.
+    fn clone_from(&mut self, source: &Self) {
+        self.rods.clone_from(&source.rods);
+    }
 }
 
 /// Why a system is not solvable as given.

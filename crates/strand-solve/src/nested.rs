@@ -1,0 +1,160 @@
+//! Nested iteration: a coarse-to-fine initial guess for finely discretised rods.
+//!
+//! Newton's cost per iteration grows with the number of unknowns while the number of
+//! iterations from a poor guess does not shrink, so the large-deformation part of the
+//! path is solved on a coarse copy of the system (every rod cut into about
+//! [`COARSE_SEGMENTS`] edges at a subset of its vertices) and prolonged: positions by
+//! cubic Hermite interpolation with the coarse tangents, frames by slerp between coarse
+//! frames. The fine solve then starts in its region of quadratic convergence.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use strand_rod::{Rod, RodState, so3};
+use strand_system::{Model, RodSpec, System, SystemState};
+
+/// Rods with more segments than this are coarsened.
+pub const COARSE_THRESHOLD: usize = 64;
+/// Target number of segments of a coarsened rod.
+pub const COARSE_SEGMENTS: usize = 24;
+
+/// The coarse vertex indices of a rod with `segments` edges: every `k`-th and the last.
+fn coarse_indices(segments: usize) -> Vec<usize> {
+    let k = segments.div_ceil(COARSE_SEGMENTS).max(1);
+    let mut indices: Vec<usize> = (0..segments).step_by(k).collect();
+    indices.push(segments);
+    indices
+}
+
+/// The system with every long rod coarsened, and per rod the kept vertex indices.
+pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
+    if system.rods.iter().all(|r| r.rod.segments() <= COARSE_THRESHOLD) {
+        return None;
+    }
+    let mut rods = Vec::with_capacity(system.rods.len());
+    let mut kept = Vec::with_capacity(system.rods.len());
+    for spec in &system.rods {
+        let n = spec.rod.segments();
+        let indices = if n > COARSE_THRESHOLD { coarse_indices(n) } else { (0..=n).collect() };
+        let rod = &spec.rod;
+        let mut lengths = Vec::new();
+        let mut strains = Vec::new();
+        for w in indices.windows(2) {
+            let length: f64 = (w[0]..w[1]).map(|e| rod.edge_length(e)).sum();
+            let strain = (w[0]..w[1]).map(|e| rod.rest_strain(e) * rod.edge_length(e)).sum::<Vector3<f64>>() / length;
+            lengths.push(length);
+            strains.push(strain);
+        }
+        let curvatures = indices.iter().map(|&j| *rod.rest_curvature(j)).collect();
+        let coarse = Rod::try_new(*rod.section(), lengths, strains, curvatures).ok()?;
+        rods.push(RodSpec { rod: coarse, ..spec.clone() });
+        kept.push(indices);
+    }
+    Some((System { rods, gravity: system.gravity }, kept))
+}
+
+/// The fine state restricted to the kept vertices (frames of the middle fine edge).
+pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState {
+    let rods = state
+        .rods
+        .iter()
+        .zip(kept)
+        .map(|(rod_state, indices)| {
+            let positions = indices.iter().map(|&j| rod_state.positions[j]).collect();
+            let frames = indices.windows(2).map(|w| rod_state.frames[(w[0] + w[1] - 1) / 2]).collect();
+            RodState::new(positions, frames)
+        })
+        .collect();
+    SystemState { rods }
+}
+
+/// The coarse solution carried to the fine model.
+pub(crate) fn prolong(fine: &Model, coarse: &Model, coarse_state: &SystemState, kept: &[Vec<usize>]) -> SystemState {
+    let rods = fine
+        .system()
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(r, spec)| prolong_rod(spec, coarse, r, &coarse_state.rods[r], &kept[r]))
+        .collect();
+    SystemState { rods }
+}
+
+fn prolong_rod(spec: &RodSpec, coarse: &Model, rod: usize, coarse_state: &RodState, indices: &[usize]) -> RodState {
+    let s = spec.rod.arc_lengths();
+    let boundary = coarse.boundary_frames(rod);
+    let coarse_frames = &coarse_state.frames;
+    let nc = coarse_frames.len();
+    // Unit tangents at the coarse vertices.
+    let tangent_at = |c: usize| -> Vector3<f64> {
+        let frame = match c {
+            0 => boundary.start.unwrap_or(coarse_frames[0]),
+            c if c == nc => boundary.end.unwrap_or(coarse_frames[nc - 1]),
+            c => so3::mid_frame(&coarse_frames[c - 1], &coarse_frames[c]),
+        };
+        frame * Vector3::z()
+    };
+    let mut positions = Vec::with_capacity(s.len());
+    for c in 0..nc {
+        let (a, b) = (indices[c], indices[c + 1]);
+        let (pa, pb) = (coarse_state.positions[c], coarse_state.positions[c + 1]);
+        let chord = (pb - pa).norm();
+        let (ta, tb) = (tangent_at(c) * chord, tangent_at(c + 1) * chord);
+        for j in a..b {
+            let u = (s[j] - s[a]) / (s[b] - s[a]);
+            let (u2, u3) = (u * u, u * u * u);
+            positions.push(
+                pa * (2.0 * u3 - 3.0 * u2 + 1.0) + ta * (u3 - 2.0 * u2 + u) + pb * (-2.0 * u3 + 3.0 * u2) + tb * (u3 - u2),
+            );
+        }
+    }
+    positions.push(*coarse_state.positions.last().expect("vertices"));
+
+    // Frames: slerp in arc length between coarse edge midpoints (and boundary frames).
+    let mut anchors: Vec<(f64, UnitQuaternion<f64>)> = Vec::with_capacity(nc + 2);
+    if let Some(q) = boundary.start {
+        anchors.push((0.0, q));
+    }
+    for c in 0..nc {
+        anchors.push((0.5 * (s[indices[c]] + s[indices[c + 1]]), coarse_frames[c]));
+    }
+    if let Some(q) = boundary.end {
+        anchors.push((*s.last().expect("vertices"), q));
+    }
+    let mut anchor = 0;
+    let frames = (0..spec.rod.segments())
+        .map(|e| {
+            let mid = 0.5 * (s[e] + s[e + 1]);
+            while anchor + 2 < anchors.len() && anchors[anchor + 1].0 < mid {
+                anchor += 1;
+            }
+            let (s0, q0) = anchors[anchor];
+            let (s1, q1) = anchors[(anchor + 1).min(anchors.len() - 1)];
+            let u = if s1 > s0 { ((mid - s0) / (s1 - s0)).clamp(0.0, 1.0) } else { 0.0 };
+            q0 * so3::exp(&(u * so3::relative_rotation_vector(&q0, &q1)))
+        })
+        .collect();
+    let mut state = RodState::new(positions, frames);
+    // Interpolated frames need not be tangent to the interpolated centreline; align
+    // each frame's a3 with its edge (least rotation) to start without shear.
+    for e in 0..spec.rod.segments() {
+        let edge = state.edge_vector(e);
+        if edge.norm() > 0.0 {
+            state.frames[e] = so3::frame_with_tangent(&edge, &state.frames[e]);
+        }
+    }
+    state
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coarse_indices_cover_the_rod() {
+        for n in [65, 99, 100, 999, 1000] {
+            let idx = coarse_indices(n);
+            assert_eq!((idx[0], *idx.last().unwrap()), (0, n));
+            assert!(idx.windows(2).all(|w| w[1] > w[0]));
+            assert!(idx.len() - 1 <= COARSE_SEGMENTS + 1, "{n}: {}", idx.len());
+        }
+    }
+}
