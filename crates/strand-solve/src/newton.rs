@@ -71,15 +71,13 @@ pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> 
     let started = Instant::now();
     let mut coarse_iterations = 0;
     let mut initial = initial;
-    if settings.nested_iteration {
-        if let Some((coarse_system, kept)) = nested::coarsen(model.system()) {
-            let coarse_model = Model::try_new(coarse_system).map_err(|e| SolveError::InitialState(e.to_string()))?;
-            let coarse_settings = SolverSettings { nested_iteration: false, ..settings.clone() };
-            let coarse = solve(&coarse_model, nested::restrict(&initial, &kept), &coarse_settings)?;
-            coarse_iterations = coarse.report.iterations;
-            if coarse.report.converged {
-                initial = nested::prolong(model, &coarse_model, &coarse.state, &kept);
-            }
+    if let Some((coarse_system, kept)) = nested::coarsen(model.system()).filter(|_| settings.nested_iteration) {
+        let coarse_model = Model::try_new(coarse_system).map_err(|e| SolveError::InitialState(e.to_string()))?;
+        let coarse_settings = SolverSettings { nested_iteration: false, ..settings.clone() };
+        let coarse = solve(&coarse_model, nested::restrict(&initial, &kept), &coarse_settings)?;
+        coarse_iterations = coarse.report.iterations;
+        if coarse.report.converged {
+            initial = nested::prolong(model, &coarse_model, &coarse.state, &kept);
         }
     }
     let mut solution = newton(model, initial, settings)?;

@@ -303,7 +303,7 @@ impl Model {
                 }
             }
             for (e, q) in rod_state.frames.iter_mut().enumerate() {
-                *q = *q * so3::exp(&block(self.dofs.edge(r, e)));
+                *q *= so3::exp(&block(self.dofs.edge(r, e)));
                 q.renormalize_fast();
             }
         }

@@ -106,15 +106,15 @@ impl HessianPattern {
         let mut out = Vec::new();
         for (a, ga) in blocks.iter().enumerate() {
             for (b, gb) in blocks.iter().enumerate() {
-                if let (Some(ga), Some(gb)) = (ga, gb) {
-                    if ga < gb || (ga == gb && a == b) {
-                        out.push(ScatterBlock {
-                            local_row: a,
-                            local_col: b,
-                            offsets: self.offsets(*ga, *gb),
-                            diagonal: ga == gb,
-                        });
-                    }
+                if let (Some(ga), Some(gb)) = (ga, gb)
+                    && (ga < gb || (ga == gb && a == b))
+                {
+                    out.push(ScatterBlock {
+                        local_row: a,
+                        local_col: b,
+                        offsets: self.offsets(*ga, *gb),
+                        diagonal: ga == gb,
+                    });
                 }
             }
         }

@@ -197,15 +197,11 @@ impl System {
             let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
             for (label, end) in [("start", &spec.start), ("end", &spec.end)] {
                 let bad = |what: &str| SystemError::NotFinite { rod: spec.name.clone(), what: format!("{label} {what}") };
-                if let Some(p) = end.support.position() {
-                    if !finite(&p) {
-                        return Err(bad("position"));
-                    }
+                if end.support.position().is_some_and(|p| !finite(&p)) {
+                    return Err(bad("position"));
                 }
-                if let Some(q) = end.support.frame() {
-                    if !q.coords.iter().all(|x| x.is_finite()) {
-                        return Err(bad("frame"));
-                    }
+                if end.support.frame().is_some_and(|q| !q.coords.iter().all(|x| x.is_finite())) {
+                    return Err(bad("frame"));
                 }
                 if !finite(&end.load.force) || !finite(&end.load.moment) {
                     return Err(bad("load"));
