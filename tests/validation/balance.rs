@@ -33,8 +33,12 @@ fn reactions_balance_the_weight_in_force_and_moment() {
         let rod = &model.system().rods[0];
         let weight = rod.rod.mass() * model.system().gravity;
         let reactions = model.reactions(&solution.state);
-        let total_force: Vector3<f64> = reactions.iter().map(|r| r.force).sum::<Vector3<f64>>() + weight;
-        assert!(total_force.norm() <= 1e-9 * weight.norm(), "force imbalance {total_force:?}");
+        let total_force: Vector3<f64> =
+            reactions.iter().map(|r| r.force).sum::<Vector3<f64>>() + weight;
+        assert!(
+            total_force.norm() <= 1e-9 * weight.norm(),
+            "force imbalance {total_force:?}"
+        );
         for point in [Vector3::zeros(), Vector3::new(0.3, -2.0, 1.0)] {
             let mut moment = Vector3::zeros();
             for r in &reactions {
@@ -43,7 +47,10 @@ fn reactions_balance_the_weight_in_force_and_moment() {
             for (j, p) in solution.state.rods[0].positions.iter().enumerate() {
                 moment += (p - point).cross(&(rod.rod.vertex_mass(j) * model.system().gravity));
             }
-            assert!(moment.norm() <= 1e-9 * weight.norm() * 2.0, "moment imbalance about {point:?}: {moment:?}");
+            assert!(
+                moment.norm() <= 1e-9 * weight.norm() * 2.0,
+                "moment imbalance about {point:?}: {moment:?}"
+            );
         }
     }
 }
@@ -51,7 +58,10 @@ fn reactions_balance_the_weight_in_force_and_moment() {
 #[test]
 fn an_unconverged_solve_is_reported_as_such() {
     let model = Model::try_new(sagging_hose()).unwrap();
-    let settings = SolverSettings { max_iterations: 2, ..Default::default() };
+    let settings = SolverSettings {
+        max_iterations: 2,
+        ..Default::default()
+    };
     let solution = solve(&model, initial_state(model.system()), &settings).unwrap();
     assert!(!solution.report.converged);
     assert_eq!(solution.report.termination, Termination::MaxIterations);

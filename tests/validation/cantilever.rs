@@ -14,7 +14,10 @@ fn small_tip_load_matches_beam_theory() {
     let beam = cantilever_tip_load_timoshenko(1.0, 1.0, 1e4, load);
     let mut errors = vec![];
     for n in [10, 20, 40, 80] {
-        let (model, solution) = solve_converged(clamped_rod(n, End::free().with_force(Vector3::new(0.0, load, 0.0))));
+        let (model, solution) = solve_converged(clamped_rod(
+            n,
+            End::free().with_force(Vector3::new(0.0, load, 0.0)),
+        ));
         let tip = solution.state.rods[0].positions[n];
         let error = (tip.y - beam.tip_deflection).abs() / beam.tip_deflection;
         errors.push(error);
@@ -25,5 +28,8 @@ fn small_tip_load_matches_beam_theory() {
     }
     assert!(errors[3] < 1e-4, "errors {errors:?}");
     let orders = observed_orders(&errors);
-    assert!(orders.iter().all(|p| *p > 1.8), "errors {errors:?} orders {orders:?}");
+    assert!(
+        orders.iter().all(|p| *p > 1.8),
+        "errors {errors:?} orders {orders:?}"
+    );
 }

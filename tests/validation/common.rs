@@ -45,7 +45,11 @@ pub fn solve_converged_with(system: System, settings: &SolverSettings) -> (Model
     let solution = solve(&model, initial_state(model.system()), settings).unwrap();
     let report = &solution.report;
     assert!(report.converged, "not converged: {report:?}");
-    assert!(report.residual.combined_n <= settings.tolerance_n, "residual {}", report.residual.combined_n);
+    assert!(
+        report.residual.combined_n <= settings.tolerance_n,
+        "residual {}",
+        report.residual.combined_n
+    );
     assert!(report.stable, "equilibrium not stable: {report:?}");
     (model, solution)
 }

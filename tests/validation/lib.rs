@@ -5,6 +5,7 @@
 
 mod balance;
 mod cantilever;
+mod cli;
 mod common;
 mod elastica;
 mod helix;

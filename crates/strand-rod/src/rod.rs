@@ -33,7 +33,11 @@ pub struct RodState {
 
 impl Clone for RodState {
     fn clone(&self) -> Self {
-        Self { positions: self.positions.clone(), frames: self.frames.clone(), compensation: self.compensation.clone() }
+        Self {
+            positions: self.positions.clone(),
+            frames: self.frames.clone(),
+            compensation: self.compensation.clone(),
+        }
     }
 
     /// Reuses the allocations of `self` (the line search clones states per trial).
@@ -87,7 +91,12 @@ impl Rod {
             return Err(RodError::Length(length));
         }
         let h = length / segments as f64;
-        Self::try_new(section, vec![h; segments], vec![Vector3::z(); segments], vec![Vector3::zeros(); segments + 1])
+        Self::try_new(
+            section,
+            vec![h; segments],
+            vec![Vector3::z(); segments],
+            vec![Vector3::zeros(); segments + 1],
+        )
     }
 
     /// A rod from explicit reference data: `N` edge lengths (m), `N` rest strains and
@@ -106,18 +115,37 @@ impl Rod {
             return Err(RodError::Length(bad));
         }
         if rest_strains.len() != n {
-            return Err(RodError::Size { what: "rest strains", expected: n, got: rest_strains.len() });
+            return Err(RodError::Size {
+                what: "rest strains",
+                expected: n,
+                got: rest_strains.len(),
+            });
         }
         if rest_curvatures.len() != n + 1 {
-            return Err(RodError::Size { what: "rest curvatures", expected: n + 1, got: rest_curvatures.len() });
+            return Err(RodError::Size {
+                what: "rest curvatures",
+                expected: n + 1,
+                got: rest_curvatures.len(),
+            });
         }
-        if rest_strains.iter().any(|g| !g.iter().all(|x| x.is_finite())) {
+        if rest_strains
+            .iter()
+            .any(|g| !g.iter().all(|x| x.is_finite()))
+        {
             return Err(RodError::NotFinite("rest strains"));
         }
-        if rest_curvatures.iter().any(|k| !k.iter().all(|x| x.is_finite())) {
+        if rest_curvatures
+            .iter()
+            .any(|k| !k.iter().all(|x| x.is_finite()))
+        {
             return Err(RodError::NotFinite("rest curvatures"));
         }
-        Ok(Self { section, edge_lengths, rest_strains, rest_curvatures })
+        Ok(Self {
+            section,
+            edge_lengths,
+            rest_strains,
+            rest_curvatures,
+        })
     }
 
     /// The cross section.
@@ -153,7 +181,11 @@ impl Rod {
     /// Vertex weight `h̄_j` in m: the mean of the adjacent edge lengths inside, half
     /// the edge length at the ends (paper eq. 6).
     pub fn vertex_weight(&self, vertex: usize) -> f64 {
-        let before = if vertex > 0 { self.edge_lengths[vertex - 1] } else { 0.0 };
+        let before = if vertex > 0 {
+            self.edge_lengths[vertex - 1]
+        } else {
+            0.0
+        };
         let after = self.edge_lengths.get(vertex).copied().unwrap_or(0.0);
         0.5 * (before + after)
     }
@@ -196,20 +228,29 @@ impl RodState {
     /// rod's reference edge lengths (its stress-free shape when `Γ0 = e3`, `K0 = 0`).
     pub fn straight(rod: &Rod, start: Vector3<f64>, frame: UnitQuaternion<f64>) -> Self {
         let tangent = frame * Vector3::z();
-        let positions = rod.arc_lengths().iter().map(|s| start + tangent * *s).collect();
+        let positions = rod
+            .arc_lengths()
+            .iter()
+            .map(|s| start + tangent * *s)
+            .collect();
         Self::new(positions, vec![frame; rod.segments()])
     }
 
     /// A configuration from vertex positions (m) and edge frames.
     pub fn new(positions: Vec<Vector3<f64>>, frames: Vec<UnitQuaternion<f64>>) -> Self {
         let compensation = vec![Vector3::zeros(); positions.len()];
-        Self { positions, frames, compensation }
+        Self {
+            positions,
+            frames,
+            compensation,
+        }
     }
 
     /// The edge vector `r_{e+1} − r_e` of edge `e` in m, including the compensation.
     #[inline]
     pub fn edge_vector(&self, edge: usize) -> Vector3<f64> {
-        (self.positions[edge + 1] - self.positions[edge]) + (self.compensation[edge + 1] - self.compensation[edge])
+        (self.positions[edge + 1] - self.positions[edge])
+            + (self.compensation[edge + 1] - self.compensation[edge])
     }
 
     /// Sets vertex `vertex` to `position` (m), clearing its compensation.
@@ -231,7 +272,12 @@ impl RodState {
 
     /// Whether every coordinate is finite.
     pub fn is_finite(&self) -> bool {
-        self.positions.iter().all(|p| p.iter().all(|x| x.is_finite()))
-            && self.frames.iter().all(|q| q.coords.iter().all(|x| x.is_finite()))
+        self.positions
+            .iter()
+            .all(|p| p.iter().all(|x| x.is_finite()))
+            && self
+                .frames
+                .iter()
+                .all(|q| q.coords.iter().all(|x| x.is_finite()))
     }
 }

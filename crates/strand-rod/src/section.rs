@@ -71,11 +71,19 @@ pub enum SectionError {
 }
 
 fn positive(field: &'static str, value: f64) -> Result<f64, SectionError> {
-    if value.is_finite() && value > 0.0 { Ok(value) } else { Err(SectionError::NotPositive { field, value }) }
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(SectionError::NotPositive { field, value })
+    }
 }
 
 fn non_negative(field: &'static str, value: f64) -> Result<f64, SectionError> {
-    if value.is_finite() && value >= 0.0 { Ok(value) } else { Err(SectionError::Negative { field, value }) }
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(SectionError::Negative { field, value })
+    }
 }
 
 impl Section {
@@ -110,7 +118,11 @@ impl Section {
     /// `G = E/(2(1+ν))`, `GA = k G A` with the shear factor `k`
     /// ([`Section::TUBE_SHEAR_FACTOR`]), `ρ_L = ρ A`. Radii in m; `inner_radius` may be 0
     /// (solid rod).
-    pub fn try_tube(material: &TubeMaterial, inner_radius: f64, outer_radius: f64) -> Result<Self, SectionError> {
+    pub fn try_tube(
+        material: &TubeMaterial,
+        inner_radius: f64,
+        outer_radius: f64,
+    ) -> Result<Self, SectionError> {
         let e = positive("Young's modulus", material.youngs_modulus)?;
         let nu = material.poisson_ratio;
         if !(nu.is_finite() && nu > -1.0 && nu <= 0.5) {
@@ -120,13 +132,20 @@ impl Section {
         let ro = positive("outer radius", outer_radius)?;
         let ri = non_negative("inner radius", inner_radius)?;
         if ri >= ro {
-            return Err(SectionError::InnerNotSmaller { inner: ri, outer: ro });
+            return Err(SectionError::InnerNotSmaller {
+                inner: ri,
+                outer: ro,
+            });
         }
         let pi = std::f64::consts::PI;
         let area = pi * (ro * ro - ri * ri);
         let inertia = pi * (ro.powi(4) - ri.powi(4)) / 4.0;
         let g = e / (2.0 * (1.0 + nu));
-        let shear_factor = if ri == 0.0 { 0.9 } else { Self::TUBE_SHEAR_FACTOR };
+        let shear_factor = if ri == 0.0 {
+            0.9
+        } else {
+            Self::TUBE_SHEAR_FACTOR
+        };
         Ok(Self {
             shear_stiffness_1: shear_factor * g * area,
             shear_stiffness_2: shear_factor * g * area,
@@ -141,12 +160,20 @@ impl Section {
 
     /// `diag(C_Γ) = (GA1, GA2, EA)` in N.
     pub fn strain_stiffness(&self) -> Vector3<f64> {
-        Vector3::new(self.shear_stiffness_1, self.shear_stiffness_2, self.axial_stiffness)
+        Vector3::new(
+            self.shear_stiffness_1,
+            self.shear_stiffness_2,
+            self.axial_stiffness,
+        )
     }
 
     /// `diag(C_K) = (EI1, EI2, GJ)` in N·m².
     pub fn curvature_stiffness(&self) -> Vector3<f64> {
-        Vector3::new(self.bending_stiffness_1, self.bending_stiffness_2, self.torsional_stiffness)
+        Vector3::new(
+            self.bending_stiffness_1,
+            self.bending_stiffness_2,
+            self.torsional_stiffness,
+        )
     }
 }
 
@@ -156,7 +183,11 @@ mod tests {
 
     #[test]
     fn tube_matches_hand_computation() {
-        let rubber = TubeMaterial { youngs_modulus: 5e6, poisson_ratio: 0.5, density: 1100.0 };
+        let rubber = TubeMaterial {
+            youngs_modulus: 5e6,
+            poisson_ratio: 0.5,
+            density: 1100.0,
+        };
         let s = Section::try_tube(&rubber, 0.0144, 0.0184).unwrap();
         let area = std::f64::consts::PI * (0.0184f64.powi(2) - 0.0144f64.powi(2));
         assert!((s.axial_stiffness - 5e6 * area).abs() < 1e-9);
@@ -167,10 +198,27 @@ mod tests {
 
     #[test]
     fn rejects_bad_values() {
-        let m = TubeMaterial { youngs_modulus: 5e6, poisson_ratio: 0.5, density: 1100.0 };
-        assert!(matches!(Section::try_tube(&m, 0.02, 0.01), Err(SectionError::InnerNotSmaller { .. })));
+        let m = TubeMaterial {
+            youngs_modulus: 5e6,
+            poisson_ratio: 0.5,
+            density: 1100.0,
+        };
+        assert!(matches!(
+            Section::try_tube(&m, 0.02, 0.01),
+            Err(SectionError::InnerNotSmaller { .. })
+        ));
         assert!(Section::try_explicit(f64::NAN, 1.0, 1.0, 1.0, 0.0, 0.0).is_err());
         assert!(Section::try_explicit(1.0, 1.0, -1.0, 1.0, 0.0, 0.0).is_err());
-        assert!(Section::try_tube(&TubeMaterial { poisson_ratio: 0.7, ..m }, 0.0, 0.01).is_err());
+        assert!(
+            Section::try_tube(
+                &TubeMaterial {
+                    poisson_ratio: 0.7,
+                    ..m
+                },
+                0.0,
+                0.01
+            )
+            .is_err()
+        );
     }
 }

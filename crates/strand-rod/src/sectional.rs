@@ -43,7 +43,12 @@ pub fn vertex_frames<'a>(
 }
 
 /// The edge element of edge `e`.
-pub fn edge_element<'a>(rod: &'a Rod, state: &'a RodState, stiffness: &'a Vector3<f64>, e: usize) -> StretchShear<'a> {
+pub fn edge_element<'a>(
+    rod: &'a Rod,
+    state: &'a RodState,
+    stiffness: &'a Vector3<f64>,
+    e: usize,
+) -> StretchShear<'a> {
     StretchShear {
         edge_vector: state.edge_vector(e),
         frame: &state.frames[e],
@@ -102,28 +107,39 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
     }
     for j in 0..=n {
         let weight = rod.vertex_weight(j);
-        let (curvature, moment, vertex_hamiltonian, tangent) = match vertex_frames(state, boundary, j) {
-            Some((q_a, q_b)) => {
-                let element =
-                    BendTwist { frame_a: q_a, frame_b: q_b, weight, stiffness: &c_kappa, rest_curvature: rod.rest_curvature(j) };
-                let derivatives = bend_twist(&element);
-                let curvature = element.curvature();
-                let delta = curvature - rod.rest_curvature(j);
-                let m_material = c_kappa.component_mul(&delta);
-                let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
-                let tangent_frame = match j {
-                    0 => *q_a,
-                    j if j == n => *q_b,
-                    _ => crate::so3::mid_frame(q_a, q_b),
-                };
-                let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
-                (curvature, moment, h, tangent_frame * Vector3::z())
-            }
-            None => {
-                let edge = if j == 0 { 0 } else { n - 1 };
-                (Vector3::zeros(), Vector3::zeros(), 0.0, state.frames[edge] * Vector3::z())
-            }
-        };
+        let (curvature, moment, vertex_hamiltonian, tangent) =
+            match vertex_frames(state, boundary, j) {
+                Some((q_a, q_b)) => {
+                    let element = BendTwist {
+                        frame_a: q_a,
+                        frame_b: q_b,
+                        weight,
+                        stiffness: &c_kappa,
+                        rest_curvature: rod.rest_curvature(j),
+                    };
+                    let derivatives = bend_twist(&element);
+                    let curvature = element.curvature();
+                    let delta = curvature - rod.rest_curvature(j);
+                    let m_material = c_kappa.component_mul(&delta);
+                    let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
+                    let tangent_frame = match j {
+                        0 => *q_a,
+                        j if j == n => *q_b,
+                        _ => crate::so3::mid_frame(q_a, q_b),
+                    };
+                    let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
+                    (curvature, moment, h, tangent_frame * Vector3::z())
+                }
+                None => {
+                    let edge = if j == 0 { 0 } else { n - 1 };
+                    (
+                        Vector3::zeros(),
+                        Vector3::zeros(),
+                        0.0,
+                        state.frames[edge] * Vector3::z(),
+                    )
+                }
+            };
         let (mut force, mut edge_h) = (Vector3::zeros(), 0.0);
         for e in [j.wrapping_sub(1), j] {
             if e < n {
@@ -142,7 +158,8 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
         out.shear_force.push((force - f_t * tangent).norm());
         out.torsion.push(m_t);
         out.bending_moment.push((moment - m_t * tangent).norm());
-        out.total_moment.push(moment + state.positions[j].cross(&force));
+        out.total_moment
+            .push(moment + state.positions[j].cross(&force));
         out.hamiltonian.push(vertex_hamiltonian + edge_h);
     }
     out

@@ -24,7 +24,10 @@ pub fn right_jacobian(theta: &Vector3<f64>) -> Matrix3<f64> {
         (0.5 - angle2 / 24.0, 1.0 / 6.0 - angle2 / 120.0)
     } else {
         let angle = angle2.sqrt();
-        ((1.0 - angle.cos()) / angle2, (angle - angle.sin()) / (angle2 * angle))
+        (
+            (1.0 - angle.cos()) / angle2,
+            (angle - angle.sin()) / (angle2 * angle),
+        )
     };
     Matrix3::identity() - a * x + b * x * x
 }
@@ -34,7 +37,11 @@ pub fn right_jacobian(theta: &Vector3<f64>) -> Matrix3<f64> {
 #[inline]
 pub fn log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let q = q.quaternion();
-    let (w, v) = if q.w < 0.0 { (-q.w, -q.vector()) } else { (q.w, q.vector().into_owned()) };
+    let (w, v) = if q.w < 0.0 {
+        (-q.w, -q.vector())
+    } else {
+        (q.w, q.vector().into_owned())
+    };
     let n = v.norm();
     if n < 1e-300 {
         return Vector3::zeros();
@@ -45,7 +52,10 @@ pub fn log(q: &UnitQuaternion<f64>) -> Vector3<f64> {
 /// The relative rotation vector `log(q_aᵀ q_b)` (material in frame `a`), the discrete
 /// curvature times the vertex weight, paper §2.3: `K_j h̄_j = 2 log(q*_{j-1/2} q_{j+1/2})`.
 #[inline]
-pub fn relative_rotation_vector(q_a: &UnitQuaternion<f64>, q_b: &UnitQuaternion<f64>) -> Vector3<f64> {
+pub fn relative_rotation_vector(
+    q_a: &UnitQuaternion<f64>,
+    q_b: &UnitQuaternion<f64>,
+) -> Vector3<f64> {
     log(&(q_a.inverse() * q_b))
 }
 
@@ -56,7 +66,10 @@ pub fn mid_frame(q_a: &UnitQuaternion<f64>, q_b: &UnitQuaternion<f64>) -> UnitQu
 
 /// A frame whose third director `a3` is the given direction, with the least rotation
 /// from `reference` (used to build frames along a route).
-pub fn frame_with_tangent(tangent: &Vector3<f64>, reference: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+pub fn frame_with_tangent(
+    tangent: &Vector3<f64>,
+    reference: &UnitQuaternion<f64>,
+) -> UnitQuaternion<f64> {
     let a3 = reference * Vector3::z();
     let t = tangent.normalize();
     let turn = UnitQuaternion::rotation_between(&a3, &t).unwrap_or_else(|| {
@@ -110,14 +123,24 @@ mod tests {
     fn atan_ratio_branches_agree_with_finite_differences() {
         for &z in &[0.0, 1e-6, 3e-3, 0.0099, 0.0101, 0.3, 2.0, 40.0] {
             let (a, d1, d2) = atan_ratio(z);
-            let exact = if z == 0.0 { 1.0 } else { z.sqrt().atan() / z.sqrt() };
+            let exact = if z == 0.0 {
+                1.0
+            } else {
+                z.sqrt().atan() / z.sqrt()
+            };
             assert!((a - exact).abs() < 1e-15, "A({z})");
             let h = 1e-5 * (1.0 + z);
             if z > h {
                 let (ap, d1p, _) = atan_ratio(z + h);
                 let (am, d1m, _) = atan_ratio(z - h);
-                assert!((d1 - (ap - am) / (2.0 * h)).abs() < 1e-8 * (1.0 + d1.abs()), "A'({z})");
-                assert!((d2 - (d1p - d1m) / (2.0 * h)).abs() < 1e-7 * (1.0 + d2.abs()), "A''({z})");
+                assert!(
+                    (d1 - (ap - am) / (2.0 * h)).abs() < 1e-8 * (1.0 + d1.abs()),
+                    "A'({z})"
+                );
+                assert!(
+                    (d2 - (d1p - d1m) / (2.0 * h)).abs() < 1e-7 * (1.0 + d2.abs()),
+                    "A''({z})"
+                );
             }
         }
         let (_, d1, d2) = atan_ratio(0.0);
@@ -126,7 +149,11 @@ mod tests {
 
     #[test]
     fn log_inverts_exp() {
-        for theta in [Vector3::new(0.1, -0.2, 0.3), Vector3::new(0.0, 3.0, 0.0), Vector3::new(1e-9, 0.0, 0.0)] {
+        for theta in [
+            Vector3::new(0.1, -0.2, 0.3),
+            Vector3::new(0.0, 3.0, 0.0),
+            Vector3::new(1e-9, 0.0, 0.0),
+        ] {
             assert!((log(&exp(&theta)) - theta).norm() < 1e-14);
         }
     }

@@ -15,7 +15,7 @@ mod newton;
 mod settings;
 
 pub use linear::SparseCholesky;
-pub use newton::{Solution, SolveReport, Termination, solve};
+pub use newton::{Solution, SolveReport, Solver, Termination, solve};
 pub use settings::{SettingsError, SolverSettings};
 
 /// A failure that prevents solving at all (not a mere lack of convergence, which is

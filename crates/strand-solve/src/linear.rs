@@ -3,15 +3,15 @@
 //! numeric factorisation; workspaces are allocated once.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
-use faer::perm::PermRef;
-use faer::sparse::linalg::amd;
 use strand_system::HessianPattern;
 
 use crate::SolveError;
@@ -34,27 +34,48 @@ impl SparseCholesky {
     /// AMD ordering is analysed too and the one with the sparser factor is kept.
     pub fn try_new(pattern: &HessianPattern) -> Result<Self, SolveError> {
         let n = pattern.dim();
-        let structure = SymbolicSparseColMat::new_checked(n, n, pattern.col_ptr.clone(), None, pattern.row_idx.clone());
+        let structure = SymbolicSparseColMat::new_checked(
+            n,
+            n,
+            pattern.col_ptr.clone(),
+            None,
+            pattern.row_idx.clone(),
+        );
         let analyse = |ordering: SymmetricOrdering<'_, usize>| {
-            factorize_symbolic_cholesky(structure.as_ref(), Side::Upper, ordering, CholeskySymbolicParams::default())
-                .map_err(|e| SolveError::Linear(format!("symbolic analysis failed: {e:?}")))
+            factorize_symbolic_cholesky(
+                structure.as_ref(),
+                Side::Upper,
+                ordering,
+                CholeskySymbolicParams::default(),
+            )
+            .map_err(|e| SolveError::Linear(format!("symbolic analysis failed: {e:?}")))
         };
         let mut symbolic = analyse(SymmetricOrdering::Identity)?;
         if !pattern.is_banded() {
             let (forward, inverse) = block_amd_ordering(pattern)?;
-            let amd = analyse(SymmetricOrdering::Custom(PermRef::new_checked(&forward, &inverse, n)))?;
+            let amd = analyse(SymmetricOrdering::Custom(PermRef::new_checked(
+                &forward, &inverse, n,
+            )))?;
             if amd.len_val() < symbolic.len_val() {
                 symbolic = amd;
             }
         }
-        let factor_req = symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
+        let factor_req =
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
         let solve_req = symbolic.solve_in_place_scratch::<f64>(1, Par::Seq);
-        let factor_buffer =
-            MemBuffer::try_new(factor_req).map_err(|_| SolveError::Linear("out of memory for factorisation".into()))?;
-        let solve_buffer =
-            MemBuffer::try_new(solve_req).map_err(|_| SolveError::Linear("out of memory for solve".into()))?;
+        let factor_buffer = MemBuffer::try_new(factor_req)
+            .map_err(|_| SolveError::Linear("out of memory for factorisation".into()))?;
+        let solve_buffer = MemBuffer::try_new(solve_req)
+            .map_err(|_| SolveError::Linear("out of memory for solve".into()))?;
         let factor_values = vec![0.0; symbolic.len_val()];
-        Ok(Self { structure, symbolic, factor_values, factor_buffer, solve_buffer, factored: false })
+        Ok(Self {
+            structure,
+            symbolic,
+            factor_values,
+            factor_buffer,
+            solve_buffer,
+            factored: false,
+        })
     }
 
     /// Number of nonzeros of the factor `L`.
@@ -101,8 +122,11 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
     let structure = SymbolicSparseColMatRef::new_checked(blocks, blocks, &col_ptr, None, &row_idx);
     let mut block_forward = vec![0usize; blocks];
     let mut block_inverse = vec![0usize; blocks];
-    let mut buffer = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(blocks, row_idx.len()))
-        .map_err(|_| SolveError::Linear("out of memory for ordering".into()))?;
+    let mut buffer = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(
+        blocks,
+        row_idx.len(),
+    ))
+    .map_err(|_| SolveError::Linear("out of memory for ordering".into()))?;
     amd::order_maybe_unsorted(
         &mut block_forward,
         &mut block_inverse,
@@ -111,7 +135,10 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
         MemStack::new(&mut buffer),
     )
     .map_err(|e| SolveError::Linear(format!("ordering failed: {e:?}")))?;
-    let forward: Vec<usize> = block_forward.iter().flat_map(|&b| [3 * b, 3 * b + 1, 3 * b + 2]).collect();
+    let forward: Vec<usize> = block_forward
+        .iter()
+        .flat_map(|&b| [3 * b, 3 * b + 1, 3 * b + 2])
+        .collect();
     let mut inverse = vec![0usize; forward.len()];
     for (new, &old) in forward.iter().enumerate() {
         inverse[old] = new;

@@ -26,29 +26,49 @@ fn coarse_indices(segments: usize) -> Vec<usize> {
 
 /// The system with every long rod coarsened, and per rod the kept vertex indices.
 pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
-    if system.rods.iter().all(|r| r.rod.segments() <= COARSE_THRESHOLD) {
+    if system
+        .rods
+        .iter()
+        .all(|r| r.rod.segments() <= COARSE_THRESHOLD)
+    {
         return None;
     }
     let mut rods = Vec::with_capacity(system.rods.len());
     let mut kept = Vec::with_capacity(system.rods.len());
     for spec in &system.rods {
         let n = spec.rod.segments();
-        let indices = if n > COARSE_THRESHOLD { coarse_indices(n) } else { (0..=n).collect() };
+        let indices = if n > COARSE_THRESHOLD {
+            coarse_indices(n)
+        } else {
+            (0..=n).collect()
+        };
         let rod = &spec.rod;
         let mut lengths = Vec::new();
         let mut strains = Vec::new();
         for w in indices.windows(2) {
             let length: f64 = (w[0]..w[1]).map(|e| rod.edge_length(e)).sum();
-            let strain = (w[0]..w[1]).map(|e| rod.rest_strain(e) * rod.edge_length(e)).sum::<Vector3<f64>>() / length;
+            let strain = (w[0]..w[1])
+                .map(|e| rod.rest_strain(e) * rod.edge_length(e))
+                .sum::<Vector3<f64>>()
+                / length;
             lengths.push(length);
             strains.push(strain);
         }
         let curvatures = indices.iter().map(|&j| *rod.rest_curvature(j)).collect();
         let coarse = Rod::try_new(*rod.section(), lengths, strains, curvatures).ok()?;
-        rods.push(RodSpec { rod: coarse, ..spec.clone() });
+        rods.push(RodSpec {
+            rod: coarse,
+            ..spec.clone()
+        });
         kept.push(indices);
     }
-    Some((System { rods, gravity: system.gravity }, kept))
+    Some((
+        System {
+            rods,
+            gravity: system.gravity,
+        },
+        kept,
+    ))
 }
 
 /// The fine state restricted to the kept vertices (frames of the middle fine edge).
@@ -59,7 +79,10 @@ pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState 
         .zip(kept)
         .map(|(rod_state, indices)| {
             let positions = indices.iter().map(|&j| rod_state.positions[j]).collect();
-            let frames = indices.windows(2).map(|w| rod_state.frames[(w[0] + w[1] - 1) / 2]).collect();
+            let frames = indices
+                .windows(2)
+                .map(|w| rod_state.frames[(w[0] + w[1] - 1) / 2])
+                .collect();
             RodState::new(positions, frames)
         })
         .collect();
@@ -67,7 +90,12 @@ pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState 
 }
 
 /// The coarse solution carried to the fine model.
-pub(crate) fn prolong(fine: &Model, coarse: &Model, coarse_state: &SystemState, kept: &[Vec<usize>]) -> SystemState {
+pub(crate) fn prolong(
+    fine: &Model,
+    coarse: &Model,
+    coarse_state: &SystemState,
+    kept: &[Vec<usize>],
+) -> SystemState {
     let rods = fine
         .system()
         .rods
@@ -78,7 +106,13 @@ pub(crate) fn prolong(fine: &Model, coarse: &Model, coarse_state: &SystemState, 
     SystemState { rods }
 }
 
-fn prolong_rod(spec: &RodSpec, coarse: &Model, rod: usize, coarse_state: &RodState, indices: &[usize]) -> RodState {
+fn prolong_rod(
+    spec: &RodSpec,
+    coarse: &Model,
+    rod: usize,
+    coarse_state: &RodState,
+    indices: &[usize],
+) -> RodState {
     let s = spec.rod.arc_lengths();
     let boundary = coarse.boundary_frames(rod);
     let coarse_frames = &coarse_state.frames;
@@ -102,7 +136,10 @@ fn prolong_rod(spec: &RodSpec, coarse: &Model, rod: usize, coarse_state: &RodSta
             let u = (s[j] - s[a]) / (s[b] - s[a]);
             let (u2, u3) = (u * u, u * u * u);
             positions.push(
-                pa * (2.0 * u3 - 3.0 * u2 + 1.0) + ta * (u3 - 2.0 * u2 + u) + pb * (-2.0 * u3 + 3.0 * u2) + tb * (u3 - u2),
+                pa * (2.0 * u3 - 3.0 * u2 + 1.0)
+                    + ta * (u3 - 2.0 * u2 + u)
+                    + pb * (-2.0 * u3 + 3.0 * u2)
+                    + tb * (u3 - u2),
             );
         }
     }
@@ -128,7 +165,11 @@ fn prolong_rod(spec: &RodSpec, coarse: &Model, rod: usize, coarse_state: &RodSta
             }
             let (s0, q0) = anchors[anchor];
             let (s1, q1) = anchors[(anchor + 1).min(anchors.len() - 1)];
-            let u = if s1 > s0 { ((mid - s0) / (s1 - s0)).clamp(0.0, 1.0) } else { 0.0 };
+            let u = if s1 > s0 {
+                ((mid - s0) / (s1 - s0)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             q0 * so3::exp(&(u * so3::relative_rotation_vector(&q0, &q1)))
         })
         .collect();

@@ -60,158 +60,233 @@ pub struct Solution {
     pub report: SolveReport,
 }
 
-/// Solves for the equilibrium of `model` starting from `initial`.
+/// Solves for the equilibrium of `model` starting from `initial`: a fresh [`Solver`]
+/// (symbolic analysis included) and one [`Solver::solve`].
 ///
 /// Returns `Err` only when solving cannot start (bad settings, an initial state that
 /// does not fit); a solve that does not converge returns a [`Solution`] whose report
 /// says so.
-pub fn solve(model: &Model, initial: SystemState, settings: &SolverSettings) -> Result<Solution, SolveError> {
-    settings.validate()?;
-    check_initial_state(model, &initial)?;
+pub fn solve(
+    model: &Model,
+    initial: SystemState,
+    settings: &SolverSettings,
+) -> Result<Solution, SolveError> {
     let started = Instant::now();
-    let mut coarse_iterations = 0;
-    let mut initial = initial;
-    if let Some((coarse_system, kept)) = nested::coarsen(model.system()).filter(|_| settings.nested_iteration) {
-        let coarse_model = Model::try_new(coarse_system).map_err(|e| SolveError::InitialState(e.to_string()))?;
-        let coarse_settings = SolverSettings { nested_iteration: false, ..settings.clone() };
-        let coarse = solve(&coarse_model, nested::restrict(&initial, &kept), &coarse_settings)?;
-        coarse_iterations = coarse.report.iterations;
-        if coarse.report.converged {
-            initial = nested::prolong(model, &coarse_model, &coarse.state, &kept);
-        }
-    }
-    let mut solution = newton(model, initial, settings)?;
-    solution.report.coarse_iterations = coarse_iterations;
+    let mut solution = Solver::try_new(model)?.solve(initial, settings)?;
     solution.report.solve_seconds = started.elapsed().as_secs_f64();
     Ok(solution)
 }
 
-/// Newton's method from `initial` on `model` (no nested iteration).
-fn newton(model: &Model, initial: SystemState, settings: &SolverSettings) -> Result<Solution, SolveError> {
-    let started = Instant::now();
-    let mut cholesky = SparseCholesky::try_new(model.pattern())?;
-    let longest_rod = model.system().rods.iter().map(|r| r.rod.length()).fold(0.0, f64::max);
-    let max_translation = settings.max_translation_step * longest_rod;
+/// A Newton solver bound to one model: the symbolic factorisation and all work
+/// buffers are set up once and reused by every [`Solver::solve`] (variants, load
+/// steps, warm starts).
+pub struct Solver<'m> {
+    model: &'m Model,
+    cholesky: SparseCholesky,
+    diagonal: Vec<usize>,
+    eval: strand_system::Evaluation,
+    trial_eval: strand_system::Evaluation,
+    shifted_values: Vec<f64>,
+    step: Vec<f64>,
+}
 
-    let n = model.dofs().len();
-    let mut state = initial;
-    model.enforce_supports(&mut state);
-    let mut eval = model.new_evaluation();
-    model.evaluate(&state, &mut eval, true);
-    let mut shifted_values = vec![0.0; eval.hessian.len()];
-    let diagonal = diagonal_positions(model);
-    let mut step = vec![0.0; n];
-    let mut trial = state.clone();
-    let mut trial_eval = model.new_evaluation();
-    let mut shift = 0.0f64;
-    let mut iterations = 0;
-    let mut shifted_iterations = 0;
-    let mut termination = Termination::MaxIterations;
-    let mut stable_at_current: Option<bool> = None;
+impl<'m> Solver<'m> {
+    /// Symbolic phase: analyses the model's Hessian pattern.
+    pub fn try_new(model: &'m Model) -> Result<Self, SolveError> {
+        Ok(Self {
+            model,
+            cholesky: SparseCholesky::try_new(model.pattern())?,
+            diagonal: diagonal_positions(model),
+            eval: model.new_evaluation(),
+            trial_eval: model.new_evaluation(),
+            shifted_values: vec![0.0; model.pattern().nnz()],
+            step: vec![0.0; model.dofs().len()],
+        })
+    }
 
-    while iterations < settings.max_iterations {
-        let residual = model.residual(&eval.gradient);
-        if !residual.combined_n.is_finite() || !eval.energy.is_finite() {
-            termination = Termination::NotFinite;
-            break;
-        }
-        if residual.combined_n <= settings.tolerance_n {
-            termination = Termination::Converged;
-            break;
-        }
-        iterations += 1;
-
-        // Inertia correction: the smallest shift δ ∈ {0, δ0·10^k} with H + δI ≻ 0.
-        let unshifted_ok = cholesky.factor(&eval.hessian);
-        stable_at_current = Some(unshifted_ok);
-        if !unshifted_ok {
-            shifted_iterations += 1;
-            let scale = diagonal.iter().map(|&k| eval.hessian[k].abs()).fold(0.0, f64::max).max(1e-300);
-            shift = if shift == 0.0 { 1e-8 * scale } else { (shift / 3.0).max(1e-8 * scale) };
-            loop {
-                shifted_values.copy_from_slice(&eval.hessian);
-                for &k in &diagonal {
-                    shifted_values[k] += shift;
-                }
-                if cholesky.factor(&shifted_values) {
-                    break;
-                }
-                shift *= 10.0;
-                if !shift.is_finite() {
-                    termination = Termination::NotFinite;
-                    break;
-                }
+    /// Solves from `initial`, first through a coarsened model when
+    /// [`SolverSettings::nested_iteration`] is on and a rod is long.
+    pub fn solve(
+        &mut self,
+        initial: SystemState,
+        settings: &SolverSettings,
+    ) -> Result<Solution, SolveError> {
+        settings.validate()?;
+        check_initial_state(self.model, &initial)?;
+        let started = Instant::now();
+        let mut coarse_iterations = 0;
+        let mut initial = initial;
+        if let Some((coarse_system, kept)) =
+            nested::coarsen(self.model.system()).filter(|_| settings.nested_iteration)
+        {
+            let coarse_model = Model::try_new(coarse_system)
+                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+            let coarse_settings = SolverSettings {
+                nested_iteration: false,
+                ..settings.clone()
+            };
+            let coarse = solve(
+                &coarse_model,
+                nested::restrict(&initial, &kept),
+                &coarse_settings,
+            )?;
+            coarse_iterations = coarse.report.iterations;
+            if coarse.report.converged {
+                initial = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
             }
-            if termination == Termination::NotFinite {
+        }
+        let mut solution = self.newton(initial, settings);
+        solution.report.coarse_iterations = coarse_iterations;
+        solution.report.solve_seconds = started.elapsed().as_secs_f64();
+        Ok(solution)
+    }
+
+    /// Newton's method from `initial` (no nested iteration).
+    fn newton(&mut self, initial: SystemState, settings: &SolverSettings) -> Solution {
+        let Self {
+            model,
+            cholesky,
+            diagonal,
+            eval,
+            trial_eval,
+            shifted_values,
+            step,
+        } = self;
+        let model: &Model = model;
+        let longest_rod = model
+            .system()
+            .rods
+            .iter()
+            .map(|r| r.rod.length())
+            .fold(0.0, f64::max);
+        let max_translation = settings.max_translation_step * longest_rod;
+        let mut state = initial;
+        model.enforce_supports(&mut state);
+        model.evaluate(&state, eval, true);
+        let mut trial = state.clone();
+        let mut shift = 0.0f64;
+        let mut iterations = 0;
+        let mut shifted_iterations = 0;
+        let mut termination = Termination::MaxIterations;
+        let mut stable_at_current: Option<bool> = None;
+
+        while iterations < settings.max_iterations {
+            let residual = model.residual(&eval.gradient);
+            if !residual.combined_n.is_finite() || !eval.energy.is_finite() {
+                termination = Termination::NotFinite;
                 break;
             }
-        } else {
-            shift = 0.0;
-        }
-        for (s, g) in step.iter_mut().zip(&eval.gradient) {
-            *s = -g;
-        }
-        cholesky.solve_in_place(&mut step);
-
-        // Step-length limits keep the manifold retraction and the line search sane.
-        let (rotation, translation) = model.step_size(&step);
-        let limit = (settings.max_rotation_step_rad / rotation.max(1e-300))
-            .min(max_translation / translation.max(1e-300))
-            .min(1.0);
-        let slope: f64 = limit * step.iter().zip(&eval.gradient).map(|(s, g)| s * g).sum::<f64>();
-
-        let mut t = limit;
-        let mut accepted = false;
-        for _ in 0..=settings.max_line_search_steps {
-            model.retract_into(&state, &step, t, &mut trial);
-            let energy = model.energy(&trial);
-            let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
-            let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
-            if armijo && energy.is_finite() {
-                accepted = true;
+            if residual.combined_n <= settings.tolerance_n {
+                termination = Termination::Converged;
                 break;
             }
-            // Round-off regime: energy differences are below their noise; accept the
-            // step if it reduces the residual instead.
-            if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
-                model.evaluate(&trial, &mut trial_eval, false);
-                if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
+            iterations += 1;
+
+            // Inertia correction: the smallest shift δ ∈ {0, δ0·10^k} with H + δI ≻ 0.
+            let unshifted_ok = cholesky.factor(&eval.hessian);
+            stable_at_current = Some(unshifted_ok);
+            if !unshifted_ok {
+                shifted_iterations += 1;
+                let scale = diagonal
+                    .iter()
+                    .map(|&k| eval.hessian[k].abs())
+                    .fold(0.0, f64::max)
+                    .max(1e-300);
+                shift = if shift == 0.0 {
+                    1e-8 * scale
+                } else {
+                    (shift / 3.0).max(1e-8 * scale)
+                };
+                loop {
+                    shifted_values.copy_from_slice(&eval.hessian);
+                    for &k in diagonal.iter() {
+                        shifted_values[k] += shift;
+                    }
+                    if cholesky.factor(shifted_values) {
+                        break;
+                    }
+                    shift *= 10.0;
+                    if !shift.is_finite() {
+                        termination = Termination::NotFinite;
+                        break;
+                    }
+                }
+                if termination == Termination::NotFinite {
+                    break;
+                }
+            } else {
+                shift = 0.0;
+            }
+            for (s, g) in step.iter_mut().zip(&eval.gradient) {
+                *s = -g;
+            }
+            cholesky.solve_in_place(step);
+
+            // Step-length limits keep the manifold retraction and the line search sane.
+            let (rotation, translation) = model.step_size(step);
+            let limit = (settings.max_rotation_step_rad / rotation.max(1e-300))
+                .min(max_translation / translation.max(1e-300))
+                .min(1.0);
+            let slope: f64 = limit
+                * step
+                    .iter()
+                    .zip(&eval.gradient)
+                    .map(|(s, g)| s * g)
+                    .sum::<f64>();
+
+            let mut t = limit;
+            let mut accepted = false;
+            for _ in 0..=settings.max_line_search_steps {
+                model.retract_into(&state, step, t, &mut trial);
+                let energy = model.energy(&trial);
+                let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
+                let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
+                if armijo && energy.is_finite() {
                     accepted = true;
                     break;
                 }
+                // Round-off regime: energy differences are below their noise; accept the
+                // step if it reduces the residual instead.
+                if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
+                    model.evaluate(&trial, trial_eval, false);
+                    if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
+                        accepted = true;
+                        break;
+                    }
+                }
+                t *= 0.5;
             }
-            t *= 0.5;
+            if !accepted {
+                termination = Termination::LineSearchFailed;
+                break;
+            }
+            std::mem::swap(&mut state, &mut trial);
+            stable_at_current = None;
+            model.evaluate(&state, eval, true);
         }
-        if !accepted {
-            termination = Termination::LineSearchFailed;
-            break;
-        }
-        std::mem::swap(&mut state, &mut trial);
-        stable_at_current = None;
-        model.evaluate(&state, &mut eval, true);
-    }
 
-    let stable = match stable_at_current {
-        Some(s) => s,
-        None => cholesky.factor(&eval.hessian),
-    };
-    let residual = model.residual(&eval.gradient);
-    Ok(Solution {
-        report: SolveReport {
-            converged: termination == Termination::Converged,
-            termination,
-            residual,
-            tolerance_n: settings.tolerance_n,
-            iterations,
-            coarse_iterations: 0,
-            shifted_iterations,
-            stable,
-            energy_j: eval.energy,
-            solve_seconds: started.elapsed().as_secs_f64(),
-            unknowns: n,
-        },
-        state,
-    })
+        let stable = match stable_at_current {
+            Some(s) => s,
+            None => cholesky.factor(&eval.hessian),
+        };
+        let residual = model.residual(&eval.gradient);
+        Solution {
+            report: SolveReport {
+                converged: termination == Termination::Converged,
+                termination,
+                residual,
+                tolerance_n: settings.tolerance_n,
+                iterations,
+                coarse_iterations: 0,
+                shifted_iterations,
+                stable,
+                energy_j: eval.energy,
+                solve_seconds: 0.0,
+                unknowns: model.dofs().len(),
+            },
+            state,
+        }
+    }
 }
 
 /// Value offsets of the diagonal entries in the upper-triangular CSC pattern.
@@ -220,7 +295,11 @@ fn diagonal_positions(model: &Model) -> Vec<usize> {
     (0..p.dim())
         .map(|c| {
             let rows = &p.row_idx[p.col_ptr[c]..p.col_ptr[c + 1]];
-            p.col_ptr[c] + rows.iter().position(|&r| r == c).expect("diagonal in pattern")
+            p.col_ptr[c]
+                + rows
+                    .iter()
+                    .position(|&r| r == c)
+                    .expect("diagonal in pattern")
         })
         .collect()
 }
@@ -228,10 +307,16 @@ fn diagonal_positions(model: &Model) -> Vec<usize> {
 fn check_initial_state(model: &Model, state: &SystemState) -> Result<(), SolveError> {
     let rods = &model.system().rods;
     if state.rods.len() != rods.len() {
-        return Err(SolveError::InitialState(format!("{} rod states for {} rods", state.rods.len(), rods.len())));
+        return Err(SolveError::InitialState(format!(
+            "{} rod states for {} rods",
+            state.rods.len(),
+            rods.len()
+        )));
     }
     for (spec, rod_state) in rods.iter().zip(&state.rods) {
-        if rod_state.positions.len() != spec.rod.vertex_count() || rod_state.frames.len() != spec.rod.segments() {
+        if rod_state.positions.len() != spec.rod.vertex_count()
+            || rod_state.frames.len() != spec.rod.segments()
+        {
             return Err(SolveError::InitialState(format!(
                 "rod '{}' has {} vertices and {} frames; expected {} and {}",
                 spec.name,
@@ -242,7 +327,10 @@ fn check_initial_state(model: &Model, state: &SystemState) -> Result<(), SolveEr
             )));
         }
         if !rod_state.is_finite() {
-            return Err(SolveError::InitialState(format!("rod '{}' has non-finite coordinates", spec.name)));
+            return Err(SolveError::InitialState(format!(
+                "rod '{}' has non-finite coordinates",
+                spec.name
+            )));
         }
     }
     Ok(())

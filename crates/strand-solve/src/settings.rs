@@ -55,14 +55,22 @@ impl SolverSettings {
             if value.is_finite() && value > 0.0 {
                 Ok(())
             } else {
-                Err(SettingsError { field, value, requirement: "must be a finite number > 0" })
+                Err(SettingsError {
+                    field,
+                    value,
+                    requirement: "must be a finite number > 0",
+                })
             }
         };
         positive("tolerance_n", self.tolerance_n)?;
         positive("max_rotation_step_rad", self.max_rotation_step_rad)?;
         positive("max_translation_step", self.max_translation_step)?;
         if self.max_iterations == 0 {
-            return Err(SettingsError { field: "max_iterations", value: 0.0, requirement: "must be ≥ 1" });
+            return Err(SettingsError {
+                field: "max_iterations",
+                value: 0.0,
+                requirement: "must be ≥ 1",
+            });
         }
         Ok(())
     }

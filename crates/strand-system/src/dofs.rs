@@ -25,7 +25,12 @@ impl Dofs {
     /// Numbers the unknowns rod by rod, interleaving vertices and edges along each rod
     /// (a narrow band before any fill-reducing ordering).
     pub fn new(system: &System) -> Self {
-        let mut dofs = Self { vertex_blocks: vec![], edge_blocks: vec![], kinds: vec![], force_scale: vec![] };
+        let mut dofs = Self {
+            vertex_blocks: vec![],
+            edge_blocks: vec![],
+            kinds: vec![],
+            force_scale: vec![],
+        };
         for spec in &system.rods {
             let n = spec.rod.segments();
             let mut vertices = vec![None; n + 1];

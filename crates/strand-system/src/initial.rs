@@ -4,14 +4,16 @@
 //! start's boundary frame.
 
 use nalgebra::{UnitQuaternion, Vector3};
-use strand_rod::so3::frame_with_tangent;
 use strand_rod::RodState;
+use strand_rod::so3::frame_with_tangent;
 
 use crate::system::{RodSpec, System, SystemState};
 
 /// The initial configuration of every rod.
 pub fn initial_state(system: &System) -> SystemState {
-    SystemState { rods: system.rods.iter().map(initial_rod_state).collect() }
+    SystemState {
+        rods: system.rods.iter().map(initial_rod_state).collect(),
+    }
 }
 
 fn initial_rod_state(spec: &RodSpec) -> RodState {
@@ -19,28 +21,33 @@ fn initial_rod_state(spec: &RodSpec) -> RodState {
     let start = &spec.start.support;
     let end = &spec.end.support;
     let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
-    let polyline: Vec<Vector3<f64>> = if let Some(route) = spec.route.as_ref().filter(|r| r.len() >= 2) {
-        route.clone()
-    } else {
-        match (start.position(), end.position()) {
-            (Some(a), Some(b)) => {
-                let chord = b - a;
-                let direction = if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() };
-                let t0 = tangent_of(start.frame()).unwrap_or(direction);
-                let t1 = tangent_of(end.frame()).unwrap_or(direction);
-                hermite_with_length(a, t0, b, t1, length)
+    let polyline: Vec<Vector3<f64>> =
+        if let Some(route) = spec.route.as_ref().filter(|r| r.len() >= 2) {
+            route.clone()
+        } else {
+            match (start.position(), end.position()) {
+                (Some(a), Some(b)) => {
+                    let chord = b - a;
+                    let direction = if chord.norm() > 0.0 {
+                        chord.normalize()
+                    } else {
+                        Vector3::x()
+                    };
+                    let t0 = tangent_of(start.frame()).unwrap_or(direction);
+                    let t1 = tangent_of(end.frame()).unwrap_or(direction);
+                    hermite_with_length(a, t0, b, t1, length)
+                }
+                (Some(a), None) => {
+                    let t = tangent_of(start.frame()).unwrap_or(Vector3::x());
+                    vec![a, a + t * length]
+                }
+                (None, Some(b)) => {
+                    let t = tangent_of(end.frame()).unwrap_or(Vector3::x());
+                    vec![b - t * length, b]
+                }
+                (None, None) => vec![Vector3::zeros(), Vector3::x() * length],
             }
-            (Some(a), None) => {
-                let t = tangent_of(start.frame()).unwrap_or(Vector3::x());
-                vec![a, a + t * length]
-            }
-            (None, Some(b)) => {
-                let t = tangent_of(end.frame()).unwrap_or(Vector3::x());
-                vec![b - t * length, b]
-            }
-            (None, None) => vec![Vector3::zeros(), Vector3::x() * length],
-        }
-    };
+        };
     let positions = resample(&polyline, &spec.rod.arc_lengths(), length);
     let first_frame = start.frame().unwrap_or_else(|| {
         let t = positions[1] - positions[0];
@@ -77,7 +84,11 @@ fn resample(polyline: &[Vector3<f64>], arc_lengths: &[f64], length: f64) -> Vec<
                 segment += 1;
             }
             let span = cumulative[segment + 1] - cumulative[segment];
-            let t = if span > 0.0 { ((target - cumulative[segment]) / span).clamp(0.0, 1.0) } else { 0.0 };
+            let t = if span > 0.0 {
+                ((target - cumulative[segment]) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             polyline[segment] + (polyline[segment + 1] - polyline[segment]) * t
         })
         .collect()
@@ -87,11 +98,21 @@ fn resample(polyline: &[Vector3<f64>], arc_lengths: &[f64], length: f64) -> Vec<
 /// the chord length) plus a bow `β sin²(πt) n` (`n` ⟂ chord, sagging towards −z where
 /// possible), sampled densely, with `β ≥ 0` chosen by bisection so that the curve's
 /// length is `length`.
-fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: Vector3<f64>, length: f64) -> Vec<Vector3<f64>> {
+fn hermite_with_length(
+    a: Vector3<f64>,
+    t0: Vector3<f64>,
+    b: Vector3<f64>,
+    t1: Vector3<f64>,
+    length: f64,
+) -> Vec<Vector3<f64>> {
     const SAMPLES: usize = 400;
     let chord = b - a;
     let scale = chord.norm().max(1e-3 * length);
-    let axis = if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() };
+    let axis = if chord.norm() > 0.0 {
+        chord.normalize()
+    } else {
+        Vector3::x()
+    };
     let mut normal = -Vector3::z() + axis * axis.z;
     if normal.norm() < 1e-6 {
         normal = axis.cross(&Vector3::x());
@@ -113,7 +134,8 @@ fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: V
             })
             .collect()
     };
-    let curve_length = |points: &[Vector3<f64>]| points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
+    let curve_length =
+        |points: &[Vector3<f64>]| points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
     if curve_length(&curve(0.0)) >= length {
         return curve(0.0);
     }
@@ -132,7 +154,11 @@ fn hermite_with_length(a: Vector3<f64>, t0: Vector3<f64>, b: Vector3<f64>, t1: V
 /// Spreads the twist between the transported last frame and a clamped end frame
 /// linearly along the rod, so that neither end starts with a concentrated twist (for a
 /// route on a helix this recovers the Frenet-type frames exactly).
-fn distribute_twist(frames: &mut [UnitQuaternion<f64>], end_frame: &UnitQuaternion<f64>, arc_lengths: &[f64]) {
+fn distribute_twist(
+    frames: &mut [UnitQuaternion<f64>],
+    end_frame: &UnitQuaternion<f64>,
+    arc_lengths: &[f64],
+) {
     let last = *frames.last().expect("at least one edge");
     // Twist angle about the last edge's a3 that best aligns its a1 with the end frame's.
     let target_a1 = last.inverse() * (end_frame * Vector3::x());
@@ -141,7 +167,11 @@ fn distribute_twist(frames: &mut [UnitQuaternion<f64>], end_frame: &UnitQuaterni
     let n = frames.len();
     for (e, frame) in frames.iter_mut().enumerate() {
         // The last edge receives the whole twist; the end vertex's half cell starts untwisted.
-        let share = if e + 1 == n { 1.0 } else { 0.5 * (arc_lengths[e] + arc_lengths[e + 1]) / length };
+        let share = if e + 1 == n {
+            1.0
+        } else {
+            0.5 * (arc_lengths[e] + arc_lengths[e + 1]) / length
+        };
         *frame *= UnitQuaternion::from_axis_angle(&Vector3::z_axis(), twist * share);
     }
 }

@@ -71,13 +71,24 @@ impl Model {
         let boundary: Vec<BoundaryFrames> = system
             .rods
             .iter()
-            .map(|s| BoundaryFrames { start: s.start.support.frame(), end: s.end.support.frame() })
+            .map(|s| BoundaryFrames {
+                start: s.start.support.frame(),
+                end: s.end.support.frame(),
+            })
             .collect();
         for (r, spec) in system.rods.iter().enumerate() {
             let n = spec.rod.segments();
             for e in 0..n {
-                let blocks = [dofs.vertex(r, e), dofs.vertex(r, e + 1), Some(dofs.edge(r, e))];
-                elements.push(Element { kind: ElementKind::Edge { rod: r, edge: e }, blocks, scatter: 0..0 });
+                let blocks = [
+                    dofs.vertex(r, e),
+                    dofs.vertex(r, e + 1),
+                    Some(dofs.edge(r, e)),
+                ];
+                elements.push(Element {
+                    kind: ElementKind::Edge { rod: r, edge: e },
+                    blocks,
+                    scatter: 0..0,
+                });
             }
             for j in 0..=n {
                 let (a, b) = match j {
@@ -87,7 +98,11 @@ impl Model {
                     j if j == n => continue,
                     j => (Some(dofs.edge(r, j - 1)), Some(dofs.edge(r, j))),
                 };
-                elements.push(Element { kind: ElementKind::Vertex { rod: r, vertex: j }, blocks: [a, b, None], scatter: 0..0 });
+                elements.push(Element {
+                    kind: ElementKind::Vertex { rod: r, vertex: j },
+                    blocks: [a, b, None],
+                    scatter: 0..0,
+                });
             }
             for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
                 if end.load.moment != Vector3::zeros() {
@@ -100,15 +115,28 @@ impl Model {
                 }
             }
         }
-        let global_blocks: Vec<Vec<usize>> = elements.iter().map(|e| e.blocks.iter().flatten().copied().collect()).collect();
-        let pattern = HessianPattern::new(dofs.block_count(), global_blocks.iter().map(|b| b.as_slice()));
+        let global_blocks: Vec<Vec<usize>> = elements
+            .iter()
+            .map(|e| e.blocks.iter().flatten().copied().collect())
+            .collect();
+        let pattern = HessianPattern::new(
+            dofs.block_count(),
+            global_blocks.iter().map(|b| b.as_slice()),
+        );
         let mut scatter = Vec::new();
         for element in &mut elements {
             let start = scatter.len();
             scatter.extend(pattern.scatter(&element.blocks));
             element.scatter = start..scatter.len();
         }
-        Ok(Self { system, dofs, pattern, elements, scatter, boundary })
+        Ok(Self {
+            system,
+            dofs,
+            pattern,
+            elements,
+            scatter,
+            boundary,
+        })
     }
 
     /// The system this model was built from.
@@ -133,7 +161,11 @@ impl Model {
 
     /// An evaluation buffer of the right sizes.
     pub fn new_evaluation(&self) -> Evaluation {
-        Evaluation { energy: 0.0, gradient: vec![0.0; self.dofs.len()], hessian: vec![0.0; self.pattern.nnz()] }
+        Evaluation {
+            energy: 0.0,
+            gradient: vec![0.0; self.dofs.len()],
+            hessian: vec![0.0; self.pattern.nnz()],
+        }
     }
 
     /// Energy, gradient and, if `with_hessian`, Hessian of `state` into `out`.
@@ -176,7 +208,8 @@ impl Model {
                 ElementKind::Vertex { rod, vertex } => {
                     let spec = &self.system.rods[rod];
                     let c = spec.rod.section().curvature_stiffness();
-                    let (q_a, q_b) = vertex_frames(&state.rods[rod], &self.boundary[rod], vertex).expect("vertex element");
+                    let (q_a, q_b) = vertex_frames(&state.rods[rod], &self.boundary[rod], vertex)
+                        .expect("vertex element");
                     BendTwist {
                         frame_a: q_a,
                         frame_b: q_b,
@@ -186,7 +219,9 @@ impl Model {
                     }
                     .energy()
                 }
-                ElementKind::EndMoment { rod, at_end } => self.end_moment_derivatives(state, rod, at_end).energy,
+                ElementKind::EndMoment { rod, at_end } => {
+                    self.end_moment_derivatives(state, rod, at_end).energy
+                }
             };
         }
         for (r, spec) in self.system.rods.iter().enumerate() {
@@ -201,17 +236,22 @@ impl Model {
     }
 
     fn edge_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<9> {
-        let ElementKind::Edge { rod, edge } = kind else { unreachable!() };
+        let ElementKind::Edge { rod, edge } = kind else {
+            unreachable!()
+        };
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().strain_stiffness();
         stretch_shear(&edge_element(&spec.rod, &state.rods[rod], &c, edge))
     }
 
     fn vertex_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<6> {
-        let ElementKind::Vertex { rod, vertex } = kind else { unreachable!() };
+        let ElementKind::Vertex { rod, vertex } = kind else {
+            unreachable!()
+        };
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().curvature_stiffness();
-        let (q_a, q_b) = vertex_frames(&state.rods[rod], &self.boundary[rod], vertex).expect("vertex element");
+        let (q_a, q_b) =
+            vertex_frames(&state.rods[rod], &self.boundary[rod], vertex).expect("vertex element");
         bend_twist(&BendTwist {
             frame_a: q_a,
             frame_b: q_b,
@@ -221,10 +261,19 @@ impl Model {
         })
     }
 
-    fn end_moment_derivatives(&self, state: &SystemState, rod: usize, at_end: bool) -> ElementDerivatives<3> {
+    fn end_moment_derivatives(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        at_end: bool,
+    ) -> ElementDerivatives<3> {
         let spec = &self.system.rods[rod];
         let frames = &state.rods[rod].frames;
-        let (frame, load) = if at_end { (frames.last(), &spec.end.load) } else { (frames.first(), &spec.start.load) };
+        let (frame, load) = if at_end {
+            (frames.last(), &spec.end.load)
+        } else {
+            (frames.first(), &spec.start.load)
+        };
         dead_moment(frame.expect("edges"), &load.moment_reference, &load.moment)
     }
 
@@ -293,7 +342,13 @@ impl Model {
 
     /// Writes `state` moved by `scale · step` into `out` (same shape as `state`),
     /// without allocating.
-    pub fn retract_into(&self, state: &SystemState, step: &[f64], scale: f64, out: &mut SystemState) {
+    pub fn retract_into(
+        &self,
+        state: &SystemState,
+        step: &[f64],
+        scale: f64,
+        out: &mut SystemState,
+    ) {
         out.clone_from(state);
         let block = |b: usize| scale * Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
         for (r, rod_state) in out.rods.iter_mut().enumerate() {
@@ -313,7 +368,8 @@ impl Model {
     pub fn residual(&self, gradient: &[f64]) -> Residual {
         let mut residual = Residual::default();
         for b in 0..self.dofs.block_count() {
-            let norm = Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
+            let norm =
+                Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
             match self.dofs.kind(b) {
                 BlockKind::Position => residual.force_n = residual.force_n.max(norm),
                 BlockKind::Rotation => residual.moment_nm = residual.moment_nm.max(norm),
@@ -338,6 +394,10 @@ impl Model {
 
     /// The boundary frame of rod `rod` at its start or end, if clamped.
     pub fn boundary_frame(&self, rod: usize, at_end: bool) -> Option<UnitQuaternion<f64>> {
-        if at_end { self.boundary[rod].end } else { self.boundary[rod].start }
+        if at_end {
+            self.boundary[rod].end
+        } else {
+            self.boundary[rod].start
+        }
     }
 }

@@ -33,7 +33,8 @@ impl HessianPattern {
     /// The pattern of `block_count` blocks coupled by the given elements (each a list of
     /// global blocks).
     pub fn new<'a>(block_count: usize, elements: impl Iterator<Item = &'a [usize]>) -> Self {
-        let mut sets: Vec<BTreeSet<usize>> = (0..block_count).map(|b| BTreeSet::from([b])).collect();
+        let mut sets: Vec<BTreeSet<usize>> =
+            (0..block_count).map(|b| BTreeSet::from([b])).collect();
         for blocks in elements {
             for &a in blocks {
                 for &b in blocks {
@@ -43,12 +44,15 @@ impl HessianPattern {
                 }
             }
         }
-        let block_rows: Vec<Vec<usize>> = sets.into_iter().map(|s| s.into_iter().collect()).collect();
+        let block_rows: Vec<Vec<usize>> =
+            sets.into_iter().map(|s| s.into_iter().collect()).collect();
         let n = 3 * block_count;
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::new();
-        let mut block_offsets: Vec<Vec<[usize; 3]>> =
-            block_rows.iter().map(|rows| vec![[0; 3]; rows.len()]).collect();
+        let mut block_offsets: Vec<Vec<[usize; 3]>> = block_rows
+            .iter()
+            .map(|rows| vec![[0; 3]; rows.len()])
+            .collect();
         col_ptr.push(0);
         for (col_block, rows) in block_rows.iter().enumerate() {
             for k in 0..3 {
@@ -62,7 +66,12 @@ impl HessianPattern {
                 col_ptr.push(row_idx.len());
             }
         }
-        Self { col_ptr, row_idx, block_rows, block_offsets }
+        Self {
+            col_ptr,
+            row_idx,
+            block_rows,
+            block_offsets,
+        }
     }
 
     /// Number of stored values.
@@ -78,7 +87,10 @@ impl HessianPattern {
     /// Whether every block couples only to blocks at most 3 positions before it (the
     /// natural numbering of a single rod): then the identity is a fill-free ordering.
     pub fn is_banded(&self) -> bool {
-        self.block_rows.iter().enumerate().all(|(col, rows)| rows.first().is_none_or(|&first| col - first <= 3))
+        self.block_rows
+            .iter()
+            .enumerate()
+            .all(|(col, rows)| rows.first().is_none_or(|&first| col - first <= 3))
     }
 
     /// The block-level structure (upper triangle with diagonal) as CSC column pointers
@@ -96,7 +108,9 @@ impl HessianPattern {
 
     /// Value offsets of global block `(row_block, col_block)`, `row_block ≤ col_block`.
     pub fn offsets(&self, row_block: usize, col_block: usize) -> [usize; 3] {
-        let slot = self.block_rows[col_block].binary_search(&row_block).expect("block in pattern");
+        let slot = self.block_rows[col_block]
+            .binary_search(&row_block)
+            .expect("block in pattern");
         self.block_offsets[col_block][slot]
     }
 

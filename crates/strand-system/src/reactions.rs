@@ -45,12 +45,16 @@ impl Model {
                 }
                 let (vertex, edge, local) = if at_end { (n, n - 1, 3) } else { (0, 0, 0) };
                 let edge_derivatives = stretch_shear(&edge_element(&spec.rod, rod_state, &c, edge));
-                let force = edge_derivatives.gradient.fixed_rows::<3>(local).into_owned()
+                let force = edge_derivatives
+                    .gradient
+                    .fixed_rows::<3>(local)
+                    .into_owned()
                     - spec.rod.vertex_mass(vertex) * system.gravity
                     - end.load.force;
                 let moment = match end.support.frame() {
                     Some(frame) => {
-                        let (rotation_gradient, block) = self.boundary_rotation_gradient(state, r, at_end);
+                        let (rotation_gradient, block) =
+                            self.boundary_rotation_gradient(state, r, at_end);
                         debug_assert!(block.is_none());
                         frame * rotation_gradient
                     }
@@ -71,14 +75,19 @@ impl Model {
 
     /// Material gradient of the end vertex element with respect to the boundary frame's
     /// increment (N·m), and the block of that frame (`None`: it is eliminated).
-    fn boundary_rotation_gradient(&self, state: &SystemState, rod: usize, at_end: bool) -> (Vector3<f64>, Option<usize>) {
+    fn boundary_rotation_gradient(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        at_end: bool,
+    ) -> (Vector3<f64>, Option<usize>) {
         use strand_rod::element::{BendTwist, bend_twist};
         let spec = &self.system().rods[rod];
         let n = spec.rod.segments();
         let vertex = if at_end { n } else { 0 };
         let boundary = self.boundary_frames(rod);
-        let (q_a, q_b) =
-            strand_rod::sectional::vertex_frames(&state.rods[rod], boundary, vertex).expect("clamped end has a frame");
+        let (q_a, q_b) = strand_rod::sectional::vertex_frames(&state.rods[rod], boundary, vertex)
+            .expect("clamped end has a frame");
         let c = spec.rod.section().curvature_stiffness();
         let d = bend_twist(&BendTwist {
             frame_a: q_a,

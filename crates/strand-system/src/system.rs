@@ -58,7 +58,11 @@ pub struct EndLoad {
 
 impl Default for EndLoad {
     fn default() -> Self {
-        Self { force: Vector3::zeros(), moment: Vector3::zeros(), moment_reference: UnitQuaternion::identity() }
+        Self {
+            force: Vector3::zeros(),
+            moment: Vector3::zeros(),
+            moment_reference: UnitQuaternion::identity(),
+        }
     }
 }
 
@@ -74,17 +78,26 @@ pub struct End {
 impl End {
     /// A free end without loads.
     pub fn free() -> Self {
-        Self { support: Support::Free, load: EndLoad::default() }
+        Self {
+            support: Support::Free,
+            load: EndLoad::default(),
+        }
     }
 
     /// A clamped end.
     pub fn clamped(position: Vector3<f64>, frame: UnitQuaternion<f64>) -> Self {
-        Self { support: Support::Clamped { position, frame }, load: EndLoad::default() }
+        Self {
+            support: Support::Clamped { position, frame },
+            load: EndLoad::default(),
+        }
     }
 
     /// A pinned end.
     pub fn pinned(position: Vector3<f64>) -> Self {
-        Self { support: Support::Pinned { position }, load: EndLoad::default() }
+        Self {
+            support: Support::Pinned { position },
+            load: EndLoad::default(),
+        }
     }
 
     /// The same end with a dead force (N) added.
@@ -127,7 +140,9 @@ pub struct SystemState {
 
 impl Clone for SystemState {
     fn clone(&self) -> Self {
-        Self { rods: self.rods.clone() }
+        Self {
+            rods: self.rods.clone(),
+        }
     }
 
     /// Reuses the allocations of `self`.
@@ -151,7 +166,9 @@ pub enum SystemError {
         what: String,
     },
     /// Nothing holds the rod: its position is undetermined.
-    #[error("rod '{rod}' is free at both ends: attach at least one end (clamp or pin) so its position is determined")]
+    #[error(
+        "rod '{rod}' is free at both ends: attach at least one end (clamp or pin) so its position is determined"
+    )]
     Unsupported {
         /// Rod name.
         rod: String,
@@ -187,7 +204,10 @@ impl System {
             return Err(SystemError::Empty);
         }
         if !self.gravity.iter().all(|x| x.is_finite()) {
-            return Err(SystemError::NotFinite { rod: "-".into(), what: "gravity".into() });
+            return Err(SystemError::NotFinite {
+                rod: "-".into(),
+                what: "gravity".into(),
+            });
         }
         let mut names = std::collections::HashSet::new();
         for spec in &self.rods {
@@ -196,11 +216,18 @@ impl System {
             }
             let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
             for (label, end) in [("start", &spec.start), ("end", &spec.end)] {
-                let bad = |what: &str| SystemError::NotFinite { rod: spec.name.clone(), what: format!("{label} {what}") };
+                let bad = |what: &str| SystemError::NotFinite {
+                    rod: spec.name.clone(),
+                    what: format!("{label} {what}"),
+                };
                 if end.support.position().is_some_and(|p| !finite(&p)) {
                     return Err(bad("position"));
                 }
-                if end.support.frame().is_some_and(|q| !q.coords.iter().all(|x| x.is_finite())) {
+                if end
+                    .support
+                    .frame()
+                    .is_some_and(|q| !q.coords.iter().all(|x| x.is_finite()))
+                {
                     return Err(bad("frame"));
                 }
                 if !finite(&end.load.force) || !finite(&end.load.moment) {
@@ -208,13 +235,20 @@ impl System {
                 }
             }
             if spec.start.support == Support::Free && spec.end.support == Support::Free {
-                return Err(SystemError::Unsupported { rod: spec.name.clone() });
+                return Err(SystemError::Unsupported {
+                    rod: spec.name.clone(),
+                });
             }
-            if let (Some(a), Some(b)) = (spec.start.support.position(), spec.end.support.position()) {
+            if let (Some(a), Some(b)) = (spec.start.support.position(), spec.end.support.position())
+            {
                 let length_m = spec.rod.length();
                 let distance_m = (b - a).norm();
                 if distance_m > 1.1 * length_m {
-                    return Err(SystemError::TooShort { rod: spec.name.clone(), length_m, distance_m });
+                    return Err(SystemError::TooShort {
+                        rod: spec.name.clone(),
+                        length_m,
+                        distance_m,
+                    });
                 }
             }
         }

@@ -37,7 +37,9 @@ fn test_system() -> System {
 
 fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
     let state = initial_state(model.system());
-    let step: Vec<f64> = (0..model.dofs().len()).map(|_| rng.random_range(-0.2..0.2)).collect();
+    let step: Vec<f64> = (0..model.dofs().len())
+        .map(|_| rng.random_range(-0.2..0.2))
+        .collect();
     model.retract(&state, &step)
 }
 
@@ -51,7 +53,8 @@ fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVect
         if model.dofs().kind(b) == BlockKind::Rotation {
             let local = g.fixed_rows::<3>(3 * b).into_owned();
             let jr = right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned());
-            g.fixed_rows_mut::<3>(3 * b).copy_from(&(jr.transpose() * local));
+            g.fixed_rows_mut::<3>(3 * b)
+                .copy_from(&(jr.transpose() * local));
         }
     }
     g
@@ -90,8 +93,14 @@ fn assembled_gradient_and_hessian_match_finite_differences() {
             let plus = model.energy(&model.retract(&state, e.as_slice()));
             let minus = model.energy(&model.retract(&state, (-&e).as_slice()));
             let fd = (plus - minus) / (2.0 * h);
-            assert!((fd - eval.gradient[k]).abs() < 1e-6, "gradient {k}: fd {fd} vs {}", eval.gradient[k]);
-            let column = (chart_gradient(&model, &state, &e) - chart_gradient(&model, &state, &-&e)) / (2.0 * h);
+            assert!(
+                (fd - eval.gradient[k]).abs() < 1e-6,
+                "gradient {k}: fd {fd} vs {}",
+                eval.gradient[k]
+            );
+            let column = (chart_gradient(&model, &state, &e)
+                - chart_gradient(&model, &state, &-&e))
+                / (2.0 * h);
             for l in 0..n {
                 assert!(
                     (column[l] - hessian[(l, k)]).abs() < 1e-5 * (1.0 + hessian[(l, k)].abs()),
@@ -107,14 +116,25 @@ fn assembled_gradient_and_hessian_match_finite_differences() {
 #[test]
 fn validation_rejects_unreachable_ends_and_free_rods() {
     let mut system = test_system();
-    system.rods[1].end.support = Support::Pinned { position: Vector3::new(5.0, 1.0, 0.0) };
-    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::TooShort { .. }));
+    system.rods[1].end.support = Support::Pinned {
+        position: Vector3::new(5.0, 1.0, 0.0),
+    };
+    assert!(matches!(
+        Model::try_new(system).unwrap_err(),
+        SystemError::TooShort { .. }
+    ));
     let mut system = test_system();
     system.rods[0].start = End::free();
-    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::Unsupported { .. }));
+    assert!(matches!(
+        Model::try_new(system).unwrap_err(),
+        SystemError::Unsupported { .. }
+    ));
     let mut system = test_system();
     system.rods[0].end.load.force.x = f64::NAN;
-    assert!(matches!(Model::try_new(system).unwrap_err(), SystemError::NotFinite { .. }));
+    assert!(matches!(
+        Model::try_new(system).unwrap_err(),
+        SystemError::NotFinite { .. }
+    ));
 }
 
 #[test]
@@ -125,7 +145,11 @@ fn initial_guess_meets_held_ends_with_the_rod_length() {
     let bridge = &state.rods[1];
     assert!((bridge.positions[0] - Vector3::new(0.0, 1.0, 0.0)).norm() < 1e-12);
     assert!((bridge.positions[40] - Vector3::new(1.0, 1.0, 0.0)).norm() < 1e-12);
-    let polyline: f64 = bridge.positions.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let polyline: f64 = bridge
+        .positions
+        .windows(2)
+        .map(|w| (w[1] - w[0]).norm())
+        .sum();
     assert!((polyline - 1.2).abs() < 0.01, "length {polyline}");
     // Frames follow the curve: a3 parallel to each edge.
     for (e, q) in bridge.frames.iter().enumerate() {

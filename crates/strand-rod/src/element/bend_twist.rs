@@ -46,7 +46,8 @@ pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
     let delta = rel.phi / e.weight - e.rest_curvature;
     let moment = e.stiffness.component_mul(&delta);
     let c = Matrix3::from_diagonal(e.stiffness);
-    let hessian = rel.jacobian.transpose() * c * rel.jacobian / e.weight + rel.contracted_hessian(&moment);
+    let hessian =
+        rel.jacobian.transpose() * c * rel.jacobian / e.weight + rel.contracted_hessian(&moment);
     ElementDerivatives {
         energy: 0.5 * e.weight * delta.dot(&moment),
         gradient: rel.jacobian.transpose() * moment,

@@ -22,5 +22,9 @@ pub fn dead_moment(
     let hessian_full = rel.contracted_hessian(&mu);
     let hessian: SMatrix<f64, 3, 3> = hessian_full.fixed_view::<3, 3>(3, 3).into_owned();
     let gradient: SVector<f64, 3> = jacobian_b.transpose() * mu;
-    ElementDerivatives { energy: mu.dot(&rel.phi), gradient, hessian }
+    ElementDerivatives {
+        energy: mu.dot(&rel.phi),
+        gradient,
+        hessian,
+    }
 }

@@ -90,12 +90,21 @@ impl RelativeRotation {
 
         // dφ/dp with φ = 2 S v.
         let mut dphi_dp = SMatrix::<f64, 3, 4>::zeros();
-        dphi_dp.fixed_view_mut::<3, 1>(0, 0).copy_from(&(2.0 * s.s_w * v));
+        dphi_dp
+            .fixed_view_mut::<3, 1>(0, 0)
+            .copy_from(&(2.0 * s.s_w * v));
         dphi_dp
             .fixed_view_mut::<3, 3>(0, 1)
             .copy_from(&(2.0 * s.s * Matrix3::identity() + 4.0 * s.s_u * v * v.transpose()));
 
-        Self { phi: 2.0 * s.s * v, jacobian: dphi_dp * dp, p: Quaternion::from_parts(w, v), dp, dphi_dp, s }
+        Self {
+            phi: 2.0 * s.s * v,
+            jacobian: dphi_dp * dp,
+            p: Quaternion::from_parts(w, v),
+            dp,
+            dphi_dp,
+            s,
+        }
     }
 
     /// `∇²(μ·φ)` with respect to `(α, β)` for a fixed co-vector `μ`, 6×6 symmetric.
@@ -111,7 +120,8 @@ impl RelativeRotation {
             + 8.0 * g * s.s_uu * v * v.transpose()
             + 4.0 * g * s.s_u * Matrix3::identity();
         h_pp.fixed_view_mut::<3, 1>(1, 0).copy_from(&h_vw);
-        h_pp.fixed_view_mut::<1, 3>(0, 1).copy_from(&h_vw.transpose());
+        h_pp.fixed_view_mut::<1, 3>(0, 1)
+            .copy_from(&h_vw.transpose());
         h_pp.fixed_view_mut::<3, 3>(1, 1).copy_from(&h_vv);
         let mut hessian = self.dp.transpose() * h_pp * self.dp;
 
@@ -149,8 +159,16 @@ mod tests {
 
     /// `∇(μ·φ)` at chart point `x` of the fixed chart at `(q_a, q_b)`, from the
     /// analytic Jacobian at the moved frames and the right Jacobian of SO(3).
-    fn chart_gradient(q_a: &UnitQuaternion<f64>, q_b: &UnitQuaternion<f64>, x: &[f64; 6], mu: &Vector3<f64>) -> [f64; 6] {
-        let (xa, xb) = (Vector3::new(x[0], x[1], x[2]), Vector3::new(x[3], x[4], x[5]));
+    fn chart_gradient(
+        q_a: &UnitQuaternion<f64>,
+        q_b: &UnitQuaternion<f64>,
+        x: &[f64; 6],
+        mu: &Vector3<f64>,
+    ) -> [f64; 6] {
+        let (xa, xb) = (
+            Vector3::new(x[0], x[1], x[2]),
+            Vector3::new(x[3], x[4], x[5]),
+        );
         let rel = RelativeRotation::new(&(q_a * exp(&xa)), &(q_b * exp(&xb)));
         let local = rel.jacobian.transpose() * mu;
         let ga = right_jacobian(&xa).transpose() * local.fixed_rows::<3>(0);
@@ -179,11 +197,21 @@ mod tests {
                 xp[k] = h;
                 xm[k] = -h;
                 let fd = (phi_at(&q_a, &q_b, &xp) - phi_at(&q_a, &q_b, &xm)) / (2.0 * h);
-                assert!((fd - rel.jacobian.column(k)).norm() < 1e-8, "jacobian column {k}");
-                let (gp, gm) = (chart_gradient(&q_a, &q_b, &xp, &mu), chart_gradient(&q_a, &q_b, &xm, &mu));
+                assert!(
+                    (fd - rel.jacobian.column(k)).norm() < 1e-8,
+                    "jacobian column {k}"
+                );
+                let (gp, gm) = (
+                    chart_gradient(&q_a, &q_b, &xp, &mu),
+                    chart_gradient(&q_a, &q_b, &xm, &mu),
+                );
                 for l in 0..6 {
                     let fd = (gp[l] - gm[l]) / (2.0 * h);
-                    assert!((fd - hess[(l, k)]).abs() < 1e-8, "hessian ({l},{k}): fd {fd} vs {}", hess[(l, k)]);
+                    assert!(
+                        (fd - hess[(l, k)]).abs() < 1e-8,
+                        "hessian ({l},{k}): fd {fd} vs {}",
+                        hess[(l, k)]
+                    );
                 }
             }
         }

@@ -29,7 +29,8 @@ impl StretchShear<'_> {
 
     /// The material sectional force `F = C_Γ (Γ − Γ0)` in N.
     pub fn material_force(&self) -> Vector3<f64> {
-        self.stiffness.component_mul(&(self.strain() - self.rest_strain))
+        self.stiffness
+            .component_mul(&(self.strain() - self.rest_strain))
     }
 
     /// Element energy in J.
@@ -56,7 +57,9 @@ pub fn stretch_shear(e: &StretchShear<'_>) -> ElementDerivatives<9> {
     let mut gradient = SVector::<f64, 9>::zeros();
     gradient.fixed_rows_mut::<3>(0).copy_from(&(-force));
     gradient.fixed_rows_mut::<3>(3).copy_from(&force);
-    gradient.fixed_rows_mut::<3>(6).copy_from(&(h * force_material.cross(&gamma)));
+    gradient
+        .fixed_rows_mut::<3>(6)
+        .copy_from(&(h * force_material.cross(&gamma)));
 
     let k_rr = rotation * c * rotation.transpose() / h;
     let gamma_x = skew(&gamma);
@@ -72,10 +75,18 @@ pub fn stretch_shear(e: &StretchShear<'_>) -> ElementDerivatives<9> {
     hessian.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-k_rr));
     hessian.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-k_rr));
     hessian.fixed_view_mut::<3, 3>(3, 6).copy_from(&k_rt);
-    hessian.fixed_view_mut::<3, 3>(6, 3).copy_from(&k_rt.transpose());
+    hessian
+        .fixed_view_mut::<3, 3>(6, 3)
+        .copy_from(&k_rt.transpose());
     hessian.fixed_view_mut::<3, 3>(0, 6).copy_from(&(-k_rt));
-    hessian.fixed_view_mut::<3, 3>(6, 0).copy_from(&(-k_rt.transpose()));
+    hessian
+        .fixed_view_mut::<3, 3>(6, 0)
+        .copy_from(&(-k_rt.transpose()));
     hessian.fixed_view_mut::<3, 3>(6, 6).copy_from(&k_tt);
 
-    ElementDerivatives { energy: 0.5 * h * delta.dot(&force_material), gradient, hessian }
+    ElementDerivatives {
+        energy: 0.5 * h * delta.dot(&force_material),
+        gradient,
+        hessian,
+    }
 }

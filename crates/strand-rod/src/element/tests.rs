@@ -17,7 +17,11 @@ enum Block {
 
 /// Checks `derivatives(x)` at `x = 0` against central differences of the energy and of
 /// the chart gradient `J_rᵀ g_local` at `x = ±h e_k`.
-fn check<const D: usize>(blocks: &[Block], eval: impl Fn(&DVector<f64>) -> ElementDerivatives<D>, scale: f64) {
+fn check<const D: usize>(
+    blocks: &[Block],
+    eval: impl Fn(&DVector<f64>) -> ElementDerivatives<D>,
+    scale: f64,
+) {
     let zero = DVector::zeros(D);
     let at0 = eval(&zero);
     let chart_gradient = |x: &DVector<f64>| -> DVector<f64> {
@@ -27,7 +31,9 @@ fn check<const D: usize>(blocks: &[Block], eval: impl Fn(&DVector<f64>) -> Eleme
             let local = d.gradient.fixed_rows::<3>(3 * b).into_owned();
             let chart = match kind {
                 Block::Position => local,
-                Block::Rotation => right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned()).transpose() * local,
+                Block::Rotation => {
+                    right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned()).transpose() * local
+                }
             };
             g.fixed_rows_mut::<3>(3 * b).copy_from(&chart);
         }
@@ -55,11 +61,18 @@ fn check<const D: usize>(blocks: &[Block], eval: impl Fn(&DVector<f64>) -> Eleme
             );
         }
     }
-    assert!((at0.hessian - at0.hessian.transpose()).norm() < 1e-9 * scale, "hessian symmetric");
+    assert!(
+        (at0.hessian - at0.hessian.transpose()).norm() < 1e-9 * scale,
+        "hessian symmetric"
+    );
 }
 
 fn random_vector(rng: &mut ChaCha8Rng, scale: f64) -> Vector3<f64> {
-    Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)) * scale
+    Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    ) * scale
 }
 
 fn rotated(q: &UnitQuaternion<f64>, x: &DVector<f64>, at: usize) -> UnitQuaternion<f64> {
@@ -81,7 +94,13 @@ fn stretch_shear_derivatives() {
                 let a = ra + x.fixed_rows::<3>(0);
                 let b = rb + x.fixed_rows::<3>(3);
                 let frame = rotated(&q, x, 6);
-                let e = StretchShear { edge_vector: b - a, frame: &frame, length: h, stiffness: &stiffness, rest_strain: &rest };
+                let e = StretchShear {
+                    edge_vector: b - a,
+                    frame: &frame,
+                    length: h,
+                    stiffness: &stiffness,
+                    rest_strain: &rest,
+                };
                 let d = stretch_shear(&e);
                 assert!((d.energy - e.energy()).abs() < 1e-12);
                 d
@@ -97,7 +116,11 @@ fn bend_twist_derivatives() {
     for i in 0..20 {
         let qa = exp(&random_vector(&mut rng, 2.0));
         // Relative rotations from tiny (series branch) to large.
-        let qb = qa * exp(&random_vector(&mut rng, if i % 2 == 0 { 1.2 } else { 0.01 }));
+        let qb = qa
+            * exp(&random_vector(
+                &mut rng,
+                if i % 2 == 0 { 1.2 } else { 0.01 },
+            ));
         let stiffness = Vector3::new(1.0, 2.0, 0.7);
         let rest = random_vector(&mut rng, 1.0);
         let weight = rng.random_range(0.1..0.5);
@@ -105,7 +128,13 @@ fn bend_twist_derivatives() {
             &[Block::Rotation, Block::Rotation],
             |x| {
                 let (a, b) = (rotated(&qa, x, 0), rotated(&qb, x, 3));
-                let e = BendTwist { frame_a: &a, frame_b: &b, weight, stiffness: &stiffness, rest_curvature: &rest };
+                let e = BendTwist {
+                    frame_a: &a,
+                    frame_b: &b,
+                    weight,
+                    stiffness: &stiffness,
+                    rest_curvature: &rest,
+                };
                 let d = bend_twist(&e);
                 assert!((d.energy - e.energy()).abs() < 1e-12);
                 d
@@ -122,7 +151,11 @@ fn dead_moment_derivatives_and_planar_exactness() {
         let reference = exp(&random_vector(&mut rng, 2.0));
         let q = reference * exp(&random_vector(&mut rng, 1.0));
         let moment = random_vector(&mut rng, 3.0);
-        check::<3>(&[Block::Rotation], |x| dead_moment(&rotated(&q, x, 0), &reference, &moment), 10.0);
+        check::<3>(
+            &[Block::Rotation],
+            |x| dead_moment(&rotated(&q, x, 0), &reference, &moment),
+            10.0,
+        );
     }
     // Rotating about the moment axis by θ: the energy is −|m| θ, the torque exactly m.
     let moment = Vector3::new(0.0, 0.0, 2.5);
@@ -130,5 +163,8 @@ fn dead_moment_derivatives_and_planar_exactness() {
     let q = exp(&Vector3::new(0.0, 0.0, 1.1));
     let d = dead_moment(&q, &reference, &moment);
     assert!((d.energy + 2.5 * 1.1).abs() < 1e-14);
-    assert!(((q * d.gradient) + moment).norm() < 1e-14, "spatial torque −m");
+    assert!(
+        ((q * d.gradient) + moment).norm() < 1e-14,
+        "spatial torque −m"
+    );
 }
