@@ -1,1 +1,103 @@
-//! placeholder
+//! # strand-case
+//!
+//! Case files: one RON file describes a system (units, sections, rods with their ends,
+//! loads and route hints, gravity, solver settings). This crate parses it
+//! ([`schema`]), validates it and converts every length to m, and builds the
+//! [`strand_system::Model`] to solve ([`BuiltCase`]). It never prints: every problem is
+//! a typed [`CaseError`] whose message names the file, the `line:column` of a syntax
+//! or type error or the item path of a semantic error (`rods[0] 'hose'.length`), and a
+//! hint how to fix it.
+//!
+//! ```ron
+//! (
+//!     units: (length: "mm"),
+//!     sections: { "paper": Explicit(ea: 30e3, ga: 10e3, ei: 1, gj: 1, mass_per_length: 0) },
+//!     rods: [(
+//!         name: "rod", section: "paper", length: 1000, segments: 19,
+//!         start: Clamp(position: (0, 0, 0), tangent: (1, 0, 0), normal: (0, 1, 0)),
+//!         end: Free(force: (2, 1, 0)),
+//!     )],
+//!     gravity: (0, 0, 0),
+//! )
+//! ```
+//!
+//! Units: see [`schema`]; `cases/README.md` documents the format for users.
+
+mod build;
+mod ends;
+mod error;
+pub mod schema;
+mod sections;
+mod units;
+
+#[cfg(test)]
+mod shipped_cases;
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+
+pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
+pub use ends::{FrameError, frame_from_tangent_normal};
+pub use error::CaseError;
+pub use schema::CaseFile;
+pub use units::LengthUnit;
+
+/// A parsed (not yet validated) case file with its origin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Case {
+    /// Case name: the file stem of the origin (`cases/helix_fig4.ron` → `helix_fig4`).
+    pub name: String,
+    /// The file as named by the user (used in every message).
+    pub origin: String,
+    /// The file's content.
+    pub file: CaseFile,
+}
+
+impl Case {
+    /// Reads and parses a case file.
+    pub fn from_path(path: impl AsRef<Path>) -> Result<Self, CaseError> {
+        let path = path.as_ref();
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| {
+            let hint = match source.kind() {
+                std::io::ErrorKind::NotFound => {
+                    "check the path (case files live in cases/ and end in .ron)"
+                }
+                std::io::ErrorKind::InvalidData => "save the file as UTF-8 text",
+                _ => "check that the file exists and is readable",
+            };
+            CaseError::Read {
+                origin: origin.clone(),
+                source,
+                hint: hint.to_string(),
+            }
+        })?;
+        Self::from_str(&text, &origin)
+    }
+
+    /// Parses case text; `origin` names it in messages and gives the case name.
+    pub fn from_str(text: &str, origin: &str) -> Result<Self, CaseError> {
+        let options = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        let file: CaseFile = options
+            .from_str(text)
+            .map_err(|e| CaseError::from_ron(origin, &e))?;
+        let name = Path::new(origin)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .filter(|s| !s.is_empty())
+            .unwrap_or("case");
+        Ok(Self {
+            name: name.to_string(),
+            origin: origin.to_string(),
+            file,
+        })
+    }
+
+    /// Validates the case and builds the model; `segments` overrides the number of
+    /// segments of every rod (e.g. for convergence studies).
+    pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, CaseError> {
+        build::build(&self.name, &self.origin, &self.file, segments)
+    }
+}

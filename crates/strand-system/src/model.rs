@@ -58,7 +58,7 @@ pub struct Residual {
     /// Largest out-of-balance edge moment in N·m (eq. 16).
     pub moment_nm: f64,
     /// The convergence measure in N: the larger of `force_n` and every edge's moment
-    /// residual divided by its edge length.
+    /// residual divided by its rod's length (see [`Dofs::force_scale`]).
     pub combined_n: f64,
 }
 

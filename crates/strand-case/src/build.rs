@@ -1,0 +1,228 @@
+//! A parsed case file → a validated [`Model`] with its initial state and settings.
+
+use nalgebra::Vector3;
+use strand_rod::{Rod, Section};
+use strand_solve::SolverSettings;
+use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+
+use crate::ends::build_end;
+use crate::error::{CaseError, Reporter};
+use crate::schema::{CaseFile, RodDef};
+use crate::sections::{build_sections, names};
+use crate::units::LengthUnit;
+
+/// Largest allowed distance between a route's first/last point and the held end it
+/// should start/end at, as a fraction of the rod length (the point is then snapped).
+pub const ROUTE_END_TOLERANCE: f64 = 0.01;
+
+/// A case ready to solve: SI units throughout.
+#[derive(Clone, Debug)]
+pub struct BuiltCase {
+    /// Case name (the file stem), used for the default output directory.
+    pub name: String,
+    /// The file as named by the user.
+    pub origin: String,
+    /// Length unit the file was written in (for messages; the model is in m).
+    pub length_unit: LengthUnit,
+    /// The validated model (rods, supports, loads in SI units).
+    pub model: Model,
+    /// Initial configuration (route hint or the system's default guess).
+    pub initial: SystemState,
+    /// Solver settings from the file (defaults where not given).
+    pub settings: SolverSettings,
+}
+
+/// Builds the model; `segments` overrides every rod's number of segments.
+pub(crate) fn build(
+    name: &str,
+    origin: &str,
+    file: &CaseFile,
+    segments: Option<usize>,
+) -> Result<BuiltCase, CaseError> {
+    let report = Reporter { origin };
+    let unit = LengthUnit::parse(&file.units.length).ok_or_else(|| {
+        report.invalid(
+            "units.length",
+            format!("unknown length unit \"{}\"", file.units.length),
+            format!("use {}", LengthUnit::ACCEPTED),
+        )
+    })?;
+    let sections = build_sections(&report, unit, &file.sections)?;
+    if file.rods.is_empty() {
+        return Err(report.invalid("rods", "the case has no rods", "add at least one rod"));
+    }
+    let mut rods = Vec::with_capacity(file.rods.len());
+    for (i, def) in file.rods.iter().enumerate() {
+        let item = format!("rods[{i}] '{}'", def.name);
+        check_name(&report, i, &def.name)?;
+        if let Some(first) = file.rods[..i].iter().position(|r| r.name == def.name) {
+            return Err(report.invalid(
+                &item,
+                format!("duplicate rod name (also used by rods[{first}])"),
+                "give every rod a unique name",
+            ));
+        }
+        rods.push(build_rod(&report, &item, unit, &sections, def, segments)?);
+    }
+    let gravity = report.finite3("gravity", &file.gravity, " m/s²")?;
+    file.solver
+        .validate()
+        .map_err(|source| CaseError::Settings {
+            origin: origin.to_string(),
+            source,
+        })?;
+
+    let mut system = System { rods, gravity };
+    let system_error = |source| CaseError::System {
+        origin: origin.to_string(),
+        source,
+    };
+    system.validate().map_err(system_error)?;
+    // Dead end moments are measured from the rod's nominal (initial) end frame.
+    let nominal = initial_state(&system);
+    for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
+        spec.start.load.moment_reference = state.frames[0];
+        spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
+    }
+    let model = Model::try_new(system).map_err(system_error)?;
+    let initial = initial_state(model.system());
+    Ok(BuiltCase {
+        name: name.to_string(),
+        origin: origin.to_string(),
+        length_unit: unit,
+        model,
+        initial,
+        settings: file.solver.clone(),
+    })
+}
+
+fn check_name(report: &Reporter, index: usize, name: &str) -> Result<(), CaseError> {
+    let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.');
+    if name.is_empty() || name.starts_with('.') || !name.chars().all(allowed) {
+        return Err(report.invalid(
+            format!("rods[{index}].name"),
+            format!("invalid rod name '{name}': the name is also the CSV file name"),
+            "use letters, digits, '_', '-' and '.' only (not starting with '.')",
+        ));
+    }
+    Ok(())
+}
+
+fn build_rod(
+    report: &Reporter,
+    item: &str,
+    unit: LengthUnit,
+    sections: &[(String, Section)],
+    def: &RodDef,
+    segments_override: Option<usize>,
+) -> Result<RodSpec, CaseError> {
+    let section = sections
+        .iter()
+        .find(|(n, _)| *n == def.section)
+        .map(|(_, s)| *s)
+        .ok_or_else(|| {
+            report.invalid(
+                item,
+                format!(
+                    "section '{}' is not defined (defined: {})",
+                    def.section,
+                    names(sections)
+                ),
+                "add the section under `sections` or correct the name",
+            )
+        })?;
+    let length = report.positive(&format!("{item}.length"), def.length, &format!(" {unit}"))?
+        * unit.metres();
+    let segments = segments_override.unwrap_or(def.segments);
+    if segments == 0 {
+        let hint = if segments_override.is_some() {
+            "pass --segments 1 or more"
+        } else {
+            "use 1 or more segments"
+        };
+        return Err(report.invalid(
+            format!("{item}.segments"),
+            "a rod needs at least 1 segment (got 0)",
+            hint,
+        ));
+    }
+    let rod = Rod::try_straight(section, length, segments).map_err(|e| {
+        report.invalid(item, e.to_string(), "correct the rod's length and segments")
+    })?;
+    let start = build_end(report, &format!("{item}.start"), unit, &def.start)?;
+    let end = build_end(report, &format!("{item}.end"), unit, &def.end)?;
+    let route = match &def.route {
+        None => None,
+        Some(points) => Some(build_route(
+            report,
+            &format!("{item}.route"),
+            unit,
+            points,
+            &start,
+            &end,
+            length,
+        )?),
+    };
+    Ok(RodSpec {
+        name: def.name.clone(),
+        rod,
+        start,
+        end,
+        route,
+    })
+}
+
+/// Converts a route to m and snaps its first/last point onto held ends.
+fn build_route(
+    report: &Reporter,
+    item: &str,
+    unit: LengthUnit,
+    points: &[[f64; 3]],
+    start: &End,
+    end: &End,
+    length_m: f64,
+) -> Result<Vec<Vector3<f64>>, CaseError> {
+    if points.len() < 2 {
+        return Err(report.invalid(
+            item,
+            format!("a route needs at least 2 points (got {})", points.len()),
+            "add points or remove the route",
+        ));
+    }
+    let u = format!(" {unit}");
+    let mut route = points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            report
+                .finite3(&format!("{item}[{k}]"), p, &u)
+                .map(|v| v * unit.metres())
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let polyline_m: f64 = route.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    if polyline_m <= 1e-9 * length_m {
+        return Err(report.invalid(
+            item,
+            "the route has zero length (all points coincide)",
+            "give distinct points along the rod's path or remove the route",
+        ));
+    }
+    let last = route.len() - 1;
+    for (k, held, label) in [
+        (0, start.support.position(), "start"),
+        (last, end.support.position(), "end"),
+    ] {
+        if let Some(held) = held {
+            let gap = (route[k] - held).norm();
+            if gap > ROUTE_END_TOLERANCE * length_m {
+                return Err(report.invalid(
+                    format!("{item}[{k}]"),
+                    format!("the route's {label} point is {:.6} {unit} away from the held {label} position", gap / unit.metres()),
+                    format!("make the route {} at the {label} support's position", if k == 0 { "start" } else { "end" }),
+                ));
+            }
+            route[k] = held;
+        }
+    }
+    Ok(route)
+}

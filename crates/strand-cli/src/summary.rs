@@ -1,0 +1,148 @@
+//! The short human-readable summary printed after a solve.
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use strand_case::{BuiltCase, LengthUnit};
+use strand_report::ResultDoc;
+
+/// `x` with six significant digits; exponent form for very small or large values.
+pub fn number(x: f64) -> String {
+    significant(x, 6)
+}
+
+/// `x` with `digits` significant digits, trailing zeros removed; exponent form below
+/// 1e-4 and from 1e6 on.
+pub fn significant(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return if x == 0.0 {
+            "0".to_string()
+        } else {
+            x.to_string()
+        };
+    }
+    let digits = digits.max(1);
+    let trim = |t: String| {
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    };
+    let exponent = x.abs().log10().floor();
+    if !(-4.0..6.0).contains(&exponent) {
+        let text = format!("{x:.prec$e}", prec = digits - 1);
+        let (mantissa, exp) = text.split_once('e').unwrap_or((&text, "0"));
+        format!("{}e{exp}", trim(mantissa.to_string()))
+    } else {
+        let decimals = (digits as f64 - 1.0 - exponent).max(0.0) as usize;
+        let text = trim(format!("{x:.decimals$}"));
+        if text == "-0" { "0".to_string() } else { text }
+    }
+}
+
+/// A vector `(x, y, z)` scaled by `scale`; components whose magnitude is at most
+/// `noise` (in the vector's own unit, e.g. the solver tolerance for forces) or below
+/// 1e-10 of the largest print as 0, to hide round-off.
+pub fn vector(v: &[f64; 3], scale: f64, noise: f64) -> String {
+    let largest = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    let clean = |c: f64| {
+        if c.abs() <= noise || c.abs() < 1e-10 * largest {
+            0.0
+        } else {
+            c * scale
+        }
+    };
+    format!(
+        "({}, {}, {})",
+        number(clean(v[0])),
+        number(clean(v[1])),
+        number(clean(v[2]))
+    )
+}
+
+fn yes(flag: bool) -> &'static str {
+    if flag { "yes" } else { "no" }
+}
+
+/// The summary of a solved case.
+pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> String {
+    let unit: LengthUnit = built.length_unit;
+    let mut s = String::new();
+    let _ = writeln!(s, "case        {} ({})", doc.case, built.origin);
+    let segments: usize = doc.rods.iter().map(|r| r.segments).sum();
+    let _ = writeln!(
+        s,
+        "unknowns    {} ({} rod(s), {segments} segments)",
+        doc.unknowns,
+        doc.rods.len()
+    );
+    let stopped = if doc.converged {
+        String::new()
+    } else {
+        format!(", stopped: {}", doc.termination)
+    };
+    let _ = writeln!(
+        s,
+        "converged   {} (residual {} N, tolerance {} N, {} iterations{stopped})",
+        yes(doc.converged),
+        number(doc.residual_n),
+        number(doc.tolerance_n),
+        doc.iterations,
+    );
+    let _ = writeln!(s, "stable      {}", yes(doc.stable));
+    let _ = writeln!(s, "energy      {} J", number(doc.energy_j));
+    let _ = writeln!(
+        s,
+        "solve time  {} ms (total {} ms)",
+        significant(doc.timing_s.solve * 1e3, 3),
+        significant(doc.timing_s.total * 1e3, 3)
+    );
+    if doc.reactions.is_empty() {
+        let _ = writeln!(s, "reactions   none");
+    } else {
+        let _ = writeln!(s, "reactions   (on the rod; moment about the end vertex)");
+        let width = doc
+            .reactions
+            .iter()
+            .map(|r| r.name.len())
+            .max()
+            .unwrap_or(0);
+        // Reaction components below the convergence tolerance are numerically zero.
+        let longest_m = doc.rods.iter().map(|r| r.length_m).fold(0.0, f64::max);
+        let (force_noise, moment_noise) = (doc.tolerance_n, doc.tolerance_n * longest_m);
+        for r in &doc.reactions {
+            let _ = writeln!(
+                s,
+                "  {:width$}  at {} {unit}  force {} N  moment {} N·m",
+                r.name,
+                vector(&r.position_m, 1.0 / unit.metres(), 1e-12),
+                vector(&r.force_n, 1.0, force_noise),
+                vector(&r.moment_nm, 1.0, moment_noise),
+            );
+        }
+    }
+    let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    let _ = writeln!(s, "written     {}", files.join(", "));
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short_and_readable() {
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(2.0), "2");
+        assert_eq!(number(-0.6192912), "-0.619291");
+        assert_eq!(number(980.612971), "980.613");
+        assert_eq!(number(3.2e-12), "3.2e-12");
+        assert_eq!(number(1e-9), "1e-9");
+        assert_eq!(number(-1.234567e7), "-1.23457e7");
+        assert_eq!(number(-1e-7 * 0.0), "0");
+        assert_eq!(significant(0.694311, 3), "0.694");
+        assert_eq!(vector(&[1.0, 1e-16, -2.0], 1000.0, 0.0), "(1000, 0, -2000)");
+        assert_eq!(vector(&[3e-12, 1e-11, 0.0], 1.0, 1e-9), "(0, 0, 0)");
+    }
+}

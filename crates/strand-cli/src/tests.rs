@@ -1,0 +1,152 @@
+//! Tests of the command line through [`crate::run`], the binary's only entry point.
+
+use std::path::{Path, PathBuf};
+
+use crate::{Exit, run};
+
+fn case_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../cases")
+        .join(name)
+}
+
+/// Runs `strand ARGS`, returning the exit status, stdout and stderr.
+fn strand(args: &[&str]) -> (Exit, String, String) {
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let exit = run(
+        std::iter::once("strand").chain(args.iter().copied()),
+        &mut out,
+        &mut err,
+    );
+    (
+        exit,
+        String::from_utf8(out).unwrap(),
+        String::from_utf8(err).unwrap(),
+    )
+}
+
+#[test]
+fn exit_codes_are_stable() {
+    let codes: Vec<u8> = [
+        Exit::Success,
+        Exit::Failure,
+        Exit::InvalidInput,
+        Exit::NotConverged,
+    ]
+    .map(Exit::code)
+    .to_vec();
+    assert_eq!(codes, vec![0, 1, 2, 3]);
+}
+
+#[test]
+fn help_goes_to_stdout_and_usage_errors_exit_2() {
+    let (exit, out, _) = strand(&["--help"]);
+    assert_eq!(exit, Exit::Success);
+    assert!(out.contains("solve") && out.contains("check"), "{out}");
+    let (exit, _, err) = strand(&["solve"]);
+    assert_eq!(exit, Exit::InvalidInput);
+    assert!(err.starts_with("error:"), "{err}");
+    let (exit, _, err) = strand(&["solve", "x.ron", "--segments", "0"]);
+    assert_eq!(exit, Exit::InvalidInput, "{err}");
+}
+
+#[test]
+fn check_validates_without_writing() {
+    let case = case_path("elastica_fig2.ron");
+    let (exit, out, err) = strand(&["check", case.to_str().unwrap()]);
+    assert_eq!(exit, Exit::Success, "{err}");
+    assert!(
+        out.starts_with("ok: ") && out.contains("111 unknowns"),
+        "{out}"
+    );
+    let (exit, _, err) = strand(&["check", "no/such/case.ron"]);
+    assert_eq!(exit, Exit::InvalidInput);
+    assert!(
+        err.starts_with("error: no/such/case.ron: cannot read the case file"),
+        "{err}"
+    );
+}
+
+#[test]
+fn solve_writes_results_and_prints_a_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("fig3");
+    let case = case_path("elastica_fig3_load.ron");
+    let (exit, out, err) = strand(&[
+        "solve",
+        case.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--segments",
+        "10",
+    ]);
+    assert_eq!(exit, Exit::Success, "{err}");
+    for needle in [
+        "case        elastica_fig3_load",
+        "converged   yes",
+        "stable      yes",
+        " J\n",
+        " ms",
+        "force (-17.8, 12.8, 0) N",
+        "N·m",
+    ] {
+        assert!(out.contains(needle), "missing {needle:?} in\n{out}");
+    }
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    assert_eq!(doc["rods"][0]["segments"], 10);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("rod.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        12
+    );
+}
+
+#[test]
+fn not_converged_exits_3_and_still_writes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(case_path("elastica_fig3_load.ron")).unwrap();
+    let case = tmp.path().join("stopped_early.ron");
+    std::fs::write(
+        &case,
+        text.replace("solver: (tolerance_n: 1e-9)", "solver: (max_iterations: 1)"),
+    )
+    .unwrap();
+    let dir = tmp.path().join("out");
+    let (exit, out, err) = strand(&[
+        "solve",
+        case.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(exit, Exit::NotConverged, "{out}{err}");
+    assert!(
+        err.starts_with("warning: ") && err.contains("not converged"),
+        "{err}"
+    );
+    assert!(out.contains("converged   no"), "{out}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    assert_eq!(doc["converged"], false);
+}
+
+#[test]
+fn unwritable_output_is_exit_1() {
+    let tmp = tempfile::tempdir().unwrap();
+    let blocker = tmp.path().join("file");
+    std::fs::write(&blocker, "x").unwrap();
+    let case = case_path("elastica_fig2.ron");
+    let (exit, _, err) = strand(&[
+        "solve",
+        case.to_str().unwrap(),
+        "--out",
+        blocker.join("out").to_str().unwrap(),
+    ]);
+    assert_eq!(exit, Exit::Failure);
+    assert!(
+        err.starts_with("error: ") && err.contains("results not written"),
+        "{err}"
+    );
+}

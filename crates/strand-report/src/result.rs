@@ -1,0 +1,208 @@
+//! The machine-readable result document (`result.json`) and how it is collected from a
+//! solved model. Every key carries its unit as a suffix (`_m`, `_N`, `_Nm`, `_J`,
+//! `_1pm` for 1/m, `_s`); vectors are `[x, y, z]` in the world frame.
+
+use serde::{Deserialize, Serialize};
+use strand_rod::sectional::sectional;
+use strand_solve::Solution;
+use strand_system::Model;
+
+/// Wall-clock times of the phases of one run, in s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Timing {
+    /// Reading and parsing the case file, s.
+    pub read: f64,
+    /// Validating the case and building the model, s.
+    pub build: f64,
+    /// The solver, s.
+    pub solve: f64,
+    /// Post-processing (sectional quantities, reactions), s.
+    pub post: f64,
+    /// Everything up to writing the results, s.
+    pub total: f64,
+}
+
+/// The whole `result.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultDoc {
+    /// Case name.
+    pub case: String,
+    /// Whether the residual reached the tolerance.
+    pub converged: bool,
+    /// Why the solver stopped: `converged`, `max_iterations`, `line_search_failed`, `not_finite`.
+    pub termination: String,
+    /// Convergence measure (force residual, edge moments per edge length), N.
+    #[serde(rename = "residual_N")]
+    pub residual_n: f64,
+    /// Largest out-of-balance vertex force, N.
+    #[serde(rename = "force_residual_N")]
+    pub force_residual_n: f64,
+    /// Largest out-of-balance edge moment, N·m.
+    #[serde(rename = "moment_residual_Nm")]
+    pub moment_residual_nm: f64,
+    /// Tolerance on `residual_N`, N.
+    #[serde(rename = "tolerance_N")]
+    pub tolerance_n: f64,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Iterations whose Hessian needed a shift to become positive definite.
+    pub shifted_iterations: usize,
+    /// Whether the equilibrium is stable (Hessian positive definite).
+    pub stable: bool,
+    /// Total potential energy, J.
+    #[serde(rename = "energy_J")]
+    pub energy_j: f64,
+    /// Number of scalar unknowns.
+    pub unknowns: usize,
+    /// Wall-clock times, s.
+    pub timing_s: Timing,
+    /// Per-rod results.
+    pub rods: Vec<RodResult>,
+    /// Support reactions.
+    pub reactions: Vec<ReactionResult>,
+}
+
+/// Per-vertex results of one rod (arrays of `N + 1` entries, vertex 0 first).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RodResult {
+    /// Rod name.
+    pub name: String,
+    /// Reference length, m.
+    pub length_m: f64,
+    /// Number of segments `N`.
+    pub segments: usize,
+    /// Reference arc length `s_j`, m.
+    pub s_m: Vec<f64>,
+    /// Vertex positions `r_j`, m.
+    pub position_m: Vec<[f64; 3]>,
+    /// Vertex-averaged sectional force `f̄_j`, N.
+    #[serde(rename = "force_N")]
+    pub force_n: Vec<[f64; 3]>,
+    /// Sectional moment `m_j`, N·m.
+    #[serde(rename = "moment_Nm")]
+    pub moment_nm: Vec<[f64; 3]>,
+    /// Tangential (axial) force `f_t`, N.
+    #[serde(rename = "tangential_force_N")]
+    pub tangential_force_n: Vec<f64>,
+    /// Shear force `f_s`, N.
+    #[serde(rename = "shear_force_N")]
+    pub shear_force_n: Vec<f64>,
+    /// Bending moment `m_b`, N·m.
+    #[serde(rename = "bending_moment_Nm")]
+    pub bending_moment_nm: Vec<f64>,
+    /// Torsional moment `m_t`, N·m.
+    #[serde(rename = "torsion_Nm")]
+    pub torsion_nm: Vec<f64>,
+    /// First integral `M̄_j = m_j + r_j × f̄_j`, N·m.
+    #[serde(rename = "total_moment_Nm")]
+    pub total_moment_nm: Vec<[f64; 3]>,
+    /// First integral `H̄_j`, N.
+    #[serde(rename = "hamiltonian_N")]
+    pub hamiltonian_n: Vec<f64>,
+    /// Material curvature `K_j` (components in the section frame), 1/m.
+    #[serde(rename = "curvature_1pm")]
+    pub curvature_1pm: Vec<[f64; 3]>,
+    /// Edge forces `f_{j-1/2}` (`N` entries), N.
+    #[serde(rename = "edge_force_N")]
+    pub edge_force_n: Vec<[f64; 3]>,
+}
+
+/// Force and moment a support exerts on a rod end.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReactionResult {
+    /// `"<rod>.start"` or `"<rod>.end"`.
+    pub name: String,
+    /// What supplies the reaction: `"connector"` (a clamp or pin in space).
+    pub kind: String,
+    /// Name of the rod.
+    pub rod: String,
+    /// `"start"` or `"end"`.
+    pub end: String,
+    /// Where the support acts (the end vertex), m.
+    pub position_m: [f64; 3],
+    /// Force on the rod, N.
+    #[serde(rename = "force_N")]
+    pub force_n: [f64; 3],
+    /// Moment on the rod about `position_m`, N·m (zero at a pin).
+    #[serde(rename = "moment_Nm")]
+    pub moment_nm: [f64; 3],
+}
+
+fn arr(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn arrs(vs: &[nalgebra::Vector3<f64>]) -> Vec<[f64; 3]> {
+    vs.iter().map(arr).collect()
+}
+
+/// Collects the result document of `solution` (a state of `model`). `timing.post` is
+/// filled in here; `timing.total` is increased by it.
+pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timing) -> ResultDoc {
+    let started = std::time::Instant::now();
+    let system = model.system();
+    let report = &solution.report;
+    let rods = system
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(r, spec)| {
+            let state = &solution.state.rods[r];
+            let s = sectional(&spec.rod, state, model.boundary_frames(r));
+            RodResult {
+                name: spec.name.clone(),
+                length_m: spec.rod.length(),
+                segments: spec.rod.segments(),
+                s_m: spec.rod.arc_lengths(),
+                position_m: arrs(&state.positions),
+                force_n: arrs(&s.forces),
+                moment_nm: arrs(&s.moments),
+                tangential_force_n: s.tangential_force,
+                shear_force_n: s.shear_force,
+                bending_moment_nm: s.bending_moment,
+                torsion_nm: s.torsion,
+                total_moment_nm: arrs(&s.total_moment),
+                hamiltonian_n: s.hamiltonian,
+                curvature_1pm: arrs(&s.curvatures),
+                edge_force_n: arrs(&s.edge_forces),
+            }
+        })
+        .collect();
+    let reactions = model
+        .reactions(&solution.state)
+        .into_iter()
+        .map(|r| ReactionResult {
+            name: r.name,
+            kind: "connector".to_string(),
+            rod: system.rods[r.rod].name.clone(),
+            end: if r.at_end { "end" } else { "start" }.to_string(),
+            position_m: arr(&r.position),
+            force_n: arr(&r.force),
+            moment_nm: arr(&r.moment),
+        })
+        .collect();
+    let termination = match serde_json::to_value(report.termination) {
+        Ok(serde_json::Value::String(s)) => s,
+        _ => format!("{:?}", report.termination),
+    };
+    timing.post = started.elapsed().as_secs_f64();
+    timing.total += timing.post;
+    ResultDoc {
+        case: case.to_string(),
+        converged: report.converged,
+        termination,
+        residual_n: report.residual.combined_n,
+        force_residual_n: report.residual.force_n,
+        moment_residual_nm: report.residual.moment_nm,
+        tolerance_n: report.tolerance_n,
+        iterations: report.iterations,
+        shifted_iterations: report.shifted_iterations,
+        stable: report.stable,
+        energy_j: report.energy_j,
+        unknowns: report.unknowns,
+        timing_s: timing,
+        rods,
+        reactions,
+    }
+}
