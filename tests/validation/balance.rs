@@ -18,6 +18,7 @@ fn sagging_hose() -> System {
             end: End::clamped(Vector3::new(0.8, 0.1, 0.05), frame_along_x()),
             route: None,
         }],
+        bodies: vec![],
         gravity: Vector3::new(0.0, 0.0, -9.81),
     }
 }

@@ -30,6 +30,7 @@ pub fn clamped_rod(segments: usize, end: End) -> System {
             end,
             route: None,
         }],
+        bodies: vec![],
         gravity: Vector3::zeros(),
     }
 }

@@ -98,7 +98,7 @@ fn position_controlled_equilibrium_conserves_force_and_total_moment() {
             let out = sectional(
                 &model.system().rods[0].rod,
                 &solution.state.rods[0],
-                model.boundary_frames(0),
+                &model.boundary_frames(0, &solution.state),
             );
             let f0 = out.edge_forces[0];
             let force_drift = out
@@ -148,7 +148,7 @@ fn hamiltonian_is_constant_up_to_discretisation_error() {
             let out = sectional(
                 &model.system().rods[0].rod,
                 &solution.state.rods[0],
-                model.boundary_frames(0),
+                &model.boundary_frames(0, &solution.state),
             );
             // Interior vertices: the end half-cells use one-sided averages.
             let h = &out.hamiltonian[1..n];

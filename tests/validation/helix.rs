@@ -33,6 +33,7 @@ fn helix_system(helix: &Helix, segments: usize, section: Section) -> System {
             ),
             route: Some(route),
         }],
+        bodies: vec![],
         gravity: Vector3::zeros(),
     }
 }
@@ -52,6 +53,7 @@ fn perturbed_helix_state(helix: &Helix, segments: usize, noise: f64) -> SystemSt
         .collect();
     SystemState {
         rods: vec![RodState::new(positions, frames)],
+        bodies: vec![],
     }
 }
 
@@ -92,7 +94,7 @@ fn solve_helix(
     sectional(
         &model.system().rods[0].rod,
         &solution.state.rods[0],
-        model.boundary_frames(0),
+        &model.boundary_frames(0, &solution.state),
     )
 }
 
@@ -192,7 +194,7 @@ fn discrete_balance_equations_hold_exactly_in_space() {
     .unwrap();
     assert!(solution.report.converged);
     let state = &solution.state.rods[0];
-    let out = sectional(&model.system().rods[0].rod, state, model.boundary_frames(0));
+    let out = sectional(&model.system().rods[0].rod, state, &model.boundary_frames(0, &solution.state));
     for j in 0..19 {
         let moment_balance = out.moments[j + 1] - out.moments[j]
             + (state.positions[j + 1] - state.positions[j]).cross(&out.edge_forces[j]);

@@ -72,7 +72,7 @@ pub(crate) fn build(
             source,
         })?;
 
-    let mut system = System { rods, gravity };
+    let mut system = System { rods, bodies: Vec::new(), gravity };
     let system_error = |source| CaseError::System {
         origin: origin.to_string(),
         source,

@@ -149,7 +149,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         .enumerate()
         .map(|(r, spec)| {
             let state = &solution.state.rods[r];
-            let s = sectional(&spec.rod, state, model.boundary_frames(r));
+            let s = sectional(&spec.rod, state, &model.boundary_frames(r, &solution.state));
             RodResult {
                 name: spec.name.clone(),
                 length_m: spec.rod.length(),

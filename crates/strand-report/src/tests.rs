@@ -41,6 +41,7 @@ fn solved_doc() -> ResultDoc {
             end: End::pinned(Vector3::new(0.95, 0.2, 0.0)),
             route: None,
         }],
+        bodies: vec![],
         gravity: Vector3::zeros(),
     };
     let model = Model::try_new(system).unwrap();

@@ -65,6 +65,7 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
     Some((
         System {
             rods,
+            bodies: system.bodies.clone(),
             gravity: system.gravity,
         },
         kept,
@@ -86,7 +87,7 @@ pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState 
             RodState::new(positions, frames)
         })
         .collect();
-    SystemState { rods }
+    SystemState { rods, bodies: state.bodies.clone() }
 }
 
 /// The coarse solution carried to the fine model.
@@ -101,20 +102,21 @@ pub(crate) fn prolong(
         .rods
         .iter()
         .enumerate()
-        .map(|(r, spec)| prolong_rod(spec, coarse, r, &coarse_state.rods[r], &kept[r]))
+        .map(|(r, spec)| prolong_rod(spec, coarse, r, coarse_state, &kept[r]))
         .collect();
-    SystemState { rods }
+    SystemState { rods, bodies: coarse_state.bodies.clone() }
 }
 
 fn prolong_rod(
     spec: &RodSpec,
     coarse: &Model,
     rod: usize,
-    coarse_state: &RodState,
+    coarse_system_state: &SystemState,
     indices: &[usize],
 ) -> RodState {
     let s = spec.rod.arc_lengths();
-    let boundary = coarse.boundary_frames(rod);
+    let boundary = coarse.boundary_frames(rod, coarse_system_state);
+    let coarse_state = &coarse_system_state.rods[rod];
     let coarse_frames = &coarse_state.frames;
     let nc = coarse_frames.len();
     // Unit tangents at the coarse vertices.

@@ -17,6 +17,7 @@ pub enum BlockKind {
 pub struct Dofs {
     vertex_blocks: Vec<Vec<Option<usize>>>,
     edge_blocks: Vec<Vec<usize>>,
+    body_blocks: Vec<Option<(usize, usize)>>,
     kinds: Vec<BlockKind>,
     force_scale: Vec<f64>,
 }
@@ -28,6 +29,7 @@ impl Dofs {
         let mut dofs = Self {
             vertex_blocks: vec![],
             edge_blocks: vec![],
+            body_blocks: vec![],
             kinds: vec![],
             force_scale: vec![],
         };
@@ -36,8 +38,8 @@ impl Dofs {
             let mut vertices = vec![None; n + 1];
             let mut edges = Vec::with_capacity(n);
             for j in 0..=n {
-                let held = (j == 0 && spec.start.support.position().is_some())
-                    || (j == n && spec.end.support.position().is_some());
+                let held = (j == 0 && spec.start.support.is_held())
+                    || (j == n && spec.end.support.is_held());
                 if !held {
                     vertices[j] = Some(dofs.push(BlockKind::Position, 1.0));
                 }
@@ -48,7 +50,21 @@ impl Dofs {
             dofs.vertex_blocks.push(vertices);
             dofs.edge_blocks.push(edges);
         }
+        // Free bodies last: they couple the ends of several rods (an arrow-head pattern
+        // that keeps each rod's band intact).
+        let longest_rod = system.rods.iter().map(|r| r.rod.length()).fold(0.0, f64::max);
+        for body in &system.bodies {
+            let blocks = (!body.fixed).then(|| {
+                (dofs.push(BlockKind::Position, 1.0), dofs.push(BlockKind::Rotation, longest_rod))
+            });
+            dofs.body_blocks.push(blocks);
+        }
         dofs
+    }
+
+    /// Translation and rotation blocks of body `body`, `None` if it is fixed.
+    pub fn body(&self, body: usize) -> Option<(usize, usize)> {
+        self.body_blocks[body]
     }
 
     fn push(&mut self, kind: BlockKind, scale: f64) -> usize {

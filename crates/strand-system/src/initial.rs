@@ -7,19 +7,40 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::RodState;
 use strand_rod::so3::frame_with_tangent;
 
-use crate::system::{RodSpec, System, SystemState};
+use crate::system::{Pose, RodSpec, System, SystemState};
 
 /// The initial configuration of every rod.
 pub fn initial_state(system: &System) -> SystemState {
+    let poses = system.body_poses();
     SystemState {
-        rods: system.rods.iter().map(initial_rod_state).collect(),
+        rods: system.rods.iter().map(|spec| initial_rod_state(system, spec, &poses)).collect(),
+        bodies: poses,
     }
 }
 
-fn initial_rod_state(spec: &RodSpec) -> RodState {
+/// Where a held end is (m) and its boundary frame, at the bodies' initial poses.
+struct Placement {
+    position: Option<Vector3<f64>>,
+    frame: Option<UnitQuaternion<f64>>,
+}
+
+impl Placement {
+    fn position(&self) -> Option<Vector3<f64>> {
+        self.position
+    }
+
+    fn frame(&self) -> Option<UnitQuaternion<f64>> {
+        self.frame
+    }
+}
+
+fn initial_rod_state(system: &System, spec: &RodSpec, poses: &[Pose]) -> RodState {
     let length = spec.rod.length();
-    let start = &spec.start.support;
-    let end = &spec.end.support;
+    let place = |end, at_end| {
+        let (position, frame) = system.end_placement(end, at_end, poses);
+        Placement { position, frame }
+    };
+    let (start, end) = (place(&spec.start, false), place(&spec.end, true));
     let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
     let polyline: Vec<Vector3<f64>> =
         if let Some(route) = spec.route.as_ref().filter(|r| r.len() >= 2) {

@@ -10,6 +10,7 @@
 //! [`SystemState`]. Reactions follow from the gradient with respect to the eliminated
 //! coordinates.
 
+mod attachment;
 mod dofs;
 mod initial;
 mod model;
@@ -21,8 +22,11 @@ pub use dofs::{BlockKind, Dofs};
 pub use initial::initial_state;
 pub use model::{Evaluation, Model, Residual};
 pub use pattern::HessianPattern;
-pub use reactions::Reaction;
-pub use system::{End, EndLoad, RodHandle, RodSpec, Support, System, SystemError, SystemState};
+pub use reactions::{Reaction, ReactionKind};
+pub use system::{
+    BodyHandle, BodySpec, End, EndLoad, Pose, Port, RodHandle, RodSpec, Support, System, SystemError,
+    SystemState,
+};
 
 #[cfg(test)]
 mod tests;

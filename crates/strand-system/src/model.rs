@@ -2,14 +2,15 @@
 
 use std::ops::Range;
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{DVector, Vector3};
 use strand_rod::element::{BendTwist, ElementDerivatives, bend_twist, dead_moment, stretch_shear};
 use strand_rod::sectional::{BoundaryFrames, edge_element, vertex_frames};
 use strand_rod::so3;
 
+use crate::attachment::{LocalBlock, chain_rule};
 use crate::dofs::{BlockKind, Dofs};
 use crate::pattern::{HessianPattern, ScatterBlock, add_blocks};
-use crate::system::{System, SystemError, SystemState};
+use crate::system::{Support, System, SystemError, SystemState};
 
 #[derive(Clone, Copy, Debug)]
 enum ElementKind {
@@ -19,12 +20,20 @@ enum ElementKind {
     Vertex { rod: usize, vertex: usize },
     /// Dead moment at the start (`false`) or end (`true`) edge; block `(θ)`.
     EndMoment { rod: usize, at_end: bool },
+    /// Weight and dead end load of a vertex attached to a free body; block `(r)`.
+    PointLoad { rod: usize, vertex: usize },
+    /// Weight of a free body at its centre of mass; block `(r_com)`.
+    BodyWeight { body: usize },
 }
 
 #[derive(Clone, Debug)]
 struct Element {
     kind: ElementKind,
-    blocks: [Option<usize>; 3],
+    locals: [LocalBlock; 3],
+    /// The global blocks the element couples (in scatter order).
+    globals: Vec<usize>,
+    /// Whether every local block maps one-to-one (no chain rule needed).
+    direct: bool,
     scatter: Range<usize>,
 }
 
@@ -36,7 +45,6 @@ pub struct Model {
     pattern: HessianPattern,
     elements: Vec<Element>,
     scatter: Vec<ScatterBlock>,
-    boundary: Vec<BoundaryFrames>,
 }
 
 /// Energy, gradient and (optionally) Hessian values of one configuration.
@@ -53,9 +61,9 @@ pub struct Evaluation {
 /// Size of a gradient, in physical units.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Residual {
-    /// Largest out-of-balance vertex force in N (eq. 15).
+    /// Largest out-of-balance vertex or body force in N (eq. 15).
     pub force_n: f64,
-    /// Largest out-of-balance edge moment in N·m (eq. 16).
+    /// Largest out-of-balance edge or body moment in N·m (eq. 16).
     pub moment_nm: f64,
     /// The convergence measure in N: the larger of `force_n` and every edge's moment
     /// residual divided by its rod's length (see [`Dofs::force_scale`]).
@@ -68,75 +76,72 @@ impl Model {
         system.validate()?;
         let dofs = Dofs::new(&system);
         let mut elements = Vec::new();
-        let boundary: Vec<BoundaryFrames> = system
-            .rods
-            .iter()
-            .map(|s| BoundaryFrames {
-                start: s.start.support.frame(),
-                end: s.end.support.frame(),
-            })
-            .collect();
+        let mut push = |kind, locals: [LocalBlock; 3]| {
+            let mut globals = Vec::new();
+            for local in &locals {
+                for g in local.globals(&dofs) {
+                    if !globals.contains(&g) {
+                        globals.push(g);
+                    }
+                }
+            }
+            let direct = locals.iter().all(LocalBlock::is_direct);
+            elements.push(Element { kind, locals, globals, direct, scatter: 0..0 });
+        };
         for (r, spec) in system.rods.iter().enumerate() {
             let n = spec.rod.segments();
+            let vertex_block = |j: usize| vertex_local(&system, &dofs, r, j);
+            let frame_block = |at_end: bool| boundary_local(&system, r, at_end);
             for e in 0..n {
-                let blocks = [
-                    dofs.vertex(r, e),
-                    dofs.vertex(r, e + 1),
-                    Some(dofs.edge(r, e)),
-                ];
-                elements.push(Element {
-                    kind: ElementKind::Edge { rod: r, edge: e },
-                    blocks,
-                    scatter: 0..0,
-                });
+                let locals = [vertex_block(e), vertex_block(e + 1), LocalBlock::Free(dofs.edge(r, e))];
+                push(ElementKind::Edge { rod: r, edge: e }, locals);
             }
             for j in 0..=n {
-                let (a, b) = match j {
-                    0 if boundary[r].start.is_some() => (None, Some(dofs.edge(r, 0))),
-                    j if j == n && boundary[r].end.is_some() => (Some(dofs.edge(r, n - 1)), None),
-                    0 => continue,
-                    j if j == n => continue,
-                    j => (Some(dofs.edge(r, j - 1)), Some(dofs.edge(r, j))),
+                let locals = match j {
+                    0 => match frame_block(false) {
+                        Some(a) => [a, LocalBlock::Free(dofs.edge(r, 0)), LocalBlock::Fixed],
+                        None => continue,
+                    },
+                    j if j == n => match frame_block(true) {
+                        Some(b) => [LocalBlock::Free(dofs.edge(r, n - 1)), b, LocalBlock::Fixed],
+                        None => continue,
+                    },
+                    j => [LocalBlock::Free(dofs.edge(r, j - 1)), LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed],
                 };
-                elements.push(Element {
-                    kind: ElementKind::Vertex { rod: r, vertex: j },
-                    blocks: [a, b, None],
-                    scatter: 0..0,
-                });
+                push(ElementKind::Vertex { rod: r, vertex: j }, locals);
             }
             for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
+                let edge = if at_end { n - 1 } else { 0 };
                 if end.load.moment != Vector3::zeros() {
-                    let edge = if at_end { n - 1 } else { 0 };
-                    elements.push(Element {
-                        kind: ElementKind::EndMoment { rod: r, at_end },
-                        blocks: [Some(dofs.edge(r, edge)), None, None],
-                        scatter: 0..0,
-                    });
+                    let locals = [LocalBlock::Free(dofs.edge(r, edge)), LocalBlock::Fixed, LocalBlock::Fixed];
+                    push(ElementKind::EndMoment { rod: r, at_end }, locals);
+                }
+                let vertex = if at_end { n } else { 0 };
+                if let local @ LocalBlock::BodyPoint { .. } = vertex_block(vertex) {
+                    push(ElementKind::PointLoad { rod: r, vertex }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
                 }
             }
         }
-        let global_blocks: Vec<Vec<usize>> = elements
-            .iter()
-            .map(|e| e.blocks.iter().flatten().copied().collect())
-            .collect();
-        let pattern = HessianPattern::new(
-            dofs.block_count(),
-            global_blocks.iter().map(|b| b.as_slice()),
-        );
+        for (b, body) in system.bodies.iter().enumerate() {
+            if !body.fixed {
+                let local = LocalBlock::BodyPoint { body: b, lever: body.center_of_mass };
+                push(ElementKind::BodyWeight { body: b }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+            }
+        }
+        let pattern =
+            HessianPattern::new(dofs.block_count(), elements.iter().map(|e| e.globals.as_slice()));
         let mut scatter = Vec::new();
         for element in &mut elements {
             let start = scatter.len();
-            scatter.extend(pattern.scatter(&element.blocks));
+            let blocks: Vec<Option<usize>> = if element.direct {
+                element.locals.iter().map(|l| if let LocalBlock::Free(g) = l { Some(*g) } else { None }).collect()
+            } else {
+                element.globals.iter().map(|&g| Some(g)).collect()
+            };
+            scatter.extend(pattern.scatter(&blocks));
             element.scatter = start..scatter.len();
         }
-        Ok(Self {
-            system,
-            dofs,
-            pattern,
-            elements,
-            scatter,
-            boundary,
-        })
+        Ok(Self { system, dofs, pattern, elements, scatter })
     }
 
     /// The system this model was built from.
@@ -154,9 +159,13 @@ impl Model {
         &self.pattern
     }
 
-    /// Boundary frames of rod `rod`.
-    pub fn boundary_frames(&self, rod: usize) -> &BoundaryFrames {
-        &self.boundary[rod]
+    /// Boundary frames of rod `rod` in `state` (a port's frame moves with its body).
+    pub fn boundary_frames(&self, rod: usize, state: &SystemState) -> BoundaryFrames {
+        let spec = &self.system.rods[rod];
+        BoundaryFrames {
+            start: self.system.end_placement(&spec.start, false, &state.bodies).1,
+            end: self.system.end_placement(&spec.end, true, &state.bodies).1,
+        }
     }
 
     /// An evaluation buffer of the right sizes.
@@ -175,28 +184,33 @@ impl Model {
         if with_hessian {
             out.hessian.iter_mut().for_each(|h| *h = 0.0);
         }
+        let boundary = self.all_boundary_frames(state);
         for element in &self.elements {
-            let scatter = &self.scatter[element.scatter.clone()];
             match element.kind {
-                ElementKind::Edge { .. } => {
-                    let d = self.edge_derivatives(state, element.kind);
-                    self.accumulate(out, element, scatter, &d, with_hessian);
+                ElementKind::Edge { rod, edge } => {
+                    let d = self.edge_derivatives(state, rod, edge);
+                    self.accumulate(state, out, element, &d, with_hessian);
                 }
-                ElementKind::Vertex { .. } => {
-                    let d = self.vertex_derivatives(state, element.kind);
-                    self.accumulate(out, element, scatter, &d, with_hessian);
+                ElementKind::Vertex { rod, vertex } => {
+                    let d = self.vertex_derivatives(state, &boundary[rod], rod, vertex);
+                    self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::EndMoment { rod, at_end } => {
                     let d = self.end_moment_derivatives(state, rod, at_end);
-                    self.accumulate(out, element, scatter, &d, with_hessian);
+                    self.accumulate(state, out, element, &d, with_hessian);
+                }
+                ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. } => {
+                    let d = self.point_load_derivatives(state, element.kind);
+                    self.accumulate(state, out, element, &d, with_hessian);
                 }
             }
         }
-        self.add_linear_loads(state, out);
+        self.add_free_vertex_loads(state, out);
     }
 
     /// Total potential energy of `state` in J (no derivatives).
     pub fn energy(&self, state: &SystemState) -> f64 {
+        let boundary = self.all_boundary_frames(state);
         let mut energy = 0.0;
         for element in &self.elements {
             energy += match element.kind {
@@ -208,8 +222,8 @@ impl Model {
                 ElementKind::Vertex { rod, vertex } => {
                     let spec = &self.system.rods[rod];
                     let c = spec.rod.section().curvature_stiffness();
-                    let (q_a, q_b) = vertex_frames(&state.rods[rod], &self.boundary[rod], vertex)
-                        .expect("vertex element");
+                    let (q_a, q_b) =
+                        vertex_frames(&state.rods[rod], &boundary[rod], vertex).expect("vertex element");
                     BendTwist {
                         frame_a: q_a,
                         frame_b: q_b,
@@ -219,39 +233,60 @@ impl Model {
                     }
                     .energy()
                 }
-                ElementKind::EndMoment { rod, at_end } => {
-                    self.end_moment_derivatives(state, rod, at_end).energy
+                ElementKind::EndMoment { rod, at_end } => self.end_moment_derivatives(state, rod, at_end).energy,
+                kind @ (ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. }) => {
+                    self.point_load_derivatives(state, kind).energy
                 }
             };
         }
-        for (r, spec) in self.system.rods.iter().enumerate() {
-            let positions = &state.rods[r].positions;
-            for (j, p) in positions.iter().enumerate() {
-                energy -= spec.rod.vertex_mass(j) * self.system.gravity.dot(p);
+        for (r, rod_state) in state.rods.iter().enumerate() {
+            for (j, p) in rod_state.positions.iter().enumerate() {
+                if !self.is_on_free_body(r, j) {
+                    energy -= self.vertex_load(r, j).dot(p);
+                }
             }
-            energy -= spec.start.load.force.dot(&positions[0]);
-            energy -= spec.end.load.force.dot(positions.last().expect("vertices"));
         }
         energy
     }
 
-    fn edge_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<9> {
-        let ElementKind::Edge { rod, edge } = kind else {
-            unreachable!()
-        };
+    fn all_boundary_frames(&self, state: &SystemState) -> Vec<BoundaryFrames> {
+        (0..self.system.rods.len()).map(|r| self.boundary_frames(r, state)).collect()
+    }
+
+    /// Gravity plus dead end load on vertex `j` of rod `r`, N.
+    fn vertex_load(&self, r: usize, j: usize) -> Vector3<f64> {
+        let spec = &self.system.rods[r];
+        let mut force = spec.rod.vertex_mass(j) * self.system.gravity;
+        if j == 0 {
+            force += spec.start.load.force;
+        }
+        if j == spec.rod.segments() {
+            force += spec.end.load.force;
+        }
+        force
+    }
+
+    /// Whether vertex `j` of rod `r` is held by a port of a free body.
+    fn is_on_free_body(&self, r: usize, j: usize) -> bool {
+        matches!(vertex_local(&self.system, &self.dofs, r, j), LocalBlock::BodyPoint { .. })
+    }
+
+    fn edge_derivatives(&self, state: &SystemState, rod: usize, edge: usize) -> ElementDerivatives<9> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().strain_stiffness();
         stretch_shear(&edge_element(&spec.rod, &state.rods[rod], &c, edge))
     }
 
-    fn vertex_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<6> {
-        let ElementKind::Vertex { rod, vertex } = kind else {
-            unreachable!()
-        };
+    fn vertex_derivatives(
+        &self,
+        state: &SystemState,
+        boundary: &BoundaryFrames,
+        rod: usize,
+        vertex: usize,
+    ) -> ElementDerivatives<6> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().curvature_stiffness();
-        let (q_a, q_b) =
-            vertex_frames(&state.rods[rod], &self.boundary[rod], vertex).expect("vertex element");
+        let (q_a, q_b) = vertex_frames(&state.rods[rod], boundary, vertex).expect("vertex element");
         bend_twist(&BendTwist {
             frame_a: q_a,
             frame_b: q_b,
@@ -261,55 +296,74 @@ impl Model {
         })
     }
 
-    fn end_moment_derivatives(
-        &self,
-        state: &SystemState,
-        rod: usize,
-        at_end: bool,
-    ) -> ElementDerivatives<3> {
+    fn end_moment_derivatives(&self, state: &SystemState, rod: usize, at_end: bool) -> ElementDerivatives<3> {
         let spec = &self.system.rods[rod];
         let frames = &state.rods[rod].frames;
-        let (frame, load) = if at_end {
-            (frames.last(), &spec.end.load)
-        } else {
-            (frames.first(), &spec.start.load)
-        };
+        let (frame, load) = if at_end { (frames.last(), &spec.end.load) } else { (frames.first(), &spec.start.load) };
         dead_moment(frame.expect("edges"), &load.moment_reference, &load.moment)
+    }
+
+    /// Potential `−F·r` of a constant force on a point that moves with a body.
+    fn point_load_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<3> {
+        let (force, point) = match kind {
+            ElementKind::PointLoad { rod, vertex } => (self.vertex_load(rod, vertex), state.rods[rod].positions[vertex]),
+            ElementKind::BodyWeight { body } => {
+                let spec = &self.system.bodies[body];
+                (spec.mass * self.system.gravity, state.bodies[body].transform_point(&spec.center_of_mass))
+            }
+            _ => unreachable!("not a point load"),
+        };
+        ElementDerivatives { energy: -force.dot(&point), gradient: -force, hessian: Default::default() }
     }
 
     fn accumulate<const D: usize>(
         &self,
+        state: &SystemState,
         out: &mut Evaluation,
         element: &Element,
-        scatter: &[ScatterBlock],
         d: &ElementDerivatives<D>,
         with_hessian: bool,
     ) {
         out.energy += d.energy;
-        for (local, block) in element.blocks.iter().enumerate().take(D / 3) {
-            if let Some(b) = block {
-                for i in 0..3 {
-                    out.gradient[3 * b + i] += d.gradient[3 * local + i];
+        let scatter = &self.scatter[element.scatter.clone()];
+        if element.direct {
+            for (local, block) in element.locals.iter().enumerate().take(D / 3) {
+                if let LocalBlock::Free(b) = block {
+                    for i in 0..3 {
+                        out.gradient[3 * b + i] += d.gradient[3 * local + i];
+                    }
                 }
+            }
+            if with_hessian {
+                add_blocks(&mut out.hessian, scatter, &d.hessian);
+            }
+            return;
+        }
+        let locals = &element.locals[..D / 3];
+        let (jacobian, curvature) =
+            chain_rule(locals, &element.globals, &self.dofs, &state.bodies, d.gradient.as_slice(), with_hessian);
+        let local_gradient = DVector::from_column_slice(d.gradient.as_slice());
+        let gradient = jacobian.transpose() * local_gradient;
+        for (k, &g) in element.globals.iter().enumerate() {
+            for i in 0..3 {
+                out.gradient[3 * g + i] += gradient[3 * k + i];
             }
         }
         if with_hessian {
-            add_blocks(&mut out.hessian, scatter, &d.hessian);
+            let local_hessian = nalgebra::DMatrix::from_column_slice(D, D, d.hessian.as_slice());
+            let hessian = jacobian.transpose() * local_hessian * &jacobian + curvature;
+            add_blocks(&mut out.hessian, scatter, &hessian);
         }
     }
 
-    fn add_linear_loads(&self, state: &SystemState, out: &mut Evaluation) {
-        for (r, spec) in self.system.rods.iter().enumerate() {
-            let positions = &state.rods[r].positions;
-            let n = spec.rod.segments();
-            for (j, p) in positions.iter().enumerate() {
-                let mut force = spec.rod.vertex_mass(j) * self.system.gravity;
-                if j == 0 {
-                    force += spec.start.load.force;
+    /// Gravity and dead end loads of vertices that are unknowns (linear: gradient only).
+    fn add_free_vertex_loads(&self, state: &SystemState, out: &mut Evaluation) {
+        for (r, rod_state) in state.rods.iter().enumerate() {
+            for (j, p) in rod_state.positions.iter().enumerate() {
+                if self.is_on_free_body(r, j) {
+                    continue; // a PointLoad element carries it to the body
                 }
-                if j == n {
-                    force += spec.end.load.force;
-                }
+                let force = self.vertex_load(r, j);
                 out.energy -= force.dot(p);
                 if let Some(b) = self.dofs.vertex(r, j) {
                     for i in 0..3 {
@@ -320,13 +374,18 @@ impl Model {
         }
     }
 
-    /// Puts every held vertex of `state` at its support position (an initial guess from
+    /// Puts every held vertex of `state` at its support or port (an initial guess from
     /// elsewhere, e.g. a previous solution of a variant, may not satisfy the supports).
     pub fn enforce_supports(&self, state: &mut SystemState) {
+        for (b, body) in self.system.bodies.iter().enumerate() {
+            if body.fixed {
+                state.bodies[b] = body.pose;
+            }
+        }
         for (spec, rod_state) in self.system.rods.iter().zip(&mut state.rods) {
             let last = rod_state.positions.len() - 1;
-            for (vertex, end) in [(0, &spec.start), (last, &spec.end)] {
-                if let Some(position) = end.support.position() {
+            for (vertex, at_end, end) in [(0, false, &spec.start), (last, true, &spec.end)] {
+                if let (Some(position), _) = self.system.end_placement(end, at_end, &state.bodies) {
                     rod_state.set_position(vertex, position);
                 }
             }
@@ -342,13 +401,7 @@ impl Model {
 
     /// Writes `state` moved by `scale · step` into `out` (same shape as `state`),
     /// without allocating.
-    pub fn retract_into(
-        &self,
-        state: &SystemState,
-        step: &[f64],
-        scale: f64,
-        out: &mut SystemState,
-    ) {
+    pub fn retract_into(&self, state: &SystemState, step: &[f64], scale: f64, out: &mut SystemState) {
         out.clone_from(state);
         let block = |b: usize| scale * Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
         for (r, rod_state) in out.rods.iter_mut().enumerate() {
@@ -362,14 +415,33 @@ impl Model {
                 q.renormalize_fast();
             }
         }
+        if self.system.bodies.is_empty() {
+            return;
+        }
+        for (b, pose) in out.bodies.iter_mut().enumerate() {
+            if let Some((t, r)) = self.dofs.body(b) {
+                pose.position += block(t);
+                pose.orientation *= so3::exp(&block(r));
+                pose.orientation.renormalize_fast();
+            }
+        }
+        // Vertices held by ports follow their bodies.
+        for (spec, rod_state) in self.system.rods.iter().zip(&mut out.rods) {
+            let last = rod_state.positions.len() - 1;
+            for (vertex, at_end, end) in [(0, false, &spec.start), (last, true, &spec.end)] {
+                if let Support::Port { .. } = end.support {
+                    let position = self.system.end_placement(end, at_end, &out.bodies).0.expect("port position");
+                    rod_state.set_position(vertex, position);
+                }
+            }
+        }
     }
 
     /// The size of a gradient in physical units.
     pub fn residual(&self, gradient: &[f64]) -> Residual {
         let mut residual = Residual::default();
         for b in 0..self.dofs.block_count() {
-            let norm =
-                Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
+            let norm = Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
             match self.dofs.kind(b) {
                 BlockKind::Position => residual.force_n = residual.force_n.max(norm),
                 BlockKind::Rotation => residual.moment_nm = residual.moment_nm.max(norm),
@@ -391,13 +463,35 @@ impl Model {
         }
         (rotation, translation)
     }
+}
 
-    /// The boundary frame of rod `rod` at its start or end, if clamped.
-    pub fn boundary_frame(&self, rod: usize, at_end: bool) -> Option<UnitQuaternion<f64>> {
-        if at_end {
-            self.boundary[rod].end
-        } else {
-            self.boundary[rod].start
+/// How vertex `j` of rod `r` enters: its own block, fixed, or a point of a free body.
+fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock {
+    if let Some(b) = dofs.vertex(r, j) {
+        return LocalBlock::Free(b);
+    }
+    let spec = &system.rods[r];
+    let end = if j == 0 { &spec.start } else { &spec.end };
+    match end.support {
+        Support::Port { body, port, .. } if !system.bodies[body.0].fixed => {
+            LocalBlock::BodyPoint { body: body.0, lever: system.bodies[body.0].ports[port].position }
         }
+        _ => LocalBlock::Fixed,
+    }
+}
+
+/// How the boundary frame of rod `r` at one end enters: `None` without a boundary frame,
+/// fixed, or a frame of a free body.
+fn boundary_local(system: &System, r: usize, at_end: bool) -> Option<LocalBlock> {
+    let spec = &system.rods[r];
+    let end = if at_end { &spec.end } else { &spec.start };
+    match end.support {
+        Support::Clamped { .. } => Some(LocalBlock::Fixed),
+        Support::Port { body, port, clamped: true } => Some(if system.bodies[body.0].fixed {
+            LocalBlock::Fixed
+        } else {
+            LocalBlock::BodyFrame { body: body.0, offset: system.port_offset(body, port, at_end) }
+        }),
+        _ => None,
     }
 }

@@ -136,11 +136,12 @@ impl HessianPattern {
     }
 }
 
-/// Adds the local Hessian `local` (`D×D`, blocks of 3) into `values` by `scatter`.
-pub fn add_blocks<const D: usize>(
+/// Adds the local Hessian `local` (square, blocks of 3; a fixed-size or dynamic
+/// nalgebra matrix) into `values` by `scatter`.
+pub fn add_blocks<M: std::ops::Index<(usize, usize), Output = f64>>(
     values: &mut [f64],
     scatter: &[ScatterBlock],
-    local: &nalgebra::SMatrix<f64, D, D>,
+    local: &M,
 ) {
     for s in scatter {
         let (r0, c0) = (3 * s.local_row, 3 * s.local_col);

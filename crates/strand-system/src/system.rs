@@ -7,6 +7,55 @@ use strand_rod::{Rod, RodState};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct RodHandle(pub usize);
 
+/// Typed index of a rigid body (junction) in a [`System`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BodyHandle(pub usize);
+
+/// Position (m) and orientation of a rigid body in the world frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Position of the body's origin in m.
+    pub position: Vector3<f64>,
+    /// Orientation (body frame to world).
+    pub orientation: UnitQuaternion<f64>,
+}
+
+impl Pose {
+    /// A point given in body coordinates (m), in world coordinates (m).
+    pub fn transform_point(&self, local: &Vector3<f64>) -> Vector3<f64> {
+        self.position + self.orientation * local
+    }
+}
+
+/// A port of a body: a frame in body coordinates where a rod end attaches. Its `a3`
+/// points out of the body, into the attached rod.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Port {
+    /// Name used in reactions (`<body>.<port>`).
+    pub name: String,
+    /// Origin of the port in body coordinates, m.
+    pub position: Vector3<f64>,
+    /// Orientation of the port relative to the body.
+    pub frame: UnitQuaternion<f64>,
+}
+
+/// A rigid body with ports: a T- or Y-junction, a branch, a bracket.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodySpec {
+    /// Name used in results and messages.
+    pub name: String,
+    /// Mass in kg.
+    pub mass: f64,
+    /// Centre of mass in body coordinates, m.
+    pub center_of_mass: Vector3<f64>,
+    /// Pose: the initial guess of a free body, the pose of a fixed one.
+    pub pose: Pose,
+    /// Whether the body is mounted (pose prescribed) rather than free-hanging.
+    pub fixed: bool,
+    /// The ports.
+    pub ports: Vec<Port>,
+}
+
 /// How a rod end is held.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Support {
@@ -25,13 +74,30 @@ pub enum Support {
         /// Prescribed boundary frame.
         frame: UnitQuaternion<f64>,
     },
+    /// The end is attached to port `port` of body `body`: its vertex is at the port's
+    /// origin and, if `clamped`, its boundary frame is the port frame (with `a3`
+    /// reversed at a rod's end vertex, so that it keeps pointing along the rod).
+    Port {
+        /// The body.
+        body: BodyHandle,
+        /// Index of the port in [`BodySpec::ports`].
+        port: usize,
+        /// Whether the port also fixes the end frame (otherwise a ball joint).
+        clamped: bool,
+    },
 }
 
 impl Support {
-    /// The prescribed position, if any.
+    /// Whether the end vertex is held (by a connector or a body port), i.e. not an
+    /// unknown of its own.
+    pub fn is_held(&self) -> bool {
+        !matches!(self, Support::Free)
+    }
+
+    /// The prescribed position, if any (fixed in space; a port moves with its body).
     pub fn position(&self) -> Option<Vector3<f64>> {
         match self {
-            Support::Free => None,
+            Support::Free | Support::Port { .. } => None,
             Support::Pinned { position } | Support::Clamped { position, .. } => Some(*position),
         }
     }
@@ -122,32 +188,35 @@ pub struct RodSpec {
     pub route: Option<Vec<Vector3<f64>>>,
 }
 
-/// Rods, supports and gravity.
+/// Rods, rigid bodies, supports and gravity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct System {
     /// The rods.
     pub rods: Vec<RodSpec>,
+    /// Rigid bodies (junctions) whose ports hold rod ends.
+    pub bodies: Vec<BodySpec>,
     /// Gravitational acceleration in m/s² (e.g. `(0, 0, −9.81)`).
     pub gravity: Vector3<f64>,
 }
 
-/// A configuration of the whole system: one [`RodState`] per rod.
+/// A configuration of the whole system: one [`RodState`] per rod, one [`Pose`] per body.
 #[derive(Debug, PartialEq)]
 pub struct SystemState {
     /// Per-rod configurations, in the order of [`System::rods`].
     pub rods: Vec<RodState>,
+    /// Per-body poses, in the order of [`System::bodies`].
+    pub bodies: Vec<Pose>,
 }
 
 impl Clone for SystemState {
     fn clone(&self) -> Self {
-        Self {
-            rods: self.rods.clone(),
-        }
+        Self { rods: self.rods.clone(), bodies: self.bodies.clone() }
     }
 
     /// Reuses the allocations of `self`.
     fn clone_from(&mut self, source: &Self) {
         self.rods.clone_from(&source.rods);
+        self.bodies.clone_from(&source.bodies);
     }
 }
 
@@ -189,12 +258,168 @@ pub enum SystemError {
     /// Two rods share a name.
     #[error("two rods are named '{0}': rod names must be unique")]
     DuplicateName(String),
+    /// A rod end names a body or port that does not exist.
+    #[error("rod '{rod}': {what}")]
+    UnknownAttachment {
+        /// Rod name.
+        rod: String,
+        /// What is missing.
+        what: String,
+    },
+    /// A body's data are invalid.
+    #[error("body '{body}': {what}")]
+    InvalidBody {
+        /// Body name.
+        body: String,
+        /// What is wrong and how to fix it.
+        what: String,
+    },
+    /// A group of rods and free bodies is held by nothing.
+    #[error(
+        "rod '{rod}' and everything attached to it are held by no connector or mounted body: \
+         attach at least one end of the group to a connector or a fixed body"
+    )]
+    Floating {
+        /// A rod of the floating group.
+        rod: String,
+    },
 }
 
 impl System {
     /// The rod behind a handle.
     pub fn rod(&self, handle: RodHandle) -> &RodSpec {
         &self.rods[handle.0]
+    }
+
+    /// The fixed rotation from a body's frame to the boundary frame of a rod end attached
+    /// to its port: the port frame at a rod's start, the port frame turned by π about
+    /// its `a1` at a rod's end (so that `a3` points along the rod, into the port).
+    pub fn port_offset(&self, body: BodyHandle, port: usize, at_end: bool) -> UnitQuaternion<f64> {
+        let frame = self.bodies[body.0].ports[port].frame;
+        if at_end {
+            frame * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+        } else {
+            frame
+        }
+    }
+
+    /// World position (m) and boundary frame of a held rod end for the given body poses:
+    /// `(None, None)` for a free end, no frame for a pinned end or ball-joint port.
+    pub fn end_placement(
+        &self,
+        end: &End,
+        at_end: bool,
+        poses: &[Pose],
+    ) -> (Option<Vector3<f64>>, Option<UnitQuaternion<f64>>) {
+        match end.support {
+            Support::Free => (None, None),
+            Support::Pinned { position } => (Some(position), None),
+            Support::Clamped { position, frame } => (Some(position), Some(frame)),
+            Support::Port { body, port, clamped } => {
+                let pose = &poses[body.0];
+                let position = pose.transform_point(&self.bodies[body.0].ports[port].position);
+                let frame = clamped.then(|| pose.orientation * self.port_offset(body, port, at_end));
+                (Some(position), frame)
+            }
+        }
+    }
+
+    /// The initial (or fixed) poses of the bodies.
+    pub fn body_poses(&self) -> Vec<Pose> {
+        self.bodies.iter().map(|b| b.pose).collect()
+    }
+
+    /// Checks bodies, attachments and that every group of rods and free bodies is held.
+    fn validate_bodies(&self) -> Result<(), SystemError> {
+        let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+        let mut names = std::collections::HashSet::new();
+        for body in &self.bodies {
+            let invalid = |what: String| SystemError::InvalidBody { body: body.name.clone(), what };
+            if !names.insert(body.name.as_str()) {
+                return Err(invalid("two bodies have this name: body names must be unique".into()));
+            }
+            if !(body.mass.is_finite() && body.mass >= 0.0) {
+                return Err(invalid(format!("mass must be a finite number ≥ 0 kg (got {})", body.mass)));
+            }
+            if !finite(&body.center_of_mass) || !finite(&body.pose.position) {
+                return Err(invalid("centre of mass and position must be finite".into()));
+            }
+            if body.ports.iter().any(|p| !finite(&p.position)) {
+                return Err(invalid("port positions must be finite".into()));
+            }
+        }
+        for spec in &self.rods {
+            for end in [&spec.start, &spec.end] {
+                if let Support::Port { body, port, .. } = end.support {
+                    let Some(b) = self.bodies.get(body.0) else {
+                        return Err(SystemError::UnknownAttachment {
+                            rod: spec.name.clone(),
+                            what: format!("body #{} does not exist ({} bodies)", body.0, self.bodies.len()),
+                        });
+                    };
+                    if port >= b.ports.len() {
+                        return Err(SystemError::UnknownAttachment {
+                            rod: spec.name.clone(),
+                            what: format!("body '{}' has no port #{port} ({} ports)", b.name, b.ports.len()),
+                        });
+                    }
+                }
+            }
+        }
+        for (b, body) in self.bodies.iter().enumerate() {
+            let attached = self.rods.iter().any(|r| {
+                [&r.start, &r.end]
+                    .iter()
+                    .any(|e| matches!(e.support, Support::Port { body, .. } if body.0 == b))
+            });
+            if !attached && !body.fixed {
+                return Err(SystemError::InvalidBody {
+                    body: body.name.clone(),
+                    what: "no rod is attached to this free body: attach a rod to one of its ports or remove it".into(),
+                });
+            }
+        }
+        self.check_held_groups()
+    }
+
+    /// Union–find over rods and bodies: every connected group must touch the ground
+    /// (a connector or a fixed body).
+    fn check_held_groups(&self) -> Result<(), SystemError> {
+        let rods = self.rods.len();
+        let ground = rods + self.bodies.len();
+        let mut parent: Vec<usize> = (0..=ground).collect();
+        fn find(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        let union = |parent: &mut Vec<usize>, a: usize, b: usize| {
+            let (ra, rb) = (find(parent, a), find(parent, b));
+            parent[ra] = rb;
+        };
+        for (b, body) in self.bodies.iter().enumerate() {
+            if body.fixed {
+                union(&mut parent, rods + b, ground);
+            }
+        }
+        for (r, spec) in self.rods.iter().enumerate() {
+            for end in [&spec.start, &spec.end] {
+                match end.support {
+                    Support::Free => {}
+                    Support::Pinned { .. } | Support::Clamped { .. } => union(&mut parent, r, ground),
+                    Support::Port { body, .. } => union(&mut parent, r, rods + body.0),
+                }
+            }
+        }
+        let ground_root = find(&mut parent, ground);
+        for (r, spec) in self.rods.iter().enumerate() {
+            if find(&mut parent, r) != ground_root {
+                return Err(SystemError::Floating { rod: spec.name.clone() });
+            }
+        }
+        Ok(())
     }
 
     /// Checks what the mechanics cannot: finiteness, supports, and that prescribed ends
@@ -239,7 +464,15 @@ impl System {
                     rod: spec.name.clone(),
                 });
             }
-            if let (Some(a), Some(b)) = (spec.start.support.position(), spec.end.support.position())
+        }
+        self.validate_bodies()?;
+        let poses = self.body_poses();
+        for spec in &self.rods {
+            let fixed_position = |end: &End, at_end: bool| match end.support {
+                Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
+                _ => self.end_placement(end, at_end, &poses).0,
+            };
+            if let (Some(a), Some(b)) = (fixed_position(&spec.start, false), fixed_position(&spec.end, true))
             {
                 let length_m = spec.rod.length();
                 let distance_m = (b - a).norm();

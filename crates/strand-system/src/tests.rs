@@ -31,6 +31,57 @@ fn test_system() -> System {
                 route: None,
             },
         ],
+        bodies: vec![],
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    }
+}
+
+/// Three rods joined at a free T-junction (two clamped ports, one ball-joint port),
+/// their outer ends at connectors, under gravity.
+fn junction_system() -> System {
+    let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
+    let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    let along_y = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
+    let port = |name: &str, position: Vector3<f64>, frame| Port { name: name.into(), position, frame };
+    let body = BodySpec {
+        name: "tee".into(),
+        mass: 0.4,
+        center_of_mass: Vector3::new(0.01, -0.02, 0.005),
+        pose: Pose { position: Vector3::new(0.5, 0.1, 0.0), orientation: UnitQuaternion::identity() },
+        fixed: false,
+        ports: vec![
+            port("left", Vector3::new(-0.05, 0.0, 0.0), UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -std::f64::consts::FRAC_PI_2)),
+            port("right", Vector3::new(0.05, 0.0, 0.0), along_x),
+            port("down", Vector3::new(0.0, 0.05, 0.0), along_y),
+        ],
+    };
+    let tee = BodyHandle(0);
+    let rod = |length: f64, segments| Rod::try_straight(section, length, segments).unwrap();
+    System {
+        rods: vec![
+            RodSpec {
+                name: "a".into(),
+                rod: rod(0.5, 4),
+                start: End::clamped(Vector3::zeros(), along_x),
+                end: End { support: Support::Port { body: tee, port: 0, clamped: true }, load: EndLoad::default() },
+                route: None,
+            },
+            RodSpec {
+                name: "b".into(),
+                rod: rod(0.5, 3),
+                start: End { support: Support::Port { body: tee, port: 1, clamped: true }, load: EndLoad::default() },
+                end: End::clamped(Vector3::new(1.0, 0.0, 0.0), along_x),
+                route: None,
+            },
+            RodSpec {
+                name: "c".into(),
+                rod: rod(0.4, 3),
+                start: End { support: Support::Port { body: tee, port: 2, clamped: false }, load: EndLoad::default() },
+                end: End::pinned(Vector3::new(0.5, 0.45, 0.0)),
+                route: None,
+            },
+        ],
+        bodies: vec![body],
         gravity: Vector3::new(0.0, 0.0, -9.81),
     }
 }
@@ -77,7 +128,16 @@ fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
 
 #[test]
 fn assembled_gradient_and_hessian_match_finite_differences() {
-    let model = Model::try_new(test_system()).unwrap();
+    check_assembly(test_system());
+}
+
+#[test]
+fn junction_coupling_matches_finite_differences() {
+    check_assembly(junction_system());
+}
+
+fn check_assembly(system: System) {
+    let model = Model::try_new(system).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for _ in 0..3 {
         let state = perturbed(&model, &mut rng);
