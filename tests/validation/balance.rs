@@ -19,6 +19,7 @@ fn sagging_hose() -> System {
             route: None,
         }],
         bodies: vec![],
+        clips: Vec::new(),
         gravity: Vector3::new(0.0, 0.0, -9.81),
     }
 }

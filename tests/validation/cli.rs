@@ -6,28 +6,13 @@
 //! path solves the paper's position-controlled elastica (Fig. 2) and reads the written
 //! files back.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use strand_cli::{Exit, run};
+use strand_cli::Exit;
 
-fn cases_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases")
-}
+use crate::common::{cases_dir, strand};
 
-/// Runs `strand ARGS`; returns the exit status, stdout and stderr.
-fn strand(args: &[&str]) -> (Exit, String, String) {
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let exit = run(
-        std::iter::once("strand").chain(args.iter().copied()),
-        &mut out,
-        &mut err,
-    );
-    (
-        exit,
-        String::from_utf8(out).unwrap(),
-        String::from_utf8(err).unwrap(),
-    )
-}
+
 
 fn fig2_text() -> String {
     std::fs::read_to_string(cases_dir().join("elastica_fig2.ron")).unwrap()

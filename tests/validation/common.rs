@@ -31,6 +31,7 @@ pub fn clamped_rod(segments: usize, end: End) -> System {
             route: None,
         }],
         bodies: vec![],
+        clips: Vec::new(),
         gravity: Vector3::zeros(),
     }
 }
@@ -58,4 +59,17 @@ pub fn solve_converged_with(system: System, settings: &SolverSettings) -> (Model
 /// Observed orders `log2(e_k / e_{k+1})` of a sequence of errors on meshes refined by 2.
 pub fn observed_orders(errors: &[f64]) -> Vec<f64> {
     errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
+
+/// The bundled `cases/` directory.
+pub fn cases_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases")
+}
+
+/// Runs `strand ARGS` through the CLI's library entry point (the code path of the
+/// binary); returns the exit status, stdout and stderr.
+pub fn strand(args: &[&str]) -> (strand_cli::Exit, String, String) {
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let exit = strand_cli::run(std::iter::once("strand").chain(args.iter().copied()), &mut out, &mut err);
+    (exit, String::from_utf8(out).unwrap(), String::from_utf8(err).unwrap())
 }

@@ -34,6 +34,7 @@ fn helix_system(helix: &Helix, segments: usize, section: Section) -> System {
             route: Some(route),
         }],
         bodies: vec![],
+        clips: Vec::new(),
         gravity: Vector3::zeros(),
     }
 }
@@ -54,6 +55,7 @@ fn perturbed_helix_state(helix: &Helix, segments: usize, noise: f64) -> SystemSt
     SystemState {
         rods: vec![RodState::new(positions, frames)],
         bodies: vec![],
+        clips: Vec::new(),
     }
 }
 
@@ -194,7 +196,11 @@ fn discrete_balance_equations_hold_exactly_in_space() {
     .unwrap();
     assert!(solution.report.converged);
     let state = &solution.state.rods[0];
-    let out = sectional(&model.system().rods[0].rod, state, &model.boundary_frames(0, &solution.state));
+    let out = sectional(
+        &model.system().rods[0].rod,
+        state,
+        &model.boundary_frames(0, &solution.state),
+    );
     for j in 0..19 {
         let moment_balance = out.moments[j + 1] - out.moments[j]
             + (state.positions[j + 1] - state.positions[j]).cross(&out.edge_forces[j]);

@@ -6,7 +6,10 @@
 mod balance;
 mod cantilever;
 mod cli;
+mod clips;
 mod common;
 mod elastica;
 mod helix;
 mod junction;
+mod predeformed;
+mod study;

@@ -1,13 +1,15 @@
 //! A parsed case file → a validated [`Model`] with its initial state and settings.
 
 use nalgebra::Vector3;
-use strand_rod::{Rod, Section};
+use strand_rod::{RodState, Section};
 use strand_solve::SolverSettings;
-use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+use strand_system::{Model, RodSpec, System, SystemState, initial_state};
 
+use crate::attach::{Attachments, build_attachments, check_reach};
 use crate::ends::build_end;
 use crate::error::{CaseError, Reporter};
-use crate::schema::{CaseFile, RodDef};
+use crate::nominal::{build_reference, initial_guess, nominal_end, stated_length, use_guesses};
+use crate::schema::{CaseFile, EndDef, RodDef};
 use crate::sections::{build_sections, names};
 use crate::units::LengthUnit;
 
@@ -30,6 +32,9 @@ pub struct BuiltCase {
     pub initial: SystemState,
     /// Solver settings from the file (defaults where not given).
     pub settings: SolverSettings,
+    /// Per rod, the names of the connectors holding its start and end (`None` for an
+    /// end held otherwise): the names of their reactions in the results.
+    pub connector_names: Vec<[Option<String>; 2]>,
 }
 
 /// Builds the model; `segments` overrides every rod's number of segments.
@@ -48,10 +53,12 @@ pub(crate) fn build(
         )
     })?;
     let sections = build_sections(&report, unit, &file.sections)?;
+    let attachments = build_attachments(&report, unit, file)?;
     if file.rods.is_empty() {
         return Err(report.invalid("rods", "the case has no rods", "add at least one rod"));
     }
     let mut rods = Vec::with_capacity(file.rods.len());
+    let mut guesses = Vec::with_capacity(file.rods.len());
     for (i, def) in file.rods.iter().enumerate() {
         let item = format!("rods[{i}] '{}'", def.name);
         check_name(&report, i, &def.name)?;
@@ -62,8 +69,19 @@ pub(crate) fn build(
                 "give every rod a unique name",
             ));
         }
-        rods.push(build_rod(&report, &item, unit, &sections, def, segments)?);
+        let (rod, guess) = build_rod(
+            &report,
+            &item,
+            unit,
+            &sections,
+            &attachments,
+            def,
+            segments,
+        )?;
+        rods.push(rod);
+        guesses.push(guess);
     }
+    attachments.check_usage(&report, file)?;
     let gravity = report.finite3("gravity", &file.gravity, " m/s²")?;
     file.solver
         .validate()
@@ -72,20 +90,28 @@ pub(crate) fn build(
             source,
         })?;
 
-    let mut system = System { rods, bodies: Vec::new(), gravity };
+    let mut system = System {
+        rods,
+        bodies: attachments.bodies,
+        clips: Vec::new(),
+        gravity,
+    };
     let system_error = |source| CaseError::System {
         origin: origin.to_string(),
         source,
     };
     system.validate().map_err(system_error)?;
+    check_reach(&report, unit, &system)?;
     // Dead end moments are measured from the rod's nominal (initial) end frame.
-    let nominal = initial_state(&system);
+    let mut nominal = initial_state(&system);
+    use_guesses(&mut nominal, &guesses);
     for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
         spec.start.load.moment_reference = state.frames[0];
         spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
     }
     let model = Model::try_new(system).map_err(system_error)?;
-    let initial = initial_state(model.system());
+    let mut initial = initial_state(model.system());
+    use_guesses(&mut initial, &guesses);
     Ok(BuiltCase {
         name: name.to_string(),
         origin: origin.to_string(),
@@ -93,6 +119,15 @@ pub(crate) fn build(
         model,
         initial,
         settings: file.solver.clone(),
+        connector_names: file.rods.iter().map(connector_names).collect(),
+    })
+}
+
+/// The connectors holding the start and end of a rod, by name.
+fn connector_names(def: &RodDef) -> [Option<String>; 2] {
+    [&def.start, &def.end].map(|end| match end {
+        EndDef::Connector(name) | EndDef::ConnectorPin(name) => Some(name.clone()),
+        _ => None,
     })
 }
 
@@ -113,9 +148,10 @@ fn build_rod(
     item: &str,
     unit: LengthUnit,
     sections: &[(String, Section)],
+    attachments: &Attachments,
     def: &RodDef,
     segments_override: Option<usize>,
-) -> Result<RodSpec, CaseError> {
+) -> Result<(RodSpec, Option<RodState>), CaseError> {
     let section = sections
         .iter()
         .find(|(n, _)| *n == def.section)
@@ -131,8 +167,7 @@ fn build_rod(
                 "add the section under `sections` or correct the name",
             )
         })?;
-    let length = report.positive(&format!("{item}.length"), def.length, &format!(" {unit}"))?
-        * unit.metres();
+    let length = stated_length(report, item, unit, def)?;
     let segments = segments_override.unwrap_or(def.segments);
     if segments == 0 {
         let hint = if segments_override.is_some() {
@@ -146,11 +181,18 @@ fn build_rod(
             hint,
         ));
     }
-    let rod = Rod::try_straight(section, length, segments).map_err(|e| {
-        report.invalid(item, e.to_string(), "correct the rod's length and segments")
-    })?;
-    let start = build_end(report, &format!("{item}.start"), unit, &def.start)?;
-    let end = build_end(report, &format!("{item}.end"), unit, &def.end)?;
+    let (rod, nominal) = build_reference(report, item, unit, section, def, length, segments)?;
+    let length = rod.length();
+    let at_nominal_end = |at_end| nominal_end(nominal.as_ref(), at_end);
+    let (start_item, end_item) = (format!("{item}.start"), format!("{item}.end"));
+    let start = match attachments.end(report, &start_item, &def.start, false)? {
+        Some(end) => end,
+        None => build_end(report, &start_item, unit, &def.start, at_nominal_end(false))?,
+    };
+    let end = match attachments.end(report, &end_item, &def.end, true)? {
+        Some(end) => end,
+        None => build_end(report, &end_item, unit, &def.end, at_nominal_end(true))?,
+    };
     let route = match &def.route {
         None => None,
         Some(points) => Some(build_route(
@@ -158,18 +200,23 @@ fn build_rod(
             &format!("{item}.route"),
             unit,
             points,
-            &start,
-            &end,
+            attachments.initial_position(&start),
+            attachments.initial_position(&end),
             length,
         )?),
     };
-    Ok(RodSpec {
+    // Without a route, a moulded rod starts from its nominal shape.
+    let guess = nominal
+        .filter(|_| route.is_none())
+        .map(|n| initial_guess(&n, &start, &end));
+    let spec = RodSpec {
         name: def.name.clone(),
         rod,
         start,
         end,
         route,
-    })
+    };
+    Ok((spec, guess))
 }
 
 /// Converts a route to m and snaps its first/last point onto held ends.
@@ -178,8 +225,8 @@ fn build_route(
     item: &str,
     unit: LengthUnit,
     points: &[[f64; 3]],
-    start: &End,
-    end: &End,
+    start: Option<Vector3<f64>>,
+    end: Option<Vector3<f64>>,
     length_m: f64,
 ) -> Result<Vec<Vector3<f64>>, CaseError> {
     if points.len() < 2 {
@@ -209,8 +256,8 @@ fn build_route(
     }
     let last = route.len() - 1;
     for (k, held, label) in [
-        (0, start.support.position(), "start"),
-        (last, end.support.position(), "end"),
+        (0, start, "start"),
+        (last, end, "end"),
     ] {
         if let Some(held) = held {
             let gap = (route[k] - held).norm();

@@ -41,12 +41,14 @@ pub fn frame_from_tangent_normal(
 }
 
 /// Converts one end; `item` is e.g. `rods[0] 'hose'.start`. The moment reference is
-/// left at the identity (set later from the initial state).
+/// left at the identity (set later from the initial state). `nominal` is the rod's
+/// nominal position and frame at this end, if it has a nominal shape (`NominalClamp`).
 pub(crate) fn build_end(
     report: &Reporter,
     item: &str,
     unit: LengthUnit,
     def: &EndDef,
+    nominal: Option<(Vector3<f64>, UnitQuaternion<f64>)>,
 ) -> Result<End, CaseError> {
     let u = format!(" {unit}");
     let (support, force, moment) = match def {
@@ -79,7 +81,26 @@ pub(crate) fn build_end(
                 report.finite3(&format!("{item}.position"), position, &u)? * unit.metres();
             (Support::Pinned { position }, force, moment)
         }
+        EndDef::NominalClamp { force, moment } => {
+            let (position, frame) = nominal.ok_or_else(|| {
+                report.invalid(
+                    item,
+                    "NominalClamp needs the rod's `nominal` shape, and the rod has none",
+                    "add `nominal: (points: [...])` to the rod, or use \
+                     Clamp(position: ..., tangent: ..., normal: ...)",
+                )
+            })?;
+            (Support::Clamped { position, frame }, force, moment)
+        }
         EndDef::Free { force, moment } => (Support::Free, force, moment),
+        EndDef::Connector(_) | EndDef::ConnectorPin(_) | EndDef::Port(..) | EndDef::PortPin(..) => {
+            // Resolved against the case's connectors and junctions (crate::attach).
+            return Err(report.invalid(
+                item,
+                "a connector or port end cannot be built without the case's connectors and junctions",
+                "this is a bug in strand: please report it",
+            ));
+        }
     };
     let force = report.finite3(&format!("{item}.force"), force, " N")?;
     let moment = report.finite3(&format!("{item}.moment"), moment, " N·m")?;

@@ -21,14 +21,22 @@
 //! )
 //! ```
 //!
+//! Named variants of the case (`variants: { "longer": [(item: "rods.hose.length",
+//! change: Add(50))] }`) are built with [`Case::build_variant`]; [`warm_start`] carries
+//! a solution of the case onto a variant's model.
+//!
 //! Units: see [`schema`]; `cases/README.md` documents the format for users.
 
+mod attach;
 mod build;
 mod ends;
 mod error;
+mod nominal;
 pub mod schema;
 mod sections;
 mod units;
+mod variant;
+mod warm;
 
 #[cfg(test)]
 mod shipped_cases;
@@ -40,8 +48,11 @@ use std::path::Path;
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
 pub use ends::{FrameError, frame_from_tangent_normal};
 pub use error::CaseError;
+pub use nominal::NOMINAL_LENGTH_TOLERANCE;
 pub use schema::CaseFile;
 pub use units::LengthUnit;
+pub use variant::{BASE_VARIANT, VARIANT_ITEMS};
+pub use warm::{resample_rod_state, warm_start};
 
 /// A parsed (not yet validated) case file with its origin.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,5 +110,33 @@ impl Case {
     /// segments of every rod (e.g. for convergence studies).
     pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, CaseError> {
         build::build(&self.name, &self.origin, &self.file, segments)
+    }
+
+    /// The names of the case's variants, in file order.
+    pub fn variant_names(&self) -> Vec<&str> {
+        self.file.variants.iter().map(|(n, _)| n.as_str()).collect()
+    }
+
+    /// The case file with variant `name` applied (see `cases/README.md`, Variants).
+    /// An unknown variant is an error listing the defined ones; an unknown item or a
+    /// change that does not fit its item is an error naming the variant and the item.
+    pub fn variant_file(&self, name: &str) -> Result<CaseFile, CaseError> {
+        let report = error::Reporter {
+            origin: &self.origin,
+        };
+        variant::apply(&report, &self.file, name)
+    }
+
+    /// Validates variant `name` of the case and builds its model, like [`Case::build`]
+    /// (`segments` overrides every rod's number of segments, the variant's included).
+    /// Errors in the changed file name the variant.
+    pub fn build_variant(
+        &self,
+        name: &str,
+        segments: Option<usize>,
+    ) -> Result<BuiltCase, CaseError> {
+        let file = self.variant_file(name)?;
+        build::build(&self.name, &self.origin, &file, segments)
+            .map_err(|e| variant::in_variant(e, name))
     }
 }

@@ -5,7 +5,7 @@
 //!
 //! # Units
 //!
-//! - **lengths** — rod `length`, every `position`, `route` point, `outer_radius`,
+//! - **lengths** — rod `length`, every `position`, `route` and `nominal` point, `outer_radius`,
 //!   `inner_radius` — are in the case's length unit, `units: (length: "mm")` or
 //!   `units: (length: "m")`;
 //! - forces in N, moments in N·m;
@@ -41,6 +41,34 @@ pub struct CaseFile {
     /// Newton solver settings; every field is optional (defaults of [`SolverSettings`]).
     #[serde(default)]
     pub solver: SolverSettings,
+    /// Named variants of the case, in file order (optional):
+    /// `{ "hose2_plus50": [(item: "rods.hose2.length", change: Add(50))] }`.
+    #[serde(
+        default,
+        deserialize_with = "ordered_variants",
+        serialize_with = "serialize_ordered_map",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub variants: Vec<(String, Vec<VariantChange>)>,
+    /// Named connectors, in file order (optional): fixed nozzles in space that hold
+    /// rod ends, `{ "radiator_outlet": (position: (0, 0, 0), direction: (1, 0, 0),
+    /// normal: (0, 0, 1)) }`. A rod end refers to one as `Connector("radiator_outlet")`.
+    #[serde(
+        default,
+        deserialize_with = "ordered_connectors",
+        serialize_with = "serialize_ordered_map",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub connectors: Vec<(String, ConnectorDef)>,
+    /// Named junctions (rigid bodies with ports, e.g. a T-piece), in file order
+    /// (optional). A rod end refers to a port as `Port("tee", "hose1")`.
+    #[serde(
+        default,
+        deserialize_with = "ordered_junctions",
+        serialize_with = "serialize_ordered_map",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub junctions: Vec<(String, JunctionDef)>,
 }
 
 /// The units of a case file.
@@ -95,8 +123,11 @@ pub struct RodDef {
     pub name: String,
     /// Name of a section in `sections`.
     pub section: String,
-    /// Stress-free length in the case's length unit.
-    pub length: f64,
+    /// Stress-free length in the case's length unit. Required, except for a rod with
+    /// a `nominal` shape, whose length is the nominal centreline's: given there, it
+    /// is a check and must agree with it within 1 %.
+    #[serde(default)]
+    pub length: Option<f64>,
     /// Number of segments (edges), at least 1.
     pub segments: usize,
     /// The end at `s = 0`.
@@ -107,6 +138,38 @@ pub struct RodDef {
     /// it must start and end at the held end positions.
     #[serde(default)]
     pub route: Option<Vec<Vec3>>,
+    /// Optional nominal (stress-free, moulded) shape: the rod is pre-deformed, its
+    /// reference strains and curvatures are those of this centreline.
+    #[serde(default)]
+    pub nominal: Option<NominalDef>,
+}
+
+/// The nominal shape of a pre-deformed (moulded) rod, e.g. its CAD centreline:
+/// `(points: [(0, 0, 0), (100, 0, 0), ...])`, optionally with one frame per point,
+/// `frames: [(tangent: (1, 0, 0), normal: (0, 0, 1)), ...]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NominalDef {
+    /// Points along the centreline in the case's length unit, from the rod's start to
+    /// its end (at least 2; consecutive points distinct). A smooth curve is laid
+    /// through them (exact on straight runs and circular bends).
+    pub points: Vec<Vec3>,
+    /// Optional section frames at the points, one per point: they fix the tangents and
+    /// the twist of the nominal shape. Without them the section is not twisted along
+    /// the centreline (parallel transport).
+    #[serde(default)]
+    pub frames: Option<Vec<FrameDef>>,
+}
+
+/// A section frame as in a clamp: `a3` along `tangent` (towards the rod's end), `a1`
+/// along `normal` orthogonalised against it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameDef {
+    /// Tangent direction (any non-zero length).
+    pub tangent: Vec3,
+    /// Direction of the first director `a1` (not parallel to `tangent`).
+    pub normal: Vec3,
 }
 
 /// How a rod end is held, with optional dead loads (world frame, default zero).
@@ -141,6 +204,27 @@ pub enum EndDef {
         #[serde(default)]
         moment: Vec3,
     },
+    /// Clamped where the rod's `nominal` shape ends, with its nominal end frame: the
+    /// moulded rod mounted as designed (only for a rod with a `nominal` shape).
+    NominalClamp {
+        /// Dead force on the end vertex in N (carried directly by the clamp).
+        #[serde(default)]
+        force: Vec3,
+        /// Dead moment on the end edge in N·m.
+        #[serde(default)]
+        moment: Vec3,
+    },
+    /// Clamped at the named connector (see `connectors`): the rod leaves the
+    /// connector along its `direction` at a rod's start and enters it against its
+    /// `direction` at a rod's end; `a1` is the connector's `normal`.
+    Connector(String),
+    /// Pinned (ball joint) at the named connector's position; the frame is free.
+    ConnectorPin(String),
+    /// Clamped at port `port` of junction `junction`: `Port("tee", "hose1")`.
+    Port(String, String),
+    /// Held at port `port` of junction `junction` by a ball joint (frame free):
+    /// `PortPin("tee", "hose1")`.
+    PortPin(String, String),
     /// Nothing holds the end; write `Free()` or e.g. `Free(force: (2, 1, 0))`.
     Free {
         /// Dead force on the end vertex in N.
@@ -159,18 +243,87 @@ where
     D: Deserializer<'de>,
     T: Deserialize<'de>,
 {
-    struct Entries<T>(std::marker::PhantomData<T>);
+    ordered_entries(
+        deserializer,
+        "section",
+        "a map of named sections, e.g. { \"steel\": Explicit(...) }",
+    )
+}
+
+/// [`ordered_map`] for `variants`.
+fn ordered_variants<'de, D>(deserializer: D) -> Result<Vec<(String, Vec<VariantChange>)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "variant",
+        "a map of named variants, e.g. { \"longer\": [(item: \"rods.hose.length\", change: Add(50))] }",
+    )
+}
+
+/// [`ordered_map`] for `connectors`.
+fn ordered_connectors<'de, D>(deserializer: D) -> Result<Vec<(String, ConnectorDef)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "connector",
+        "a map of named connectors, e.g. { \"outlet\": (position: (0, 0, 0), direction: (1, 0, 0), normal: (0, 0, 1)) }",
+    )
+}
+
+/// [`ordered_map`] for `junctions`.
+fn ordered_junctions<'de, D>(deserializer: D) -> Result<Vec<(String, JunctionDef)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "junction",
+        "a map of named junctions, e.g. { \"tee\": (mass: 1, position: (0, 0, 0), ports: { ... }) }",
+    )
+}
+
+/// [`ordered_map`] for the ports of a junction.
+fn ordered_ports<'de, D>(deserializer: D) -> Result<Vec<(String, PortDef)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "port",
+        "a map of named ports, e.g. { \"hose1\": (position: (-35, 0, 0), direction: (-1, 0, 0), normal: (0, 0, 1)) }",
+    )
+}
+
+fn ordered_entries<'de, D, T>(
+    deserializer: D,
+    what: &'static str,
+    expecting: &'static str,
+) -> Result<Vec<(String, T)>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct Entries<T> {
+        what: &'static str,
+        expecting: &'static str,
+        marker: std::marker::PhantomData<T>,
+    }
     impl<'de, T: Deserialize<'de>> Visitor<'de> for Entries<T> {
         type Value = Vec<(String, T)>;
         fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("a map of named sections, e.g. { \"steel\": Explicit(...) }")
+            f.write_str(self.expecting)
         }
         fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
             let mut entries: Vec<(String, T)> = Vec::new();
             while let Some((name, value)) = map.next_entry::<String, T>()? {
                 if entries.iter().any(|(n, _)| *n == name) {
+                    let what = self.what;
                     return Err(serde::de::Error::custom(format!(
-                        "section '{name}' is defined twice: section names must be unique"
+                        "{what} '{name}' is defined twice: {what} names must be unique"
                     )));
                 }
                 entries.push((name, value));
@@ -178,7 +331,11 @@ where
             Ok(entries)
         }
     }
-    deserializer.deserialize_map(Entries(std::marker::PhantomData))
+    deserializer.deserialize_map(Entries {
+        what,
+        expecting,
+        marker: std::marker::PhantomData,
+    })
 }
 
 fn serialize_ordered_map<S, T>(entries: &[(String, T)], serializer: S) -> Result<S::Ok, S::Error>
@@ -192,4 +349,157 @@ where
         map.serialize_entry(name, value)?;
     }
     map.end()
+}
+
+/// One change of a variant: `(item: "rods.hose2.length", change: Add(50))`.
+///
+/// Items (rods addressed by name; lengths and positions in the case's length unit):
+///
+/// | item | value | changes |
+/// |------|-------|---------|
+/// | `rods.<rod>.length` | number | `Add`, `Set` |
+/// | `rods.<rod>.segments` | whole number ≥ 1 | `Set` |
+/// | `rods.<rod>.start.position`, `rods.<rod>.end.position` | vector (held ends only) | `Add`, `Set` |
+/// | `rods.<rod>.start.force`, `rods.<rod>.end.force` | vector, N | `Add`, `Set` |
+/// | `gravity` | vector, m/s² | `Add`, `Set` |
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VariantChange {
+    /// What to change, e.g. `"rods.hose2.length"` or `"gravity"`.
+    pub item: String,
+    /// How to change it.
+    pub change: Change,
+}
+
+/// How a variant changes an item.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Change {
+    /// Add to the base value: `Add(50)` or `Add((0, 0, 10))`.
+    Add(Amount),
+    /// Replace the base value: `Set(450)` or `Set((0, 0, -9.81))`.
+    Set(Amount),
+}
+
+/// The value of a [`Change`]: a number (`50`) or a vector (`(0, 0, 10)`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Amount {
+    /// A number.
+    Number(f64),
+    /// A 3-vector.
+    Vector(Vec3),
+}
+
+impl Serialize for Amount {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Amount::Number(x) => serializer.serialize_f64(*x),
+            Amount::Vector(v) => v.serialize(serializer),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Amount {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct AmountVisitor;
+        impl<'de> Visitor<'de> for AmountVisitor {
+            type Value = Amount;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number (e.g. 50) or a vector (e.g. (0, 0, 10))")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Amount, E> {
+                Ok(Amount::Number(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Amount, E> {
+                Ok(Amount::Number(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Amount, E> {
+                Ok(Amount::Number(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Amount, A::Error> {
+                let mut v = [0.0; 3];
+                for (i, x) in v.iter_mut().enumerate() {
+                    *x = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &"3 components"))?;
+                }
+                if seq.next_element::<f64>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(4, &"3 components"));
+                }
+                Ok(Amount::Vector(v))
+            }
+        }
+        deserializer.deserialize_any(AmountVisitor)
+    }
+}
+
+/// A connector: a fixed nozzle in space that holds a rod end,
+/// `(position: (x, y, z), direction: (dx, dy, dz), normal: (nx, ny, nz))`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConnectorDef {
+    /// Where the rod end is held, in the case's length unit.
+    pub position: Vec3,
+    /// The nozzle axis, pointing out of the connector into the hose (any non-zero
+    /// length).
+    pub direction: Vec3,
+    /// Direction of the section's first director `a1` (not parallel to `direction`).
+    pub normal: Vec3,
+}
+
+/// A port of a junction, in the junction's body frame:
+/// `(position: (x, y, z), direction: (dx, dy, dz), normal: (nx, ny, nz))`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PortDef {
+    /// Where the rod end is held, body frame, in the case's length unit.
+    pub position: Vec3,
+    /// The port axis, pointing out of the junction into the hose (body frame).
+    pub direction: Vec3,
+    /// Direction of the section's first director `a1` (body frame; not parallel to
+    /// `direction`).
+    pub normal: Vec3,
+}
+
+/// The orientation of a junction: its body frame's z axis along `direction` and its
+/// x axis along `normal` (orthogonalised against `direction`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrientationDef {
+    /// Direction of the body's z axis (world frame).
+    pub direction: Vec3,
+    /// Direction of the body's x axis (world frame; not parallel to `direction`).
+    pub normal: Vec3,
+}
+
+/// A junction: a rigid body (T- or Y-piece, branch) whose ports hold rod ends.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JunctionDef {
+    /// Mass in kg (≥ 0).
+    pub mass: f64,
+    /// Centre of mass in the body frame, in the case's length unit (default: the
+    /// body's origin).
+    #[serde(default)]
+    pub center_of_mass: Vec3,
+    /// Position of the body's origin, in the case's length unit: where a mounted
+    /// (`fixed: true`) junction is, and the initial guess of a free-hanging one.
+    pub position: Vec3,
+    /// Orientation of the body frame (default: aligned with the world frame): the
+    /// actual one if `fixed`, the initial guess otherwise.
+    #[serde(default)]
+    pub orientation: Option<OrientationDef>,
+    /// Whether the junction is mounted (pose prescribed) instead of free-hanging
+    /// (default `false`: its pose is an unknown).
+    #[serde(default)]
+    pub fixed: bool,
+    /// Named ports, in file order: `{ "hose1": (position: ..., direction: ..., normal: ...) }`.
+    #[serde(
+        deserialize_with = "ordered_ports",
+        serialize_with = "serialize_ordered_map"
+    )]
+    pub ports: Vec<(String, PortDef)>,
 }

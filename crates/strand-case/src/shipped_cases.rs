@@ -16,6 +16,11 @@ fn every_shipped_case_builds() {
         if path.extension().is_some_and(|e| e == "ron") {
             let built = Case::from_path(&path).and_then(|c| c.build(None));
             assert!(built.is_ok(), "{}: {}", path.display(), built.unwrap_err());
+            let case = Case::from_path(&path).unwrap();
+            for name in case.variant_names() {
+                let built = case.build_variant(name, None);
+                assert!(built.is_ok(), "{}: {}", path.display(), built.unwrap_err());
+            }
             count += 1;
         }
     }

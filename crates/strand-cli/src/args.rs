@@ -26,6 +26,26 @@ pub enum Command {
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
         segments: Option<u32>,
+        /// Solve this variant of the case (defined under `variants`), warm-started from
+        /// the solution of the case itself [default output: out/<case name>/<variant>].
+        #[arg(long, value_name = "NAME")]
+        variant: Option<String>,
+    },
+    /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
+    /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.
+    Study {
+        /// The case file (RON).
+        case: PathBuf,
+        /// Comma-separated variants, `base` for the case itself; the first is the
+        /// reference [default: base and every variant of the case].
+        #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+        variants: Vec<String>,
+        /// Output directory [default: out/<case name>-study].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Override the number of segments of every rod.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        segments: Option<u32>,
     },
     /// Validate a case without solving it.
     Check {

@@ -1,12 +1,12 @@
-//! The subcommands `solve`, `check` and `bench`.
+//! The subcommands `solve`, `check` and `bench` (`study` is in [`crate::study`]).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strand_case::{BuiltCase, Case, CaseError};
-use strand_report::{Timing, collect, write_results};
-use strand_solve::{SolveError, solve};
+use strand_report::{Timing, collect, name_connectors, write_results};
+use strand_solve::SolveError;
 
 use crate::Exit;
 use crate::args::Command;
@@ -38,7 +38,28 @@ pub(crate) fn execute(
             case,
             out: dir,
             segments,
-        } => solve_case(case, dir.as_deref(), segments.map(|n| n as usize), out, err),
+            variant,
+        } => solve_case(
+            case,
+            dir.as_deref(),
+            segments.map(|n| n as usize),
+            variant.as_deref(),
+            out,
+            err,
+        ),
+        Command::Study {
+            case,
+            variants,
+            out: dir,
+            segments,
+        } => crate::study::run(
+            case,
+            variants,
+            dir.as_deref(),
+            segments.map(|n| n as usize),
+            out,
+            err,
+        ),
         Command::Check { case, segments } => check_case(case, segments.map(|n| n as usize), out),
         Command::Bench {
             case,
@@ -89,12 +110,23 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 }
 
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
-    let (built, _) = load(path, segments)?;
+    let case = Case::from_path(path)?;
+    let built = case.build(segments)?;
+    // Every variant must build too.
+    let variants = case.variant_names();
+    for name in &variants {
+        case.build_variant(name, segments)?;
+    }
     let system = built.model.system();
     let segments: usize = system.rods.iter().map(|r| r.rod.segments()).sum();
+    let variants = if variants.is_empty() {
+        String::new()
+    } else {
+        format!("; variants: {}", variants.join(", "))
+    };
     let _ = writeln!(
         out,
-        "ok: {} is valid ({} rod(s), {segments} segments, {} unknowns)",
+        "ok: {} is valid ({} rod(s), {segments} segments, {} unknowns{variants})",
         built.origin,
         system.rods.len(),
         built.model.dofs().len()
@@ -102,32 +134,71 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     Ok(Exit::Success)
 }
 
+/// The failure of a solve that could not start.
+pub(crate) fn solver_failure(origin: &str, e: SolveError) -> Failure {
+    match e {
+        SolveError::Settings(_) => Failure {
+            exit: Exit::InvalidInput,
+            message: format!("{origin}: solver: {e}"),
+        },
+        _ => Failure {
+            exit: Exit::Failure,
+            message: format!("{origin}: the solver could not start: {e}"),
+        },
+    }
+}
+
 fn solve_case(
     path: &Path,
     dir: Option<&Path>,
     segments: Option<usize>,
+    variant: Option<&str>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
-    let (built, mut timing) = load(path, segments)?;
-    let solution =
-        solve(&built.model, built.initial.clone(), &built.settings).map_err(|e| match e {
-            SolveError::Settings(_) => Failure {
-                exit: Exit::InvalidInput,
-                message: format!("{}: solver: {e}", built.origin),
-            },
-            _ => Failure {
-                exit: Exit::Failure,
-                message: format!("{}: the solver could not start: {e}", built.origin),
-            },
-        })?;
+    let (built, solution, mut timing, base_iterations) = match variant {
+        None => {
+            let (built, timing) = load(path, segments)?;
+            let solution = crate::study::solve_cold(&built)?;
+            (built, solution, timing, None)
+        }
+        Some(name) => {
+            let case = Case::from_path(path)?;
+            let read = started.elapsed().as_secs_f64();
+            let base = case.build(segments)?;
+            let built = case.build_variant(name, segments)?;
+            let build = started.elapsed().as_secs_f64() - read;
+            let base_solution = crate::study::solve_cold(&base)?;
+            let (solution, warm) =
+                crate::study::solve_variant(&base, &base_solution, &built, name, err)?;
+            let timing = Timing {
+                read,
+                build,
+                ..Timing::default()
+            };
+            (
+                built,
+                solution,
+                timing,
+                warm.then_some(base_solution.report.iterations),
+            )
+        }
+    };
     timing.solve = solution.report.solve_seconds;
     timing.total = started.elapsed().as_secs_f64();
-    let doc = collect(&built.name, &built.model, &solution, timing);
-    let dir: PathBuf = dir
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| Path::new("out").join(&built.name));
+    let mut doc = collect(&built.name, &built.model, &solution, timing);
+    name_connectors(&mut doc, &built.connector_names);
+    doc.variant = variant.map(str::to_string);
+    doc.warm_start = base_iterations.is_some();
+    doc.base_iterations = base_iterations;
+    let dir: PathBuf = dir.map(Path::to_path_buf).unwrap_or_else(|| {
+        let dir = Path::new("out").join(&built.name);
+        match variant {
+            Some(name) => dir.join(name),
+            None => dir,
+        }
+    });
     let written = write_results(&dir, &doc).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
@@ -138,9 +209,12 @@ fn solve_case(
     } else {
         let _ = writeln!(
             err,
-            "warning: {}: not converged ({}; residual {} N > tolerance {} N after {} iterations); \
+            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations); \
              results written with \"converged\": false",
             built.origin,
+            variant
+                .map(|v| format!(" (variant '{v}')"))
+                .unwrap_or_default(),
             doc.termination,
             number(doc.residual_n),
             number(doc.tolerance_n),

@@ -6,6 +6,10 @@
 //!
 //! ```text
 //! strand solve CASE [--out DIR] [--segments N]   solve, write DIR/result.json + DIR/<rod>.csv
+//! strand solve CASE --variant NAME [...]         solve a variant, warm-started from the case's solution
+//! strand study CASE [--variants base,a,b] [--out DIR] [--segments N]
+//!                                                solve variants; DIR/study.svg, DIR/study.csv,
+//!                                                DIR/<variant>/result.json
 //! strand check CASE [--segments N]               validate the case only
 //! strand bench [CASE] [--segments 19,99,999] [--repeats 20]   timing table
 //! ```
@@ -23,6 +27,7 @@
 mod args;
 pub mod bench;
 mod commands;
+mod study;
 pub mod summary;
 
 use std::ffi::OsString;

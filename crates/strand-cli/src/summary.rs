@@ -61,6 +61,18 @@ pub fn vector(v: &[f64; 3], scale: f64, noise: f64) -> String {
     )
 }
 
+/// Rotation angle (rad, in [0, π]) and unit axis of a quaternion `[w, x, y, z]`
+/// (axis `(0, 0, 1)` for no rotation).
+fn rotation(q: &[f64; 4]) -> (f64, [f64; 3]) {
+    let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
+    let v = [sign * q[1], sign * q[2], sign * q[3]];
+    let s = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if s == 0.0 {
+        return (0.0, [0.0, 0.0, 1.0]);
+    }
+    (2.0 * s.atan2(sign * q[0]), [v[0] / s, v[1] / s, v[2] / s])
+}
+
 fn yes(flag: bool) -> &'static str {
     if flag { "yes" } else { "no" }
 }
@@ -70,6 +82,15 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
     let unit: LengthUnit = built.length_unit;
     let mut s = String::new();
     let _ = writeln!(s, "case        {} ({})", doc.case, built.origin);
+    if let Some(variant) = &doc.variant {
+        let start = match doc.base_iterations {
+            Some(n) if doc.warm_start => {
+                format!("warm start from the case's solution, which took {n} iterations")
+            }
+            _ => "cold start".to_string(),
+        };
+        let _ = writeln!(s, "variant     {variant} ({start})");
+    }
     let segments: usize = doc.rods.iter().map(|r| r.segments).sum();
     let _ = writeln!(
         s,
@@ -98,6 +119,23 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         significant(doc.timing_s.solve * 1e3, 3),
         significant(doc.timing_s.total * 1e3, 3)
     );
+    if !doc.bodies.is_empty() {
+        let _ = writeln!(s, "bodies      (pose of the body frame; rotation from the world frame)");
+        let width = doc.bodies.iter().map(|b| b.name.len()).max().unwrap_or(0);
+        for b in &doc.bodies {
+            let (angle, axis) = rotation(&b.orientation_quaternion_wxyz);
+            let _ = writeln!(
+                s,
+                "  {:width$}  {}  {} kg  at {} {unit}  rotated {}° about {}",
+                b.name,
+                if b.fixed { "fixed" } else { "free " },
+                number(b.mass_kg),
+                vector(&b.position_m, 1.0 / unit.metres(), 1e-12),
+                significant(angle.to_degrees(), 4),
+                vector(&axis, 1.0, 1e-12),
+            );
+        }
+    }
     if doc.reactions.is_empty() {
         let _ = writeln!(s, "reactions   none");
     } else {
@@ -111,15 +149,26 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         // Reaction components below the convergence tolerance are numerically zero.
         let longest_m = doc.rods.iter().map(|r| r.length_m).fold(0.0, f64::max);
         let (force_noise, moment_noise) = (doc.tolerance_n, doc.tolerance_n * longest_m);
-        for r in &doc.reactions {
-            let _ = writeln!(
-                s,
-                "  {:width$}  at {} {unit}  force {} N  moment {} N·m",
-                r.name,
-                vector(&r.position_m, 1.0 / unit.metres(), 1e-12),
-                vector(&r.force_n, 1.0, force_noise),
-                vector(&r.moment_nm, 1.0, moment_noise),
-            );
+        let grouped = !doc.reactions.iter().all(|r| r.kind == "connector");
+        for (kind, heading) in [
+            ("connector", "connectors (fixed in space)"),
+            ("port", "junction ports (the junction's side: minus these)"),
+        ] {
+            let group: Vec<_> = doc.reactions.iter().filter(|r| r.kind == kind).collect();
+            if grouped && !group.is_empty() {
+                let _ = writeln!(s, "  {heading}");
+            }
+            for r in group {
+                let _ = writeln!(
+                    s,
+                    "  {}{:width$}  at {} {unit}  force {} N  moment {} N·m",
+                    if grouped { "  " } else { "" },
+                    r.name,
+                    vector(&r.position_m, 1.0 / unit.metres(), 1e-12),
+                    vector(&r.force_n, 1.0, force_noise),
+                    vector(&r.moment_nm, 1.0, moment_noise),
+                );
+            }
         }
     }
     let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();

@@ -150,3 +150,21 @@ fn unwritable_output_is_exit_1() {
         "{err}"
     );
 }
+
+#[test]
+fn check_builds_every_variant() {
+    let case = case_path("study_demo.ron");
+    let (exit, out, err) = strand(&["check", case.to_str().unwrap()]);
+    assert_eq!(exit, Exit::Success, "{err}");
+    assert!(out.contains("; variants: plus50)"), "{out}");
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(&case).unwrap();
+    let bad = tmp.path().join("bad_variant.ron");
+    std::fs::write(&bad, text.replace("Add(50)", "Add(-500)")).unwrap();
+    let (exit, _, err) = strand(&["check", bad.to_str().unwrap()]);
+    assert_eq!(exit, Exit::InvalidInput);
+    assert!(
+        err.contains("variant 'plus50': rods[0] 'hose'.length: must be a finite number > 0"),
+        "{err}"
+    );
+}

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 use strand_rod::sectional::sectional;
 use strand_solve::Solution;
-use strand_system::Model;
+use strand_system::{Model, ReactionKind};
 
 /// Wall-clock times of the phases of one run, in s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -28,6 +28,17 @@ pub struct Timing {
 pub struct ResultDoc {
     /// Case name.
     pub case: String,
+    /// The variant solved (absent for the case itself outside a study; `"base"` for
+    /// the case itself in a study).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
+    /// Whether the solve started from the solution of the base case (resampled onto
+    /// this variant's rods) instead of the case's own initial guess.
+    #[serde(default)]
+    pub warm_start: bool,
+    /// Newton iterations of the base-case solve this warm start came from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_iterations: Option<usize>,
     /// Whether the residual reached the tolerance.
     pub converged: bool,
     /// Why the solver stopped: `converged`, `max_iterations`, `line_search_failed`, `not_finite`.
@@ -61,6 +72,27 @@ pub struct ResultDoc {
     pub rods: Vec<RodResult>,
     /// Support reactions.
     pub reactions: Vec<ReactionResult>,
+    /// Rigid bodies (junctions) at their solved poses.
+    #[serde(default)]
+    pub bodies: Vec<BodyResult>,
+}
+
+/// A rigid body (junction) at its solved pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BodyResult {
+    /// Body name.
+    pub name: String,
+    /// Whether the body is mounted (pose prescribed) rather than free-hanging.
+    pub fixed: bool,
+    /// Position of the body's origin, m.
+    pub position_m: [f64; 3],
+    /// Orientation (body frame to world) as a unit quaternion `[w, x, y, z]`.
+    pub orientation_quaternion_wxyz: [f64; 4],
+    /// The same orientation as a rotation matrix, row by row: its columns are the body
+    /// axes in the world frame.
+    pub rotation_matrix: [[f64; 3]; 3],
+    /// Mass, kg.
+    pub mass_kg: f64,
 }
 
 /// Per-vertex results of one rod (arrays of `N + 1` entries, vertex 0 first).
@@ -111,9 +143,11 @@ pub struct RodResult {
 /// Force and moment a support exerts on a rod end.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReactionResult {
-    /// `"<rod>.start"` or `"<rod>.end"`.
+    /// The connector's name (`"<rod>.start"` or `"<rod>.end"` for an unnamed clamp or
+    /// pin) or `"<junction>.<port>"`.
     pub name: String,
-    /// What supplies the reaction: `"connector"` (a clamp or pin in space).
+    /// What supplies the reaction: `"connector"` (a clamp or pin fixed in space) or
+    /// `"port"` (a port of a junction).
     pub kind: String,
     /// Name of the rod.
     pub rod: String,
@@ -174,12 +208,34 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         .into_iter()
         .map(|r| ReactionResult {
             name: r.name,
-            kind: "connector".to_string(),
+            kind: match r.kind {
+                ReactionKind::Connector => "connector",
+                ReactionKind::Port => "port",
+                ReactionKind::Clip => "clip",
+            }
+            .to_string(),
             rod: system.rods[r.rod].name.clone(),
             end: if r.at_end { "end" } else { "start" }.to_string(),
             position_m: arr(&r.position),
             force_n: arr(&r.force),
             moment_nm: arr(&r.moment),
+        })
+        .collect();
+    let bodies = system
+        .bodies
+        .iter()
+        .zip(&solution.state.bodies)
+        .map(|(spec, pose)| {
+            let q = pose.orientation;
+            let m = q.to_rotation_matrix().into_inner();
+            BodyResult {
+                name: spec.name.clone(),
+                fixed: spec.fixed,
+                position_m: arr(&pose.position),
+                orientation_quaternion_wxyz: [q.w, q.i, q.j, q.k],
+                rotation_matrix: [0, 1, 2].map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]]),
+                mass_kg: spec.mass,
+            }
         })
         .collect();
     let termination = match serde_json::to_value(report.termination) {
@@ -190,6 +246,9 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
     timing.total += timing.post;
     ResultDoc {
         case: case.to_string(),
+        variant: None,
+        warm_start: false,
+        base_iterations: None,
         converged: report.converged,
         termination,
         residual_n: report.residual.combined_n,
@@ -204,5 +263,24 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         timing_s: timing,
         rods,
         reactions,
+        bodies,
+    }
+}
+
+/// Names the reactions of connector-held rod ends after their connectors:
+/// `names[r]` holds the connector names of rod `r`'s start and end (`None` keeps the
+/// default `"<rod>.start"`/`"<rod>.end"`), e.g. from a case's named connectors.
+pub fn name_connectors(doc: &mut ResultDoc, names: &[[Option<String>; 2]]) {
+    for reaction in &mut doc.reactions {
+        if reaction.kind != "connector" {
+            continue;
+        }
+        let Some(r) = doc.rods.iter().position(|rod| rod.name == reaction.rod) else {
+            continue;
+        };
+        let side = usize::from(reaction.end == "end");
+        if let Some(Some(name)) = names.get(r).map(|n| &n[side]) {
+            reaction.name.clone_from(name);
+        }
     }
 }

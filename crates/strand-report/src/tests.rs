@@ -42,6 +42,7 @@ fn solved_doc() -> ResultDoc {
             route: None,
         }],
         bodies: vec![],
+        clips: Vec::new(),
         gravity: Vector3::zeros(),
     };
     let model = Model::try_new(system).unwrap();

@@ -9,15 +9,19 @@
 //! - [`element`]: the element energies with their exact gradients and Hessians with
 //!   respect to vertex positions and right rotation increments `q ← q ⊗ exp(δθ/2)`;
 //! - [`Rod`], [`RodState`]: reference geometry and a configuration;
+//! - [`nominal`]: pre-deformed (moulded) rods whose stress-free shape is a nominal
+//!   centreline ([`Rod::try_from_nominal`]);
 //! - [`sectional`]: sectional forces, moments and the first integrals of paper §3.
 //!
 //! Units are SI throughout: m, N, N·m, kg, rad. No I/O happens here.
 
 pub mod element;
+pub mod nominal;
 mod rod;
 mod section;
 pub mod sectional;
 pub mod so3;
 
+pub use nominal::{NominalError, NominalRod, NominalShape};
 pub use rod::{Rod, RodError, RodState};
 pub use section::{Section, SectionError, TubeMaterial};

@@ -42,20 +42,7 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
         } else {
             (0..=n).collect()
         };
-        let rod = &spec.rod;
-        let mut lengths = Vec::new();
-        let mut strains = Vec::new();
-        for w in indices.windows(2) {
-            let length: f64 = (w[0]..w[1]).map(|e| rod.edge_length(e)).sum();
-            let strain = (w[0]..w[1])
-                .map(|e| rod.rest_strain(e) * rod.edge_length(e))
-                .sum::<Vector3<f64>>()
-                / length;
-            lengths.push(length);
-            strains.push(strain);
-        }
-        let curvatures = indices.iter().map(|&j| *rod.rest_curvature(j)).collect();
-        let coarse = Rod::try_new(*rod.section(), lengths, strains, curvatures).ok()?;
+        let coarse = coarse_rod(&spec.rod, &indices)?;
         rods.push(RodSpec {
             rod: coarse,
             ..spec.clone()
@@ -66,10 +53,49 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
         System {
             rods,
             bodies: system.bodies.clone(),
+            clips: system.clips.clone(),
             gravity: system.gravity,
         },
         kept,
     ))
+}
+
+/// The rod cut at the kept vertices, with a stress-free reference that is the fine
+/// rod's own: the fine reference frames are integrated from the rest curvatures
+/// (`R_e = R_{e−1} exp(h̄_e K0_e)`), each coarse edge takes the frame of its middle fine
+/// edge (as [`restrict`] does), and the coarse `Γ0`, `K0` are the strains of that
+/// configuration. A moulded rod's coarse copy is then stress-free in its nominal shape.
+fn coarse_rod(rod: &Rod, indices: &[usize]) -> Option<Rod> {
+    let n = rod.segments();
+    let relative = |j: usize| so3::exp(&(rod.vertex_weight(j) * rod.rest_curvature(j)));
+    let mut frames = Vec::with_capacity(n);
+    frames.push(UnitQuaternion::identity());
+    for e in 1..n {
+        frames.push(frames[e - 1] * relative(e));
+    }
+    let middle = |w: &[usize]| (w[0] + w[1] - 1) / 2;
+    let mut lengths = Vec::with_capacity(indices.len() - 1);
+    let mut strains = Vec::with_capacity(indices.len() - 1);
+    let mut coarse_frames = Vec::with_capacity(indices.len() - 1);
+    for w in indices.windows(2) {
+        let length: f64 = (w[0]..w[1]).map(|e| rod.edge_length(e)).sum();
+        let chord: Vector3<f64> = (w[0]..w[1]).map(|e| frames[e] * rod.rest_strain(e) * rod.edge_length(e)).sum();
+        let frame = frames[middle(w)];
+        lengths.push(length);
+        strains.push(frame.inverse() * chord / length);
+        coarse_frames.push(frame);
+    }
+    let nc = coarse_frames.len();
+    let start_boundary = frames[0] * relative(0).inverse();
+    let end_boundary = frames[n - 1] * relative(n);
+    let mut curvatures = Vec::with_capacity(nc + 1);
+    curvatures.push(so3::relative_rotation_vector(&start_boundary, &coarse_frames[0]) / (0.5 * lengths[0]));
+    for c in 1..nc {
+        let weight = 0.5 * (lengths[c - 1] + lengths[c]);
+        curvatures.push(so3::relative_rotation_vector(&coarse_frames[c - 1], &coarse_frames[c]) / weight);
+    }
+    curvatures.push(so3::relative_rotation_vector(&coarse_frames[nc - 1], &end_boundary) / (0.5 * lengths[nc - 1]));
+    Rod::try_new(*rod.section(), lengths, strains, curvatures).ok()
 }
 
 /// The fine state restricted to the kept vertices (frames of the middle fine edge).
@@ -87,7 +113,7 @@ pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState 
             RodState::new(positions, frames)
         })
         .collect();
-    SystemState { rods, bodies: state.bodies.clone() }
+    SystemState { rods, bodies: state.bodies.clone(), clips: state.clips.clone() }
 }
 
 /// The coarse solution carried to the fine model.
@@ -104,7 +130,7 @@ pub(crate) fn prolong(
         .enumerate()
         .map(|(r, spec)| prolong_rod(spec, coarse, r, coarse_state, &kept[r]))
         .collect();
-    SystemState { rods, bodies: coarse_state.bodies.clone() }
+    SystemState { rods, bodies: coarse_state.bodies.clone(), clips: coarse_state.clips.clone() }
 }
 
 fn prolong_rod(
@@ -190,6 +216,43 @@ fn prolong_rod(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A moulded rod (helical arc) of 200 segments clamped at its nominal end frames:
+    /// its coarse copy must be stress-free in the restricted nominal shape.
+    #[test]
+    fn coarse_copy_of_a_moulded_rod_is_stress_free_in_its_nominal_shape() {
+        use strand_rod::{NominalShape, Section};
+        use strand_system::{End, Model, RodSpec, System, SystemState};
+        let points = (0..=12)
+            .map(|i| {
+                let phi = 0.25 * i as f64;
+                Vector3::new(0.3 * phi.cos(), 0.3 * phi.sin(), 0.05 * phi)
+            })
+            .collect();
+        let section = Section::try_explicit(3e4, 1e4, 1.0, 0.8, 0.0, 0.0).unwrap();
+        let nominal = Rod::try_from_nominal(section, &NominalShape::from_points(points), 200).unwrap();
+        let system = System {
+            rods: vec![RodSpec {
+                name: "moulded".into(),
+                start: End::clamped(nominal.start_position(), nominal.start_frame),
+                end: End::clamped(nominal.end_position(), nominal.end_frame),
+                rod: nominal.rod.clone(),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: Vec::new(),
+            gravity: Vector3::zeros(),
+        };
+        let (coarse_system, kept) = coarsen(&system).expect("coarsened");
+        let coarse = Model::try_new(coarse_system).unwrap();
+        let fine_state = SystemState { rods: vec![nominal.state.clone()], bodies: vec![], clips: vec![] };
+        let coarse_state = restrict(&fine_state, &kept);
+        let mut eval = coarse.new_evaluation();
+        coarse.evaluate(&coarse_state, &mut eval, false);
+        let residual = coarse.residual(&eval.gradient);
+        assert!(residual.combined_n < 1e-8, "coarse residual {residual:?}");
+        assert!(eval.energy.abs() < 1e-12, "coarse energy {}", eval.energy);
+    }
 
     #[test]
     fn coarse_indices_cover_the_rod() {

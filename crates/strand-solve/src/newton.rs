@@ -115,9 +115,14 @@ impl<'m> Solver<'m> {
         check_initial_state(self.model, &initial)?;
         let started = Instant::now();
         let mut coarse_iterations = 0;
+        // A start that is already an equilibrium (a warm start, a moulded rod in its
+        // nominal shape) needs no coarse guess.
         let mut initial = initial;
-        if let Some((coarse_system, kept)) =
-            nested::coarsen(self.model.system()).filter(|_| settings.nested_iteration)
+        self.model.enforce_supports(&mut initial);
+        self.model.evaluate(&initial, &mut self.eval, false);
+        let already_converged = self.model.residual(&self.eval.gradient).combined_n <= settings.tolerance_n;
+        if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
+            .filter(|_| settings.nested_iteration && !already_converged)
         {
             let coarse_model = Model::try_new(coarse_system)
                 .map_err(|e| SolveError::InitialState(e.to_string()))?;
@@ -234,11 +239,21 @@ impl<'m> Solver<'m> {
                     .map(|(s, g)| s * g)
                     .sum::<f64>();
 
+            // The full step is tried with a complete evaluation (energy, gradient,
+            // Hessian): it is accepted almost always, and its derivatives then serve the
+            // next iteration. Backtracking trials need the energy only.
             let mut t = limit;
             let mut accepted = false;
-            for _ in 0..=settings.max_line_search_steps {
+            let mut evaluated = false;
+            for trial_number in 0..=settings.max_line_search_steps {
                 model.retract_into(&state, step, t, &mut trial);
-                let energy = model.energy(&trial);
+                evaluated = trial_number == 0;
+                let energy = if evaluated {
+                    model.evaluate(&trial, trial_eval, true);
+                    trial_eval.energy
+                } else {
+                    model.energy(&trial)
+                };
                 let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
                 let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
                 if armijo && energy.is_finite() {
@@ -248,7 +263,10 @@ impl<'m> Solver<'m> {
                 // Round-off regime: energy differences are below their noise; accept the
                 // step if it reduces the residual instead.
                 if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
-                    model.evaluate(&trial, trial_eval, false);
+                    if !evaluated {
+                        model.evaluate(&trial, trial_eval, true);
+                        evaluated = true;
+                    }
                     if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
                         accepted = true;
                         break;
@@ -262,7 +280,11 @@ impl<'m> Solver<'m> {
             }
             std::mem::swap(&mut state, &mut trial);
             stable_at_current = None;
-            model.evaluate(&state, eval, true);
+            if evaluated {
+                std::mem::swap(eval, trial_eval);
+            } else {
+                model.evaluate(&state, eval, true);
+            }
         }
 
         let stable = match stable_at_current {

@@ -3,20 +3,21 @@
 //!
 //! A rod end held by a port of a free body is not an unknown: its vertex is
 //! `r = x + R(q ⊗ exp(θ)) l` and its boundary frame `Q = q ⊗ exp(θ) ⊗ o` for the
-//! body's translation `x` and rotation increment `θ` (DESIGN §2). With the Jacobian
+//! body's translation `x` and rotation increment `θ` (DESIGN §2). A vertex held by a
+//! clip follows the clip's joint in the same way. With the Jacobian
 //! `T = ∂(local)/∂(globals)` the element's gradient becomes `Tᵀ g` and its Hessian
-//! `Tᵀ H T + Σ gᵢ ∇²(localᵢ)`; only the point map has a second derivative.
+//! `Tᵀ H T + Σ gᵢ ∇²(localᵢ)`; only point maps have second derivatives.
 
 use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
 use strand_rod::so3::skew;
 
 use crate::dofs::Dofs;
-use crate::system::Pose;
+use crate::system::{Joint, System, SystemState};
 
 /// How one local 3-block of an element depends on the unknowns.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum LocalBlock {
-    /// Absent, or fixed in space (a connector).
+    /// Absent, or fixed in space (a connector, a fixed clip).
     Fixed,
     /// An unknown block of its own.
     Free(usize),
@@ -24,6 +25,10 @@ pub(crate) enum LocalBlock {
     BodyPoint { body: usize, lever: Vector3<f64> },
     /// A frame of free body `body`: `q_body ⊗ offset`.
     BodyFrame { body: usize, offset: UnitQuaternion<f64> },
+    /// The output origin of clip `clip` (a joint with freedom).
+    ClipPoint { clip: usize },
+    /// The output frame of clip `clip` (a joint with freedom).
+    ClipFrame { clip: usize },
 }
 
 impl LocalBlock {
@@ -42,8 +47,17 @@ impl LocalBlock {
                 vec![t, r]
             }
             LocalBlock::BodyFrame { body, .. } => vec![dofs.body(body).expect("free body").1],
+            LocalBlock::ClipPoint { clip } | LocalBlock::ClipFrame { clip } => {
+                dofs.clip(clip).into_iter().collect()
+            }
         }
     }
+}
+
+/// The second-order term `½(g lᵀ + l gᵀ) − (g·l) I` of `gᵀ R exp(θ) l` in `θ`, for the
+/// force `g` expressed in the rotated frame.
+fn lever_curvature(g: &Vector3<f64>, lever: &Vector3<f64>) -> Matrix3<f64> {
+    0.5 * (g * lever.transpose() + lever * g.transpose()) - g.dot(lever) * Matrix3::identity()
 }
 
 /// `T` (rows: local scalars, columns: the element's global blocks) and the curvature
@@ -52,7 +66,8 @@ pub(crate) fn chain_rule(
     locals: &[LocalBlock],
     globals: &[usize],
     dofs: &Dofs,
-    poses: &[Pose],
+    system: &System,
+    state: &SystemState,
     local_gradient: &[f64],
     with_curvature: bool,
 ) -> (DMatrix<f64>, DMatrix<f64>) {
@@ -60,23 +75,22 @@ pub(crate) fn chain_rule(
     let mut jacobian = DMatrix::zeros(3 * locals.len(), columns);
     let mut curvature = DMatrix::zeros(columns, columns);
     let column = |g: usize| 3 * globals.iter().position(|&x| x == g).expect("global block of element");
+    let gradient_of = |a: usize| Vector3::new(local_gradient[3 * a], local_gradient[3 * a + 1], local_gradient[3 * a + 2]);
     for (a, local) in locals.iter().enumerate() {
+        let row = 3 * a;
         match *local {
             LocalBlock::Fixed => {}
             LocalBlock::Free(g) => {
-                jacobian.fixed_view_mut::<3, 3>(3 * a, column(g)).copy_from(&Matrix3::identity());
+                jacobian.fixed_view_mut::<3, 3>(row, column(g)).copy_from(&Matrix3::identity());
             }
             LocalBlock::BodyPoint { body, lever } => {
                 let (t, r) = dofs.body(body).expect("free body");
-                let rotation = poses[body].orientation.to_rotation_matrix().into_inner();
-                jacobian.fixed_view_mut::<3, 3>(3 * a, column(t)).copy_from(&Matrix3::identity());
-                jacobian.fixed_view_mut::<3, 3>(3 * a, column(r)).copy_from(&(-rotation * skew(&lever)));
+                let rotation = state.bodies[body].orientation.to_rotation_matrix().into_inner();
+                jacobian.fixed_view_mut::<3, 3>(row, column(t)).copy_from(&Matrix3::identity());
+                jacobian.fixed_view_mut::<3, 3>(row, column(r)).copy_from(&(-rotation * skew(&lever)));
                 if with_curvature {
-                    let g = Vector3::new(local_gradient[3 * a], local_gradient[3 * a + 1], local_gradient[3 * a + 2]);
-                    let g_body = rotation.transpose() * g;
-                    let term = 0.5 * (g_body * lever.transpose() + lever * g_body.transpose())
-                        - g_body.dot(&lever) * Matrix3::identity();
                     let c = column(r);
+                    let term = lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
                     let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
                     view += term;
                 }
@@ -84,7 +98,52 @@ pub(crate) fn chain_rule(
             LocalBlock::BodyFrame { body, offset } => {
                 let r = dofs.body(body).expect("free body").1;
                 let offset_matrix = offset.to_rotation_matrix().into_inner();
-                jacobian.fixed_view_mut::<3, 3>(3 * a, column(r)).copy_from(&offset_matrix.transpose());
+                jacobian.fixed_view_mut::<3, 3>(row, column(r)).copy_from(&offset_matrix.transpose());
+            }
+            LocalBlock::ClipPoint { clip } => {
+                let spec = &system.clips[clip];
+                let joint = &state.clips[clip];
+                let c = column(dofs.clip(clip).expect("clip with a joint"));
+                let base = spec.base.orientation.to_rotation_matrix().into_inner();
+                let lever = spec.offset.position;
+                match spec.joint {
+                    Joint::Fixed => {}
+                    Joint::Revolute { axis } => {
+                        // r = p_B + R_B Rot(a, φ) o: ∂r/∂φ = R_B Rot (a × o).
+                        let moved = base * UnitQuaternion::from_scaled_axis(axis * joint.value).to_rotation_matrix().into_inner();
+                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(moved * axis.cross(&lever)));
+                        if with_curvature {
+                            curvature[(c, c)] += gradient_of(a).dot(&(moved * axis.cross(&axis.cross(&lever))));
+                        }
+                    }
+                    Joint::Prismatic { axis } => {
+                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(base * axis));
+                    }
+                    Joint::Spherical => {
+                        let rotation = base * joint.rotation.to_rotation_matrix().into_inner();
+                        jacobian.fixed_view_mut::<3, 3>(row, c).copy_from(&(-rotation * skew(&lever)));
+                        if with_curvature {
+                            let term = lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
+                            let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
+                            view += term;
+                        }
+                    }
+                }
+            }
+            LocalBlock::ClipFrame { clip } => {
+                let spec = &system.clips[clip];
+                let c = column(dofs.clip(clip).expect("clip with a joint"));
+                let offset = spec.offset.orientation.to_rotation_matrix().into_inner();
+                match spec.joint {
+                    Joint::Fixed | Joint::Prismatic { .. } => {}
+                    // Q = q_B Rot(a, φ) q_o: a right increment R_oᵀ a δφ of Q.
+                    Joint::Revolute { axis } => {
+                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(offset.transpose() * axis));
+                    }
+                    Joint::Spherical => {
+                        jacobian.fixed_view_mut::<3, 3>(row, c).copy_from(&offset.transpose());
+                    }
+                }
             }
         }
     }

@@ -1,7 +1,7 @@
 //! Numbering of the unknowns: 3-blocks of vertex positions and edge rotation increments.
 //! Vertices held by a support are eliminated (they have no block).
 
-use crate::system::System;
+use crate::system::{Joint, System};
 
 /// What a 3-block of unknowns is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,6 +18,7 @@ pub struct Dofs {
     vertex_blocks: Vec<Vec<Option<usize>>>,
     edge_blocks: Vec<Vec<usize>>,
     body_blocks: Vec<Option<(usize, usize)>>,
+    clip_blocks: Vec<Option<usize>>,
     kinds: Vec<BlockKind>,
     force_scale: Vec<f64>,
 }
@@ -30,6 +31,7 @@ impl Dofs {
             vertex_blocks: vec![],
             edge_blocks: vec![],
             body_blocks: vec![],
+            clip_blocks: vec![],
             kinds: vec![],
             force_scale: vec![],
         };
@@ -39,7 +41,8 @@ impl Dofs {
             let mut edges = Vec::with_capacity(n);
             for j in 0..=n {
                 let held = (j == 0 && spec.start.support.is_held())
-                    || (j == n && spec.end.support.is_held());
+                    || (j == n && spec.end.support.is_held())
+                    || system.clips.iter().any(|c| c.rod.0 == dofs.vertex_blocks.len() && c.vertex == j);
                 if !held {
                     vertices[j] = Some(dofs.push(BlockKind::Position, 1.0));
                 }
@@ -59,7 +62,22 @@ impl Dofs {
             });
             dofs.body_blocks.push(blocks);
         }
+        // Clip joints: a scalar joint (revolute, prismatic) occupies the first component
+        // of a 3-block; the two spare components carry a unit stiffness and stay zero.
+        for clip in &system.clips {
+            let block = match clip.joint {
+                Joint::Fixed => None,
+                Joint::Revolute { .. } | Joint::Spherical => Some(dofs.push(BlockKind::Rotation, longest_rod)),
+                Joint::Prismatic { .. } => Some(dofs.push(BlockKind::Position, 1.0)),
+            };
+            dofs.clip_blocks.push(block);
+        }
         dofs
+    }
+
+    /// Joint block of clip `clip`, `None` for a fixed joint.
+    pub fn clip(&self, clip: usize) -> Option<usize> {
+        self.clip_blocks[clip]
     }
 
     /// Translation and rotation blocks of body `body`, `None` if it is fixed.

@@ -7,14 +7,15 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::RodState;
 use strand_rod::so3::frame_with_tangent;
 
-use crate::system::{Pose, RodSpec, System, SystemState};
+use crate::system::{Pose, System, SystemState};
 
 /// The initial configuration of every rod.
 pub fn initial_state(system: &System) -> SystemState {
     let poses = system.body_poses();
     SystemState {
-        rods: system.rods.iter().map(|spec| initial_rod_state(system, spec, &poses)).collect(),
+        rods: (0..system.rods.len()).map(|r| initial_rod_state(system, r, &poses)).collect(),
         bodies: poses,
+        clips: vec![Default::default(); system.clips.len()],
     }
 }
 
@@ -34,41 +35,18 @@ impl Placement {
     }
 }
 
-fn initial_rod_state(system: &System, spec: &RodSpec, poses: &[Pose]) -> RodState {
+fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
+    let spec = &system.rods[rod];
     let length = spec.rod.length();
     let place = |end, at_end| {
         let (position, frame) = system.end_placement(end, at_end, poses);
         Placement { position, frame }
     };
     let (start, end) = (place(&spec.start, false), place(&spec.end, true));
-    let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
-    let polyline: Vec<Vector3<f64>> =
-        if let Some(route) = spec.route.as_ref().filter(|r| r.len() >= 2) {
-            route.clone()
-        } else {
-            match (start.position(), end.position()) {
-                (Some(a), Some(b)) => {
-                    let chord = b - a;
-                    let direction = if chord.norm() > 0.0 {
-                        chord.normalize()
-                    } else {
-                        Vector3::x()
-                    };
-                    let t0 = tangent_of(start.frame()).unwrap_or(direction);
-                    let t1 = tangent_of(end.frame()).unwrap_or(direction);
-                    hermite_with_length(a, t0, b, t1, length)
-                }
-                (Some(a), None) => {
-                    let t = tangent_of(start.frame()).unwrap_or(Vector3::x());
-                    vec![a, a + t * length]
-                }
-                (None, Some(b)) => {
-                    let t = tangent_of(end.frame()).unwrap_or(Vector3::x());
-                    vec![b - t * length, b]
-                }
-                (None, None) => vec![Vector3::zeros(), Vector3::x() * length],
-            }
-        };
+    let polyline: Vec<Vector3<f64>> = match spec.route.as_ref().filter(|r| r.len() >= 2) {
+        Some(route) => route.clone(),
+        None => guide_curve(&held_stations(system, rod, &start, &end), length),
+    };
     let positions = resample(&polyline, &spec.rod.arc_lengths(), length);
     let first_frame = start.frame().unwrap_or_else(|| {
         let t = positions[1] - positions[0];
@@ -87,6 +65,73 @@ fn initial_rod_state(system: &System, spec: &RodSpec, poses: &[Pose]) -> RodStat
         distribute_twist(&mut frames, &end_frame, &spec.rod.arc_lengths());
     }
     RodState::new(positions, frames)
+}
+
+/// A point the rod must pass: arc length (m), position (m), tangent if known.
+struct Station {
+    s: f64,
+    position: Vector3<f64>,
+    tangent: Option<Vector3<f64>>,
+}
+
+/// The held ends and clips of a rod at their initial placement, in arc-length order.
+fn held_stations(system: &System, rod_index: usize, start: &Placement, end: &Placement) -> Vec<Station> {
+    let spec = &system.rods[rod_index];
+    let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
+    let arc = spec.rod.arc_lengths();
+    let mut stations = Vec::new();
+    if let Some(position) = start.position() {
+        stations.push(Station { s: 0.0, position, tangent: tangent_of(start.frame()) });
+    }
+    let mut clips: Vec<_> = system.clips.iter().filter(|c| c.rod.0 == rod_index).collect();
+    clips.sort_by_key(|c| c.vertex);
+    for clip in clips {
+        let output = clip.output(&Default::default());
+        stations.push(Station { s: arc[clip.vertex], position: output.position, tangent: Some(output.orientation * Vector3::z()) });
+    }
+    if let Some(position) = end.position() {
+        stations.push(Station { s: spec.rod.length(), position, tangent: tangent_of(end.frame()) });
+    }
+    stations
+}
+
+/// A polyline through the stations whose pieces have the reference lengths between
+/// them: cubic Hermite pieces between stations, straight pieces beyond the first and
+/// last station along their tangents.
+fn guide_curve(stations: &[Station], length: f64) -> Vec<Vector3<f64>> {
+    let Some(first) = stations.first() else {
+        return vec![Vector3::zeros(), Vector3::x() * length];
+    };
+    let last = stations.last().expect("non-empty");
+    let chord_direction = |a: &Station, b: &Station| {
+        let chord = b.position - a.position;
+        if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() }
+    };
+    let mut polyline = Vec::new();
+    let lead = first.tangent.unwrap_or_else(|| if stations.len() > 1 { chord_direction(first, &stations[1]) } else { Vector3::x() });
+    if first.s > 0.0 {
+        polyline.push(first.position - lead * first.s);
+    }
+    polyline.push(first.position);
+    for pair in stations.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        let direction = chord_direction(a, b);
+        let piece = hermite_with_length(
+            a.position,
+            a.tangent.unwrap_or(direction),
+            b.position,
+            b.tangent.unwrap_or(direction),
+            b.s - a.s,
+        );
+        polyline.extend_from_slice(&piece[1..]);
+    }
+    if last.s < length {
+        let trail = last.tangent.unwrap_or_else(|| {
+            if stations.len() > 1 { chord_direction(&stations[stations.len() - 2], last) } else { lead }
+        });
+        polyline.push(last.position + trail * (length - last.s));
+    }
+    polyline
 }
 
 /// Points at the fractions `s / length` of the polyline's arc length.

@@ -24,7 +24,7 @@ pub use model::{Evaluation, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
 pub use system::{
-    BodyHandle, BodySpec, End, EndLoad, Pose, Port, RodHandle, RodSpec, Support, System, SystemError,
+    BodyHandle, BodySpec, ClipSpec, End, EndLoad, Joint, JointState, Pose, Port, RodHandle, RodSpec, Support, System, SystemError,
     SystemState,
 };
 

@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, UnitQuaternion, Vector3};
 use strand_rod::element::{BendTwist, ElementDerivatives, bend_twist, dead_moment, stretch_shear};
 use strand_rod::sectional::{BoundaryFrames, edge_element, vertex_frames};
 use strand_rod::so3;
@@ -10,7 +10,7 @@ use strand_rod::so3;
 use crate::attachment::{LocalBlock, chain_rule};
 use crate::dofs::{BlockKind, Dofs};
 use crate::pattern::{HessianPattern, ScatterBlock, add_blocks};
-use crate::system::{Support, System, SystemError, SystemState};
+use crate::system::{Joint, Support, System, SystemError, SystemState};
 
 #[derive(Clone, Copy, Debug)]
 enum ElementKind {
@@ -24,6 +24,11 @@ enum ElementKind {
     PointLoad { rod: usize, vertex: usize },
     /// Weight of a free body at its centre of mass; block `(r_com)`.
     BodyWeight { body: usize },
+    /// Half-cell bend–twist energy between an edge and a clip's output frame, before
+    /// (`after == false`: blocks `(θ_{j−1/2}, Q)`) or after the clip (`(Q, θ_{j+1/2})`).
+    ClipHalf { rod: usize, vertex: usize, clip: usize, after: bool },
+    /// Unit stiffness on the two spare components of a scalar joint's block.
+    JointPadding,
 }
 
 #[derive(Clone, Debug)]
@@ -106,7 +111,20 @@ impl Model {
                         Some(b) => [LocalBlock::Free(dofs.edge(r, n - 1)), b, LocalBlock::Fixed],
                         None => continue,
                     },
-                    j => [LocalBlock::Free(dofs.edge(r, j - 1)), LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed],
+                    j => match system.clip_at(r, j) {
+                        Some(clip) => {
+                            let frame = clip_frame_local(&system, clip);
+                            let before = [LocalBlock::Free(dofs.edge(r, j - 1)), frame, LocalBlock::Fixed];
+                            let after = [frame, LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed];
+                            push(ElementKind::ClipHalf { rod: r, vertex: j, clip, after: false }, before);
+                            push(ElementKind::ClipHalf { rod: r, vertex: j, clip, after: true }, after);
+                            if let local @ LocalBlock::ClipPoint { .. } = vertex_block(j) {
+                                push(ElementKind::PointLoad { rod: r, vertex: j }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+                            }
+                            continue;
+                        }
+                        None => [LocalBlock::Free(dofs.edge(r, j - 1)), LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed],
+                    },
                 };
                 push(ElementKind::Vertex { rod: r, vertex: j }, locals);
             }
@@ -126,6 +144,11 @@ impl Model {
             if !body.fixed {
                 let local = LocalBlock::BodyPoint { body: b, lever: body.center_of_mass };
                 push(ElementKind::BodyWeight { body: b }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+            }
+        }
+        for (c, clip) in system.clips.iter().enumerate() {
+            if let (Joint::Revolute { .. } | Joint::Prismatic { .. }, Some(block)) = (clip.joint, dofs.clip(c)) {
+                push(ElementKind::JointPadding, [LocalBlock::Free(block), LocalBlock::Fixed, LocalBlock::Fixed]);
             }
         }
         let pattern =
@@ -203,6 +226,15 @@ impl Model {
                     let d = self.point_load_derivatives(state, element.kind);
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
+                ElementKind::ClipHalf { rod, vertex, clip, after } => {
+                    let d = bend_twist(&self.clip_half(state, rod, vertex, clip, after).element());
+                    self.accumulate(state, out, element, &d, with_hessian);
+                }
+                ElementKind::JointPadding => {
+                    let hessian = nalgebra::Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0));
+                    let d = ElementDerivatives::<3> { energy: 0.0, gradient: Default::default(), hessian };
+                    self.accumulate(state, out, element, &d, with_hessian);
+                }
             }
         }
         self.add_free_vertex_loads(state, out);
@@ -237,6 +269,8 @@ impl Model {
                 kind @ (ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. }) => {
                     self.point_load_derivatives(state, kind).energy
                 }
+                ElementKind::ClipHalf { rod, vertex, clip, after } => self.clip_half(state, rod, vertex, clip, after).energy(),
+                ElementKind::JointPadding => 0.0,
             };
         }
         for (r, rod_state) in state.rods.iter().enumerate() {
@@ -266,9 +300,33 @@ impl Model {
         force
     }
 
-    /// Whether vertex `j` of rod `r` is held by a port of a free body.
+    /// Whether vertex `j` of rod `r` moves with a free body or a clip joint (its loads
+    /// then act through a `PointLoad` element).
     fn is_on_free_body(&self, r: usize, j: usize) -> bool {
-        matches!(vertex_local(&self.system, &self.dofs, r, j), LocalBlock::BodyPoint { .. })
+        matches!(vertex_local(&self.system, &self.dofs, r, j), LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. })
+    }
+
+    /// The half-cell element on one side of clip `clip` at vertex `vertex` of rod `rod`.
+    pub(crate) fn clip_half(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        vertex: usize,
+        clip: usize,
+        after: bool,
+    ) -> ClipHalfElement {
+        let spec = &self.system.rods[rod];
+        let output = self.system.clips[clip].output(&state.clips[clip]).orientation;
+        let frames = &state.rods[rod].frames;
+        let (frame_a, frame_b, edge) =
+            if after { (output, frames[vertex], vertex) } else { (frames[vertex - 1], output, vertex - 1) };
+        ClipHalfElement {
+            frame_a,
+            frame_b,
+            weight: 0.5 * spec.rod.edge_length(edge),
+            stiffness: spec.rod.section().curvature_stiffness(),
+            rest_curvature: *spec.rod.rest_curvature(vertex),
+        }
     }
 
     fn edge_derivatives(&self, state: &SystemState, rod: usize, edge: usize) -> ElementDerivatives<9> {
@@ -341,7 +399,7 @@ impl Model {
         }
         let locals = &element.locals[..D / 3];
         let (jacobian, curvature) =
-            chain_rule(locals, &element.globals, &self.dofs, &state.bodies, d.gradient.as_slice(), with_hessian);
+            chain_rule(locals, &element.globals, &self.dofs, &self.system, state, d.gradient.as_slice(), with_hessian);
         let local_gradient = DVector::from_column_slice(d.gradient.as_slice());
         let gradient = jacobian.transpose() * local_gradient;
         for (k, &g) in element.globals.iter().enumerate() {
@@ -382,6 +440,7 @@ impl Model {
                 state.bodies[b] = body.pose;
             }
         }
+        self.place_clipped_vertices(state);
         for (spec, rod_state) in self.system.rods.iter().zip(&mut state.rods) {
             let last = rod_state.positions.len() - 1;
             for (vertex, at_end, end) in [(0, false, &spec.start), (last, true, &spec.end)] {
@@ -389,6 +448,14 @@ impl Model {
                     rod_state.set_position(vertex, position);
                 }
             }
+        }
+    }
+
+    /// Puts every clipped vertex at its clip's output origin.
+    fn place_clipped_vertices(&self, state: &mut SystemState) {
+        for (c, clip) in self.system.clips.iter().enumerate() {
+            let position = clip.output(&state.clips[c]).position;
+            state.rods[clip.rod.0].set_position(clip.vertex, position);
         }
     }
 
@@ -414,6 +481,22 @@ impl Model {
                 *q *= so3::exp(&block(self.dofs.edge(r, e)));
                 q.renormalize_fast();
             }
+        }
+        for (c, clip) in self.system.clips.iter().enumerate() {
+            if let Some(b) = self.dofs.clip(c) {
+                let joint = &mut out.clips[c];
+                match clip.joint {
+                    Joint::Fixed => {}
+                    Joint::Revolute { .. } | Joint::Prismatic { .. } => joint.value += scale * step[3 * b],
+                    Joint::Spherical => {
+                        joint.rotation *= so3::exp(&block(b));
+                        joint.rotation.renormalize_fast();
+                    }
+                }
+            }
+        }
+        if !self.system.clips.is_empty() {
+            self.place_clipped_vertices(out);
         }
         if self.system.bodies.is_empty() {
             return;
@@ -470,6 +553,12 @@ fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock 
     if let Some(b) = dofs.vertex(r, j) {
         return LocalBlock::Free(b);
     }
+    if let Some(clip) = system.clip_at(r, j) {
+        return match system.clips[clip].joint {
+            Joint::Fixed => LocalBlock::Fixed,
+            _ => LocalBlock::ClipPoint { clip },
+        };
+    }
     let spec = &system.rods[r];
     let end = if j == 0 { &spec.start } else { &spec.end };
     match end.support {
@@ -493,5 +582,38 @@ fn boundary_local(system: &System, r: usize, at_end: bool) -> Option<LocalBlock>
             LocalBlock::BodyFrame { body: body.0, offset: system.port_offset(body, port, at_end) }
         }),
         _ => None,
+    }
+}
+
+/// How a clip's output frame enters a half-cell element.
+fn clip_frame_local(system: &System, clip: usize) -> LocalBlock {
+    match system.clips[clip].joint {
+        Joint::Fixed | Joint::Prismatic { .. } => LocalBlock::Fixed,
+        _ => LocalBlock::ClipFrame { clip },
+    }
+}
+
+/// Owned inputs of a clip half-cell (the output frame is computed, not stored).
+pub(crate) struct ClipHalfElement {
+    frame_a: UnitQuaternion<f64>,
+    frame_b: UnitQuaternion<f64>,
+    weight: f64,
+    stiffness: Vector3<f64>,
+    rest_curvature: Vector3<f64>,
+}
+
+impl ClipHalfElement {
+    pub(crate) fn element(&self) -> BendTwist<'_> {
+        BendTwist {
+            frame_a: &self.frame_a,
+            frame_b: &self.frame_b,
+            weight: self.weight,
+            stiffness: &self.stiffness,
+            rest_curvature: &self.rest_curvature,
+        }
+    }
+
+    fn energy(&self) -> f64 {
+        self.element().energy()
     }
 }

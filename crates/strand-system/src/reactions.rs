@@ -21,19 +21,24 @@ pub enum ReactionKind {
     Connector,
     /// A port of a rigid body (junction).
     Port,
+    /// A clip holding an interior vertex.
+    Clip,
 }
 
 /// Force and moment a support exerts on a rod end, in the world frame.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Reaction {
-    /// `"<rod>.start"`/`"<rod>.end"` for a connector, `"<body>.<port>"` for a port.
+    /// `"<rod>.start"`/`"<rod>.end"` for a connector, `"<body>.<port>"` for a port, the
+    /// clip's name for a clip.
     pub name: String,
     /// What holds the end.
     pub kind: ReactionKind,
     /// Index of the rod.
     pub rod: usize,
-    /// Whether this is the end at vertex N.
+    /// Whether this is the end at vertex N (false for a clip).
     pub at_end: bool,
+    /// The vertex held.
+    pub vertex: usize,
     /// Where the support acts (the end vertex), m.
     pub position: Vector3<f64>,
     /// Force on the rod in N.
@@ -84,8 +89,33 @@ impl Model {
                     }
                     None => Vector3::zeros(),
                 };
-                out.push(Reaction { name, kind, rod: r, at_end, position: rod_state.positions[vertex], force, moment });
+                out.push(Reaction { name, kind, rod: r, at_end, vertex, position: rod_state.positions[vertex], force, moment });
             }
+        }
+        for (c, clip) in system.clips.iter().enumerate() {
+            let (r, j) = (clip.rod.0, clip.vertex);
+            let spec = &system.rods[r];
+            let rod_state = &state.rods[r];
+            let c_gamma = spec.rod.section().strain_stiffness();
+            let before = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j - 1));
+            let after = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j));
+            let force = before.gradient.fixed_rows::<3>(3).into_owned() + after.gradient.fixed_rows::<3>(0).into_owned()
+                - spec.rod.vertex_mass(j) * system.gravity;
+            let half_before = bend_twist(&self.clip_half(state, r, j, c, false).element());
+            let half_after = bend_twist(&self.clip_half(state, r, j, c, true).element());
+            let output = clip.output(&state.clips[c]).orientation;
+            let moment = output
+                * (half_before.gradient.fixed_rows::<3>(3).into_owned() + half_after.gradient.fixed_rows::<3>(0).into_owned());
+            out.push(Reaction {
+                name: clip.name.clone(),
+                kind: ReactionKind::Clip,
+                rod: r,
+                at_end: false,
+                vertex: j,
+                position: rod_state.positions[j],
+                force,
+                moment,
+            });
         }
         out
     }

@@ -27,6 +27,84 @@ impl Pose {
     }
 }
 
+/// The joint of a clip between its base frame and its output frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Joint {
+    /// No freedom: the output frame is fixed to the base.
+    Fixed,
+    /// Rotation by an angle (rad) about `axis` (unit, base coordinates) through the
+    /// base origin: a hinge, or a clip that lets the hose turn about its own axis.
+    Revolute {
+        /// Unit axis in base coordinates.
+        axis: Vector3<f64>,
+    },
+    /// Translation by a distance (m) along `axis` (unit, base coordinates): a clip
+    /// sliding on a rail.
+    Prismatic {
+        /// Unit axis in base coordinates.
+        axis: Vector3<f64>,
+    },
+    /// Free rotation about the base origin (a ball joint).
+    Spherical,
+}
+
+/// A clip: a joint from a base frame fixed in space to an output frame that holds a
+/// rod at one of its interior vertices (the vertex sits at the output origin; the
+/// curvature term there is split into two half-cells around the output frame, whose
+/// `a3` points along the rod).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClipSpec {
+    /// Name used in reactions and results.
+    pub name: String,
+    /// Base frame in the world (m).
+    pub base: Pose,
+    /// The joint.
+    pub joint: Joint,
+    /// Output frame relative to the joint's moving frame (m).
+    pub offset: Pose,
+    /// The rod held.
+    pub rod: RodHandle,
+    /// The interior vertex held (`0 < vertex < N`).
+    pub vertex: usize,
+}
+
+/// Joint coordinates of a clip: `value` is the angle (rad) of a revolute joint or the
+/// distance (m) of a prismatic one; `rotation` that of a spherical joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointState {
+    /// Angle in rad or distance in m.
+    pub value: f64,
+    /// Rotation of a spherical joint.
+    pub rotation: UnitQuaternion<f64>,
+}
+
+impl Default for JointState {
+    fn default() -> Self {
+        Self { value: 0.0, rotation: UnitQuaternion::identity() }
+    }
+}
+
+impl ClipSpec {
+    /// The joint's motion `(translation, rotation)` in base coordinates.
+    pub fn joint_motion(&self, state: &JointState) -> (Vector3<f64>, UnitQuaternion<f64>) {
+        match self.joint {
+            Joint::Fixed => (Vector3::zeros(), UnitQuaternion::identity()),
+            Joint::Revolute { axis } => (Vector3::zeros(), UnitQuaternion::from_scaled_axis(axis * state.value)),
+            Joint::Prismatic { axis } => (axis * state.value, UnitQuaternion::identity()),
+            Joint::Spherical => (Vector3::zeros(), state.rotation),
+        }
+    }
+
+    /// The output frame in the world for the given joint coordinates.
+    pub fn output(&self, state: &JointState) -> Pose {
+        let (translation, rotation) = self.joint_motion(state);
+        Pose {
+            position: self.base.transform_point(&(translation + rotation * self.offset.position)),
+            orientation: self.base.orientation * rotation * self.offset.orientation,
+        }
+    }
+}
+
 /// A port of a body: a frame in body coordinates where a rod end attaches. Its `a3`
 /// points out of the body, into the attached rod.
 #[derive(Clone, Debug, PartialEq)]
@@ -195,6 +273,8 @@ pub struct System {
     pub rods: Vec<RodSpec>,
     /// Rigid bodies (junctions) whose ports hold rod ends.
     pub bodies: Vec<BodySpec>,
+    /// Clips holding rods at interior vertices.
+    pub clips: Vec<ClipSpec>,
     /// Gravitational acceleration in m/s² (e.g. `(0, 0, −9.81)`).
     pub gravity: Vector3<f64>,
 }
@@ -206,17 +286,20 @@ pub struct SystemState {
     pub rods: Vec<RodState>,
     /// Per-body poses, in the order of [`System::bodies`].
     pub bodies: Vec<Pose>,
+    /// Per-clip joint coordinates, in the order of [`System::clips`].
+    pub clips: Vec<JointState>,
 }
 
 impl Clone for SystemState {
     fn clone(&self) -> Self {
-        Self { rods: self.rods.clone(), bodies: self.bodies.clone() }
+        Self { rods: self.rods.clone(), bodies: self.bodies.clone(), clips: self.clips.clone() }
     }
 
     /// Reuses the allocations of `self`.
     fn clone_from(&mut self, source: &Self) {
         self.rods.clone_from(&source.rods);
         self.bodies.clone_from(&source.bodies);
+        self.clips.clone_from(&source.clips);
     }
 }
 
@@ -271,6 +354,14 @@ pub enum SystemError {
     InvalidBody {
         /// Body name.
         body: String,
+        /// What is wrong and how to fix it.
+        what: String,
+    },
+    /// A clip's data are invalid.
+    #[error("clip '{clip}': {what}")]
+    InvalidClip {
+        /// Clip name.
+        clip: String,
         /// What is wrong and how to fix it.
         what: String,
     },
@@ -382,6 +473,44 @@ impl System {
         self.check_held_groups()
     }
 
+    /// The clip holding vertex `vertex` of rod `rod`, if any.
+    pub fn clip_at(&self, rod: usize, vertex: usize) -> Option<usize> {
+        self.clips.iter().position(|c| c.rod.0 == rod && c.vertex == vertex)
+    }
+
+    /// Checks that every clip holds an existing interior vertex, one clip per vertex,
+    /// with a unit axis.
+    fn validate_clips(&self) -> Result<(), SystemError> {
+        for (i, clip) in self.clips.iter().enumerate() {
+            let invalid = |what: String| SystemError::InvalidClip { clip: clip.name.clone(), what };
+            let Some(rod) = self.rods.get(clip.rod.0) else {
+                return Err(invalid(format!("rod #{} does not exist", clip.rod.0)));
+            };
+            let n = rod.rod.segments();
+            if clip.vertex == 0 || clip.vertex >= n {
+                return Err(invalid(format!(
+                    "vertex {} of rod '{}' is not an interior vertex (1..{}): hold the rod's ends with a connector or a port",
+                    clip.vertex,
+                    rod.name,
+                    n - 1
+                )));
+            }
+            if self.clips[..i].iter().any(|c| c.rod == clip.rod && c.vertex == clip.vertex) {
+                return Err(invalid(format!("another clip already holds vertex {} of rod '{}'", clip.vertex, rod.name)));
+            }
+            if let Joint::Revolute { axis } | Joint::Prismatic { axis } = clip.joint
+                && !((axis.norm() - 1.0).abs() < 1e-9)
+            {
+                return Err(invalid(format!("joint axis {axis:?} must be a unit vector")));
+            }
+            let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+            if !finite(&clip.base.position) || !finite(&clip.offset.position) {
+                return Err(invalid("base and offset positions must be finite".into()));
+            }
+        }
+        Ok(())
+    }
+
     /// Union–find over rods and bodies: every connected group must touch the ground
     /// (a connector or a fixed body).
     fn check_held_groups(&self) -> Result<(), SystemError> {
@@ -403,6 +532,9 @@ impl System {
             if body.fixed {
                 union(&mut parent, rods + b, ground);
             }
+        }
+        for clip in &self.clips {
+            union(&mut parent, clip.rod.0, ground);
         }
         for (r, spec) in self.rods.iter().enumerate() {
             for end in [&spec.start, &spec.end] {
@@ -459,13 +591,15 @@ impl System {
                     return Err(bad("load"));
                 }
             }
-            if spec.start.support == Support::Free && spec.end.support == Support::Free {
+            let clipped = self.clips.iter().any(|c| self.rods.get(c.rod.0).is_some_and(|r| r.name == spec.name));
+            if spec.start.support == Support::Free && spec.end.support == Support::Free && !clipped {
                 return Err(SystemError::Unsupported {
                     rod: spec.name.clone(),
                 });
             }
         }
         self.validate_bodies()?;
+        self.validate_clips()?;
         let poses = self.body_poses();
         for spec in &self.rods {
             let fixed_position = |end: &End, at_end: bool| match end.support {
