@@ -12,7 +12,7 @@ fn hose_section() -> Section {
 
 /// A hose clamped at the origin along +x, loaded at its free end and by gravity, held
 /// at its middle vertex by a clip with `joint` whose base is tilted.
-fn clipped_hose(joint: Joint) -> System {
+fn clipped_hose(joint: Joint, limits: Option<(f64, f64)>) -> System {
     let base = Pose {
         position: Vector3::new(0.5, 0.05, -0.03),
         orientation: UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.4),
@@ -33,6 +33,7 @@ fn clipped_hose(joint: Joint) -> System {
             offset: Pose { position: Vector3::zeros(), orientation: base.orientation.inverse() * frame_along_x() },
             rod: RodHandle(0),
             vertex: 20,
+            limits,
         }],
         gravity: Vector3::new(0.0, 0.0, -9.81),
     }
@@ -41,7 +42,7 @@ fn clipped_hose(joint: Joint) -> System {
 /// Solves and returns the clip reaction (force N, moment N·m on the rod) and the
 /// world axis of the joint.
 fn clip_reaction(joint: Joint, axis: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
-    let system = clipped_hose(joint);
+    let system = clipped_hose(joint, None);
     let world_axis = system.clips[0].base.orientation * axis;
     let (model, solution) = solve_converged(system);
     let clip = model.reactions(&solution.state).into_iter().find(|r| r.kind == ReactionKind::Clip).unwrap();
@@ -93,6 +94,7 @@ fn a_fixed_clip_at_mid_length_splits_a_rod_into_two_clamped_rods() {
             offset: Pose { position: Vector3::zeros(), orientation: UnitQuaternion::identity() },
             rod: RodHandle(0),
             vertex: 20,
+            limits: None,
         }],
         gravity: Vector3::new(0.0, 0.0, -9.81),
     };
@@ -125,4 +127,31 @@ fn a_fixed_clip_at_mid_length_splits_a_rod_into_two_clamped_rods() {
     let inner: Vec<_> = split_model.reactions(&halves.state).into_iter().filter(|r| r.name == "first.end" || r.name == "second.start").collect();
     let (force, moment) = inner.iter().fold((Vector3::zeros(), Vector3::zeros()), |(f, m), r| (f + r.force, m + r.moment));
     assert!((clip.force - force).norm() < 1e-9 && (clip.moment - moment).norm() < 1e-9, "{clip:?} vs {force:?} {moment:?}");
+}
+
+#[test]
+fn a_clip_at_its_limit_carries_a_reaction_of_the_right_sign_and_none_once_released() {
+    let axis = Vector3::new(0.0, 0.6, 0.8);
+    let joint = Joint::Revolute { axis };
+    // Free: the joint settles at some angle with no moment about its axis.
+    let (model, free) = solve_converged(clipped_hose(joint, None));
+    let free_angle = free.state.clips[0].value;
+    let world_axis = model.system().clips[0].base.orientation * axis;
+    assert!(free_angle.abs() > 0.02, "the load turns the joint ({free_angle} rad)");
+    // A stop at a third of that angle holds the joint there and carries a moment that
+    // opposes the turn: the rod pushes the joint towards `free_angle`.
+    let stop = free_angle / 3.0;
+    let limits = if stop > 0.0 { (-1.0, stop) } else { (stop, 1.0) };
+    let (model, held) = solve_converged(clipped_hose(joint, Some(limits)));
+    assert!((held.state.clips[0].value - stop).abs() < 1e-12, "at the stop: {}", held.state.clips[0].value);
+    let reaction = model.reactions(&held.state).into_iter().find(|r| r.kind == ReactionKind::Clip).unwrap();
+    let about_axis = reaction.moment.dot(&world_axis);
+    assert!(about_axis.abs() > 1e-4, "the stop carries a moment");
+    assert!(about_axis * free_angle < 0.0, "the stop's moment on the rod opposes the turn: {about_axis} vs {free_angle}");
+    // Limits wider than the free angle change nothing.
+    let wide = (-2.0 * free_angle.abs(), 2.0 * free_angle.abs());
+    let (model, released) = solve_converged(clipped_hose(joint, Some(wide)));
+    assert!((released.state.clips[0].value - free_angle).abs() < 1e-9);
+    let reaction = model.reactions(&released.state).into_iter().find(|r| r.kind == ReactionKind::Clip).unwrap();
+    assert!(reaction.moment.dot(&world_axis).abs() < 1e-9, "no stop moment once released");
 }

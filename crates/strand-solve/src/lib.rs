@@ -12,6 +12,7 @@
 mod linear;
 mod nested;
 mod newton;
+mod qp;
 mod settings;
 
 pub use linear::SparseCholesky;

@@ -5,7 +5,7 @@ use std::time::Instant;
 use serde::Serialize;
 use strand_system::{Model, Residual, SystemState};
 
-use crate::{SolveError, SolverSettings, SparseCholesky, nested};
+use crate::{SolveError, SolverSettings, SparseCholesky, nested, qp};
 
 /// Why the iteration stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -20,6 +20,8 @@ pub enum Termination {
     LineSearchFailed,
     /// A non-finite number appeared.
     NotFinite,
+    /// The QP of a bound-constrained step (joint limits) could not be solved.
+    SubproblemFailed,
 }
 
 /// What the solver did and how good the result is.
@@ -175,8 +177,17 @@ impl<'m> Solver<'m> {
         let mut termination = Termination::MaxIterations;
         let mut stable_at_current: Option<bool> = None;
 
+        let kkt_residual = |state: &SystemState, gradient: &[f64]| {
+            if model.system().clips.iter().any(|c| c.limits.is_some()) {
+                let mut projected = gradient.to_vec();
+                model.project_onto_limits(state, &mut projected);
+                model.residual(&projected)
+            } else {
+                model.residual(gradient)
+            }
+        };
         while iterations < settings.max_iterations {
-            let residual = model.residual(&eval.gradient);
+            let residual = kkt_residual(&state, &eval.gradient);
             if !residual.combined_n.is_finite() || !eval.energy.is_finite() {
                 termination = Termination::NotFinite;
                 break;
@@ -226,6 +237,34 @@ impl<'m> Solver<'m> {
                 *s = -g;
             }
             cholesky.solve_in_place(step);
+            // Joint limits: if the Newton step leaves them, the step is the QP with the
+            // same (positive definite) Hessian and the limits as bounds.
+            let bounds = model.step_bounds(&state);
+            if bounds.iter().any(|&(i, lower, upper)| step[i] < lower || step[i] > upper) {
+                let values: &[f64] = if shift > 0.0 { shifted_values } else { &eval.hessian };
+                match qp::bounded_step(model.pattern(), values, &eval.gradient, &bounds) {
+                    Ok(bounded) => {
+                        // The exact Newton step on the QP's active set.
+                        let mut fixed_values = values.to_vec();
+                        for (s, g) in step.iter_mut().zip(&eval.gradient) {
+                            *s = -g;
+                        }
+                        qp::fix_active(model.pattern(), &mut fixed_values, step, &bounded.active);
+                        if cholesky.factor(&fixed_values) {
+                            cholesky.solve_in_place(step);
+                            for &(i, lower, upper) in &bounds {
+                                step[i] = step[i].clamp(lower, upper);
+                            }
+                        } else {
+                            step.copy_from_slice(&bounded.step);
+                        }
+                    }
+                    Err(_) => {
+                        termination = Termination::SubproblemFailed;
+                        break;
+                    }
+                }
+            }
 
             // Step-length limits keep the manifold retraction and the line search sane.
             let (rotation, translation) = model.step_size(step);
@@ -267,7 +306,7 @@ impl<'m> Solver<'m> {
                         model.evaluate(&trial, trial_eval, true);
                         evaluated = true;
                     }
-                    if model.residual(&trial_eval.gradient).combined_n < residual.combined_n {
+                    if kkt_residual(&trial, &trial_eval.gradient).combined_n < residual.combined_n {
                         accepted = true;
                         break;
                     }
@@ -291,7 +330,7 @@ impl<'m> Solver<'m> {
             Some(s) => s,
             None => cholesky.factor(&eval.hessian),
         };
-        let residual = model.residual(&eval.gradient);
+        let residual = kkt_residual(&state, &eval.gradient);
         Solution {
             report: SolveReport {
                 converged: termination == Termination::Converged,

@@ -66,6 +66,8 @@ pub struct ClipSpec {
     pub rod: RodHandle,
     /// The interior vertex held (`0 < vertex < N`).
     pub vertex: usize,
+    /// Lower and upper limit of a revolute (rad) or prismatic (m) joint, if any.
+    pub limits: Option<(f64, f64)>,
 }
 
 /// Joint coordinates of a clip: `value` is the angle (rad) of a revolute joint or the
@@ -498,10 +500,21 @@ impl System {
             if self.clips[..i].iter().any(|c| c.rod == clip.rod && c.vertex == clip.vertex) {
                 return Err(invalid(format!("another clip already holds vertex {} of rod '{}'", clip.vertex, rod.name)));
             }
+            let is_unit = |a: &Vector3<f64>| (a.norm() - 1.0).abs() < 1e-9;
             if let Joint::Revolute { axis } | Joint::Prismatic { axis } = clip.joint
-                && !((axis.norm() - 1.0).abs() < 1e-9)
+                && !is_unit(&axis)
             {
                 return Err(invalid(format!("joint axis {axis:?} must be a unit vector")));
+            }
+            if let Some((lower, upper)) = clip.limits {
+                if !matches!(clip.joint, Joint::Revolute { .. } | Joint::Prismatic { .. }) {
+                    return Err(invalid("only revolute and prismatic joints take limits".into()));
+                }
+                if !(lower.is_finite() && upper.is_finite() && lower <= 0.0 && 0.0 <= upper && lower < upper) {
+                    return Err(invalid(format!(
+                        "limits ({lower}, {upper}) must be finite with lower ≤ 0 ≤ upper and lower < upper (the joint starts at 0)"
+                    )));
+                }
             }
             let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
             if !finite(&clip.base.position) || !finite(&clip.offset.position) {

@@ -101,6 +101,7 @@ fn clipped_system() -> System {
         offset: Pose { position: Vector3::new(0.01, -0.005, 0.02), orientation: tilt(-0.3) * along_x },
         rod: RodHandle(0),
         vertex,
+        limits: None,
     };
     System {
         rods: vec![RodSpec {
