@@ -1,6 +1,7 @@
 //! Clips: what each joint kind transmits, and a fixed clip as the junction of two rods.
 
 use nalgebra::{UnitQuaternion, Vector3};
+use strand_rod::sectional::sectional;
 use strand_rod::{Rod, Section};
 use strand_system::{ClipSpec, End, Joint, Pose, ReactionKind, RodHandle, RodSpec, System};
 
@@ -121,6 +122,12 @@ fn a_fixed_clip_at_mid_length_splits_a_rod_into_two_clamped_rods() {
     for j in 0..=20 {
         assert!((positions[j] - halves.state.rods[0].positions[j]).norm() < 1e-10, "vertex {j}");
         assert!((positions[20 + j] - halves.state.rods[1].positions[j]).norm() < 1e-10, "vertex {}", 20 + j);
+    }
+    // Sectional moments: at the clip, the moment just beyond it (the second rod's start).
+    let whole_out = sectional(&clipped_model.system().rods[0].rod, &whole.state.rods[0], &clipped_model.boundary_frames(0, &whole.state));
+    let second_out = sectional(&split_model.system().rods[1].rod, &halves.state.rods[1], &split_model.boundary_frames(1, &halves.state));
+    for j in 0..=20 {
+        assert!((whole_out.moments[20 + j] - second_out.moments[j]).norm() < 1e-9, "moment at vertex {}", 20 + j);
     }
     // The clip carries what the two inner clamps carry together.
     let clip = clipped_model.reactions(&whole.state).into_iter().find(|r| r.kind == ReactionKind::Clip).unwrap();

@@ -81,6 +81,7 @@ impl NominalRod {
         BoundaryFrames {
             start: Some(self.start_frame),
             end: Some(self.end_frame),
+            clips: Vec::new(),
         }
     }
 
@@ -222,6 +223,7 @@ impl Rod {
         let boundary = BoundaryFrames {
             start: Some(start_frame),
             end: Some(end_frame),
+            clips: Vec::new(),
         };
         let rest_curvatures = (0..=n)
             .map(|j| {

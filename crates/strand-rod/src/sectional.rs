@@ -19,12 +19,15 @@ use crate::{Rod, RodState};
 
 /// Boundary frames of a rod: `Some` where an end is attached with its frame (clamp,
 /// port, clip), `None` at a free or pinned end (no boundary curvature term).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct BoundaryFrames {
     /// Boundary frame `q_0` at vertex 0.
     pub start: Option<UnitQuaternion<f64>>,
     /// Boundary frame `q_N` at vertex N.
     pub end: Option<UnitQuaternion<f64>>,
+    /// Frames of clips at interior vertices `(vertex, frame)`: the curvature term there
+    /// is split into two half-cells around the clip frame.
+    pub clips: Vec<(usize, UnitQuaternion<f64>)>,
 }
 
 /// The frames adjacent to vertex `j`: `(q_a, q_b)` when the vertex carries a curvature
@@ -107,13 +110,20 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
     }
     for j in 0..=n {
         let weight = rod.vertex_weight(j);
+        // At a clip, the half-cell after the clip frame: the moment the rod carries just
+        // beyond the clip (the clip's own moment is its reaction).
+        let clip = boundary.clips.iter().find(|(vertex, _)| *vertex == j).map(|(_, q)| *q);
+        let (frames, cell_weight) = match &clip {
+            Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
+            None => (vertex_frames(state, boundary, j), weight),
+        };
         let (curvature, moment, vertex_hamiltonian, tangent) =
-            match vertex_frames(state, boundary, j) {
+            match frames {
                 Some((q_a, q_b)) => {
                     let element = BendTwist {
                         frame_a: q_a,
                         frame_b: q_b,
-                        weight,
+                        weight: cell_weight,
                         stiffness: &c_kappa,
                         rest_curvature: rod.rest_curvature(j),
                     };
@@ -125,6 +135,7 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
                     let tangent_frame = match j {
                         0 => *q_a,
                         j if j == n => *q_b,
+                        _ if clip.is_some() => *q_a,
                         _ => crate::so3::mid_frame(q_a, q_b),
                     };
                     let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);

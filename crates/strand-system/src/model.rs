@@ -188,6 +188,14 @@ impl Model {
         BoundaryFrames {
             start: self.system.end_placement(&spec.start, false, &state.bodies).1,
             end: self.system.end_placement(&spec.end, true, &state.bodies).1,
+            clips: self
+                .system
+                .clips
+                .iter()
+                .zip(&state.clips)
+                .filter(|(clip, _)| clip.rod.0 == rod)
+                .map(|(clip, joint)| (clip.vertex, clip.output(joint).orientation))
+                .collect(),
         }
     }
 
