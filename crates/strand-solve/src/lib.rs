@@ -9,6 +9,7 @@
 //! newtons ([`strand_system::Residual`]); every [`Solution`] says whether it converged
 //! and whether the equilibrium is stable.
 
+pub mod continuation;
 mod linear;
 mod nested;
 mod newton;

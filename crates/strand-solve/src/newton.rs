@@ -5,7 +5,7 @@ use std::time::Instant;
 use serde::Serialize;
 use strand_system::{Model, Residual, SystemState};
 
-use crate::{SolveError, SolverSettings, SparseCholesky, nested, qp};
+use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, qp};
 
 /// Why the iteration stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -40,6 +40,10 @@ pub struct SolveReport {
     /// Newton iterations of the coarse-model solve that produced the initial guess
     /// (nested iteration; 0 when not used).
     pub coarse_iterations: usize,
+    /// Load steps of the continuation that produced this result (0: direct solve).
+    pub continuation_steps: usize,
+    /// Newton iterations spent in the continuation's load steps.
+    pub continuation_iterations: usize,
     /// Iterations whose Hessian needed a diagonal shift to become positive definite.
     pub shifted_iterations: usize,
     /// Whether the Hessian at the returned state is positive definite (a stable
@@ -142,7 +146,15 @@ impl<'m> Solver<'m> {
                 initial = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
             }
         }
+        let continuation_start = settings.load_continuation.then(|| initial.clone());
         let mut solution = self.newton(initial, settings);
+        if let Some(start) = continuation_start.filter(|_| !solution.report.converged)
+            && let Some((ramped, steps)) = continuation::ramp(self.model, start, settings)?
+            && ramped.report.converged
+        {
+            solution = ramped;
+            solution.report.continuation_steps = steps;
+        }
         solution.report.coarse_iterations = coarse_iterations;
         solution.report.solve_seconds = started.elapsed().as_secs_f64();
         Ok(solution)
@@ -339,6 +351,8 @@ impl<'m> Solver<'m> {
                 tolerance_n: settings.tolerance_n,
                 iterations,
                 coarse_iterations: 0,
+                continuation_steps: 0,
+                continuation_iterations: 0,
                 shifted_iterations,
                 stable,
                 energy_j: eval.energy,

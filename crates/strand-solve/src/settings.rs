@@ -21,6 +21,9 @@ pub struct SolverSettings {
     /// Start rods of more than 64 segments from the solution of a coarsened copy of the
     /// system (nested iteration). Turn off when warm-starting from a nearby solution.
     pub nested_iteration: bool,
+    /// When a solve does not converge, ramp gravity and dead loads up in steps
+    /// (1/8, 1/4, 1/2, 3/4, 1), each warm-started, and report that result instead.
+    pub load_continuation: bool,
 }
 
 impl Default for SolverSettings {
@@ -32,6 +35,7 @@ impl Default for SolverSettings {
             max_translation_step: 0.25,
             max_line_search_steps: 40,
             nested_iteration: true,
+            load_continuation: true,
         }
     }
 }
