@@ -12,8 +12,6 @@ use strand_cli::Exit;
 
 use crate::common::{cases_dir, strand};
 
-
-
 fn fig2_text() -> String {
     std::fs::read_to_string(cases_dir().join("elastica_fig2.ron")).unwrap()
 }

@@ -70,6 +70,14 @@ pub fn cases_dir() -> std::path::PathBuf {
 /// binary); returns the exit status, stdout and stderr.
 pub fn strand(args: &[&str]) -> (strand_cli::Exit, String, String) {
     let (mut out, mut err) = (Vec::new(), Vec::new());
-    let exit = strand_cli::run(std::iter::once("strand").chain(args.iter().copied()), &mut out, &mut err);
-    (exit, String::from_utf8(out).unwrap(), String::from_utf8(err).unwrap())
+    let exit = strand_cli::run(
+        std::iter::once("strand").chain(args.iter().copied()),
+        &mut out,
+        &mut err,
+    );
+    (
+        exit,
+        String::from_utf8(out).unwrap(),
+        String::from_utf8(err).unwrap(),
+    )
 }

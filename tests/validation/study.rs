@@ -22,7 +22,6 @@ fn demo_case() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/study_demo.ron")
 }
 
-
 fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }

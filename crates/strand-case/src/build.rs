@@ -6,6 +6,7 @@ use strand_solve::SolverSettings;
 use strand_system::{Model, RodSpec, System, SystemState, initial_state};
 
 use crate::attach::{Attachments, build_attachments, check_reach};
+use crate::clips::{clip_specs, place_clips, resolve_clips};
 use crate::ends::build_end;
 use crate::error::{CaseError, Reporter};
 use crate::nominal::{build_reference, initial_guess, nominal_end, stated_length, use_guesses};
@@ -54,6 +55,7 @@ pub(crate) fn build(
     })?;
     let sections = build_sections(&report, unit, &file.sections)?;
     let attachments = build_attachments(&report, unit, file)?;
+    let mut clips = resolve_clips(&report, unit, file)?;
     if file.rods.is_empty() {
         return Err(report.invalid("rods", "the case has no rods", "add at least one rod"));
     }
@@ -69,16 +71,8 @@ pub(crate) fn build(
                 "give every rod a unique name",
             ));
         }
-        let (rod, guess) = build_rod(
-            &report,
-            &item,
-            unit,
-            &sections,
-            &attachments,
-            def,
-            segments,
-        )?;
-        rods.push(rod);
+        let (rod, guess) = build_rod(&report, &item, unit, &sections, &attachments, def, segments)?;
+        rods.push(place_clips(&report, &item, unit, i, def, rod, &mut clips)?);
         guesses.push(guess);
     }
     attachments.check_usage(&report, file)?;
@@ -93,7 +87,7 @@ pub(crate) fn build(
     let mut system = System {
         rods,
         bodies: attachments.bodies,
-        clips: Vec::new(),
+        clips: clip_specs(clips),
         gravity,
     };
     let system_error = |source| CaseError::System {
@@ -255,10 +249,7 @@ fn build_route(
         ));
     }
     let last = route.len() - 1;
-    for (k, held, label) in [
-        (0, start, "start"),
-        (last, end, "end"),
-    ] {
+    for (k, held, label) in [(0, start, "start"), (last, end, "end")] {
         if let Some(held) = held {
             let gap = (route[k] - held).norm();
             if gap > ROUTE_END_TOLERANCE * length_m {

@@ -25,10 +25,16 @@
 //! change: Add(50))] }`) are built with [`Case::build_variant`]; [`warm_start`] carries
 //! a solution of the case onto a variant's model.
 //!
+//! Named `connectors` (nozzles fixed in space) and `junctions` (rigid bodies with
+//! ports, free-hanging or mounted) hold rod ends written `Connector("name")`,
+//! `ConnectorPin("name")`, `Port("junction", "port")` or `PortPin("junction", "port")`;
+//! [`BuiltCase::connector_names`] names the connector reactions.
+//!
 //! Units: see [`schema`]; `cases/README.md` documents the format for users.
 
 mod attach;
 mod build;
+mod clips;
 mod ends;
 mod error;
 mod nominal;

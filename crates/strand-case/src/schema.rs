@@ -5,19 +5,25 @@
 //!
 //! # Units
 //!
-//! - **lengths** — rod `length`, every `position`, `route` and `nominal` point, `outer_radius`,
-//!   `inner_radius` — are in the case's length unit, `units: (length: "mm")` or
-//!   `units: (length: "m")`;
+//! - **lengths** — rod `length`, every `position` (also of connectors, junctions and
+//!   ports), a junction's `center_of_mass`, `route` and `nominal` points,
+//!   `outer_radius`, `inner_radius` — are in the case's length unit,
+//!   `units: (length: "mm")` or `units: (length: "m")`;
+//! - a junction's `mass` in kg;
 //! - forces in N, moments in N·m;
 //! - axial and shear stiffnesses `ea`, `ga` in N; bending and torsional stiffnesses
 //!   `ei`, `gj` in N·m²;
 //! - Young's modulus in Pa, density in kg/m³, mass per length in kg/m;
 //! - gravity in m/s² (never scaled by the length unit);
-//! - directions (`tangent`, `normal`) are dimensionless and need not be unit vectors.
+//! - directions (`tangent`, `normal`, `direction`) are dimensionless and need not be
+//!   unit vectors; a connector's or port's `direction` points out of the part into the
+//!   hose.
 
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use strand_solve::SolverSettings;
+
+pub use crate::clips::{ClipDef, ClipFrameDef, JointDef};
 
 /// A 3-vector as written in a case file: `(x, y, z)`.
 pub type Vec3 = [f64; 3];
@@ -69,6 +75,16 @@ pub struct CaseFile {
         skip_serializing_if = "Vec::is_empty"
     )]
     pub junctions: Vec<(String, JunctionDef)>,
+    /// Named clips, in file order (optional): joints fixed in space that hold a rod at
+    /// an interior point, `{ "c1": (rod: "hose", at: 250, base: (...), joint: Fixed) }`
+    /// (see [`ClipDef`]).
+    #[serde(
+        default,
+        deserialize_with = "ordered_clips",
+        serialize_with = "serialize_ordered_map",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub clips: Vec<(String, ClipDef)>,
 }
 
 /// The units of a case file.
@@ -283,6 +299,18 @@ where
         deserializer,
         "junction",
         "a map of named junctions, e.g. { \"tee\": (mass: 1, position: (0, 0, 0), ports: { ... }) }",
+    )
+}
+
+/// [`ordered_map`] for `clips`.
+fn ordered_clips<'de, D>(deserializer: D) -> Result<Vec<(String, ClipDef)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "clip",
+        "a map of named clips, e.g. { \"c1\": (rod: \"hose\", at: 250, base: (...), joint: Fixed) }",
     )
 }
 

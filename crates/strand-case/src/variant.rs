@@ -160,8 +160,16 @@ fn resolve(report: &Reporter, at: &str, file: &CaseFile, item: &str) -> Result<T
             .map(Target::JunctionMass);
     }
     if let Some(rest) = item.strip_prefix("connectors.") {
-        return resolve_named(report, at, item, rest, "connector", &file.connectors, "position")
-            .map(Target::ConnectorPosition);
+        return resolve_named(
+            report,
+            at,
+            item,
+            rest,
+            "connector",
+            &file.connectors,
+            "position",
+        )
+        .map(Target::ConnectorPosition);
     }
     let Some(rest) = item.strip_prefix("rods.") else {
         return Err(unknown(
@@ -444,8 +452,14 @@ pub(crate) fn apply(report: &Reporter, file: &CaseFile, name: &str) -> Result<Ca
                 for rod in &mut out.rods {
                     for (held, first) in [(&rod.start, true), (&rod.end, false)] {
                         let at_connector = matches!(held, EndDef::Connector(n) | EndDef::ConnectorPin(n) if n == name);
-                        if let Some(route) = rod.route.as_mut().filter(|r| at_connector && !r.is_empty()) {
-                            let point = if first { &mut route[0] } else { route.last_mut().expect("non-empty") };
+                        if let Some(route) =
+                            rod.route.as_mut().filter(|r| at_connector && !r.is_empty())
+                        {
+                            let point = if first {
+                                &mut route[0]
+                            } else {
+                                route.last_mut().expect("non-empty")
+                            };
                             for i in 0..3 {
                                 point[i] += new[i] - old[i];
                             }

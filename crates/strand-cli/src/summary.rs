@@ -120,7 +120,10 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         significant(doc.timing_s.total * 1e3, 3)
     );
     if !doc.bodies.is_empty() {
-        let _ = writeln!(s, "bodies      (pose of the body frame; rotation from the world frame)");
+        let _ = writeln!(
+            s,
+            "bodies      (pose of the body frame; rotation from the world frame)"
+        );
         let width = doc.bodies.iter().map(|b| b.name.len()).max().unwrap_or(0);
         for b in &doc.bodies {
             let (angle, axis) = rotation(&b.orientation_quaternion_wxyz);
@@ -152,7 +155,10 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         let grouped = !doc.reactions.iter().all(|r| r.kind == "connector");
         for (kind, heading) in [
             ("connector", "connectors (fixed in space)"),
-            ("port", "junction ports (the junction's side: minus these)"),
+            (
+                "port",
+                "junction ports (on the rod; the junction feels the opposite)",
+            ),
         ] {
             let group: Vec<_> = doc.reactions.iter().filter(|r| r.kind == kind).collect();
             if grouped && !group.is_empty() {
@@ -171,9 +177,49 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
             }
         }
     }
+    clip_lines(&mut s, doc, unit);
     let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(s, "written     {}", files.join(", "));
     s
+}
+
+/// One line per clip: where it holds its rod, its joint value, its reaction.
+fn clip_lines(s: &mut String, doc: &ResultDoc, unit: LengthUnit) {
+    if doc.clips.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "clips       (joint value; force and moment on the rod about the clipped vertex)"
+    );
+    let width = doc.clips.iter().map(|c| c.name.len()).max().unwrap_or(0);
+    let longest_m = doc.rods.iter().map(|r| r.length_m).fold(0.0, f64::max);
+    let (force_noise, moment_noise) = (doc.tolerance_n, doc.tolerance_n * longest_m);
+    for c in &doc.clips {
+        let state = match (c.joint.as_str(), c.value, c.rotation_wxyz) {
+            ("revolute", Some(v), _) => format!("revolute {}°", significant(v.to_degrees(), 4)),
+            ("prismatic", Some(v), _) => format!("prismatic {} {unit}", number(v / unit.metres())),
+            ("spherical", _, Some(q)) => {
+                let (angle, axis) = rotation(&q);
+                format!(
+                    "spherical {}° about {}",
+                    significant(angle.to_degrees(), 4),
+                    vector(&axis, 1.0, 1e-12)
+                )
+            }
+            (joint, ..) => joint.to_string(),
+        };
+        let limit = if c.at_limit { " (at limit)" } else { "" };
+        let _ = writeln!(
+            s,
+            "  {:width$}  {} at s = {} {unit}  {state}{limit}  force {} N  moment {} N·m",
+            c.name,
+            c.rod,
+            number(c.s_m / unit.metres()),
+            vector(&c.force_n, 1.0, force_noise),
+            vector(&c.moment_nm, 1.0, moment_noise),
+        );
+    }
 }
 
 #[cfg(test)]

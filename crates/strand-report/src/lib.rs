@@ -15,13 +15,17 @@
 //! `bending_moment_Nm`, `torsion_Nm`, `total_moment_Nm`, `hamiltonian_N`,
 //! `curvature_1pm`, per-edge `edge_force_N`}], `reactions` [{`name`, `kind`, `rod`,
 //! `end`, `position_m`, `force_N`, `moment_Nm`}], `bodies` [{`name`, `fixed`,
-//! `position_m`, `orientation_quaternion_wxyz`, `rotation_matrix`, `mass_kg`}].
+//! `position_m`, `orientation_quaternion_wxyz`, `rotation_matrix`, `mass_kg`}],
+//! `clips` [{`name`, `rod`, `vertex`, `s_m`, `position_m`, `joint`, `axis_world`,
+//! `value` (rad or m; `null` for fixed and spherical joints), `rotation_wxyz`
+//! (spherical), `limits`, `at_limit`, `force_N`, `moment_Nm`}].
 //!
 //! Variant studies: [`study_peaks`] and [`study_csv`] tabulate the peak internal force
 //! and moment of every rod in every variant with the change against the first variant;
 //! [`study_svg`] plots `|f|` and `|m|` against arc length (from the rod's
 //! [`arc_origin`]) in two stacked panels, as self-contained SVG.
 
+mod clips;
 mod csv;
 mod result;
 mod study;
@@ -31,6 +35,7 @@ mod write;
 #[cfg(test)]
 mod tests;
 
+pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
 pub use result::{
     BodyResult, ReactionResult, ResultDoc, RodResult, Timing, collect, name_connectors,

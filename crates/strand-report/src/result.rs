@@ -75,6 +75,9 @@ pub struct ResultDoc {
     /// Rigid bodies (junctions) at their solved poses.
     #[serde(default)]
     pub bodies: Vec<BodyResult>,
+    /// Clips: joint coordinates and reactions (see [`crate::ClipResult`]).
+    #[serde(default)]
+    pub clips: Vec<crate::ClipResult>,
 }
 
 /// A rigid body (junction) at its solved pose.
@@ -203,8 +206,9 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
             }
         })
         .collect();
-    let reactions = model
-        .reactions(&solution.state)
+    let all_reactions = model.reactions(&solution.state);
+    let clips = crate::clips::collect_clips(model, solution, &all_reactions);
+    let reactions = all_reactions
         .into_iter()
         .map(|r| ReactionResult {
             name: r.name,
@@ -264,6 +268,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         rods,
         reactions,
         bodies,
+        clips,
     }
 }
 

@@ -198,6 +198,7 @@ pub(crate) mod tests {
             rods: vec![a, b],
             reactions: Vec::new(),
             bodies: Vec::new(),
+            clips: Vec::new(),
         }
     }
 

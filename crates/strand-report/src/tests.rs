@@ -185,3 +185,158 @@ fn atomic_single_file() {
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "two");
     assert_eq!(listing(tmp.path()), vec!["a.txt"]);
 }
+
+/// Two rods hanging a free 0.5 kg body between clamps: "in" ends at its port "a",
+/// "out" starts at its port "b"; a third rod "solo" has no port.
+fn junction_model() -> (Model, strand_solve::Solution) {
+    use strand_system::{BodyHandle, BodySpec, EndLoad, Port, Pose, Support};
+    let section = Section::try_explicit(3e4, 1e4, 1.0, 1.0, 0.1, 0.0).unwrap();
+    let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    let port = |name: &str, sign: f64| Port {
+        name: name.into(),
+        position: Vector3::new(sign * 0.02, 0.0, 0.0),
+        frame: if sign > 0.0 {
+            along_x
+        } else {
+            along_x * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+        },
+    };
+    let at_port = |port| End {
+        support: Support::Port {
+            body: BodyHandle(0),
+            port,
+            clamped: true,
+        },
+        load: EndLoad::default(),
+    };
+    let rod = |length| Rod::try_straight(section, length, 6).unwrap();
+    let system = System {
+        rods: vec![
+            RodSpec {
+                name: "in".into(),
+                rod: rod(0.5),
+                start: End::clamped(Vector3::new(-0.5, 0.0, 0.0), along_x),
+                end: at_port(0),
+                route: None,
+            },
+            RodSpec {
+                name: "out".into(),
+                rod: rod(0.5),
+                start: at_port(1),
+                end: End::pinned(Vector3::new(0.5, 0.0, 0.0)),
+                route: None,
+            },
+            RodSpec {
+                name: "solo".into(),
+                rod: rod(0.3),
+                start: End::clamped(Vector3::new(0.0, 1.0, 0.0), along_x),
+                end: End::free(),
+                route: None,
+            },
+        ],
+        bodies: vec![BodySpec {
+            name: "tee".into(),
+            mass: 0.5,
+            center_of_mass: Vector3::zeros(),
+            pose: Pose {
+                position: Vector3::zeros(),
+                orientation: UnitQuaternion::identity(),
+            },
+            fixed: false,
+            ports: vec![port("a", -1.0), port("b", 1.0)],
+        }],
+        clips: Vec::new(),
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    };
+    let model = Model::try_new(system).unwrap();
+    let solution = solve(
+        &model,
+        initial_state(model.system()),
+        &SolverSettings::default(),
+    )
+    .unwrap();
+    assert!(solution.report.converged, "{:?}", solution.report);
+    (model, solution)
+}
+
+#[test]
+fn bodies_ports_and_named_connectors_are_reported() {
+    let (model, solution) = junction_model();
+    let mut doc = collect("tee_case", &model, &solution, Timing::default());
+    assert_eq!(doc.bodies.len(), 1);
+    let body = &doc.bodies[0];
+    let pose = solution.state.bodies[0];
+    assert_eq!(
+        (body.name.as_str(), body.fixed, body.mass_kg),
+        ("tee", false, 0.5)
+    );
+    assert_eq!(
+        body.position_m,
+        [pose.position.x, pose.position.y, pose.position.z]
+    );
+    assert!(pose.position.z < -1e-3, "the body hangs: {pose:?}");
+    let [w, x, y, z] = body.orientation_quaternion_wxyz;
+    assert!(((w * w + x * x + y * y + z * z) - 1.0).abs() < 1e-12);
+    let matrix = pose.orientation.to_rotation_matrix().into_inner();
+    for (i, row) in body.rotation_matrix.iter().enumerate() {
+        for (k, value) in row.iter().enumerate() {
+            assert_eq!(*value, matrix[(i, k)]);
+        }
+    }
+    let kinds: Vec<(&str, &str)> = doc
+        .reactions
+        .iter()
+        .map(|r| (r.name.as_str(), r.kind.as_str()))
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            ("in.start", "connector"),
+            ("tee.a", "port"),
+            ("tee.b", "port"),
+            ("out.end", "connector"),
+            ("solo.start", "connector")
+        ]
+    );
+    name_connectors(
+        &mut doc,
+        &[
+            [Some("radiator".into()), None],
+            [None, Some("engine".into())],
+            [None, None],
+        ],
+    );
+    let names: Vec<&str> = doc.reactions.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["radiator", "tee.a", "tee.b", "engine", "solo.start"]
+    );
+    // The document round-trips through JSON with its bodies.
+    let json = serde_json::to_string(&doc).unwrap();
+    let back: ResultDoc = serde_json::from_str(&json).unwrap();
+    assert_eq!(back.bodies, doc.bodies);
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    for key in [
+        "name",
+        "fixed",
+        "position_m",
+        "orientation_quaternion_wxyz",
+        "rotation_matrix",
+        "mass_kg",
+    ] {
+        assert!(
+            value["bodies"][0].get(key).is_some(),
+            "missing bodies[0].{key}"
+        );
+    }
+}
+
+#[test]
+fn arc_length_is_measured_from_the_junction() {
+    let (model, _) = junction_model();
+    let origins: Vec<ArcOrigin> = (0..3).map(|r| arc_origin(&model, r)).collect();
+    assert_eq!(
+        origins,
+        [ArcOrigin::End, ArcOrigin::Start, ArcOrigin::Start]
+    );
+}

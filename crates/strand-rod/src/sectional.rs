@@ -112,45 +112,48 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
         let weight = rod.vertex_weight(j);
         // At a clip, the half-cell after the clip frame: the moment the rod carries just
         // beyond the clip (the clip's own moment is its reaction).
-        let clip = boundary.clips.iter().find(|(vertex, _)| *vertex == j).map(|(_, q)| *q);
+        let clip = boundary
+            .clips
+            .iter()
+            .find(|(vertex, _)| *vertex == j)
+            .map(|(_, q)| *q);
         let (frames, cell_weight) = match &clip {
             Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
             None => (vertex_frames(state, boundary, j), weight),
         };
-        let (curvature, moment, vertex_hamiltonian, tangent) =
-            match frames {
-                Some((q_a, q_b)) => {
-                    let element = BendTwist {
-                        frame_a: q_a,
-                        frame_b: q_b,
-                        weight: cell_weight,
-                        stiffness: &c_kappa,
-                        rest_curvature: rod.rest_curvature(j),
-                    };
-                    let derivatives = bend_twist(&element);
-                    let curvature = element.curvature();
-                    let delta = curvature - rod.rest_curvature(j);
-                    let m_material = c_kappa.component_mul(&delta);
-                    let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
-                    let tangent_frame = match j {
-                        0 => *q_a,
-                        j if j == n => *q_b,
-                        _ if clip.is_some() => *q_a,
-                        _ => crate::so3::mid_frame(q_a, q_b),
-                    };
-                    let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
-                    (curvature, moment, h, tangent_frame * Vector3::z())
-                }
-                None => {
-                    let edge = if j == 0 { 0 } else { n - 1 };
-                    (
-                        Vector3::zeros(),
-                        Vector3::zeros(),
-                        0.0,
-                        state.frames[edge] * Vector3::z(),
-                    )
-                }
-            };
+        let (curvature, moment, vertex_hamiltonian, tangent) = match frames {
+            Some((q_a, q_b)) => {
+                let element = BendTwist {
+                    frame_a: q_a,
+                    frame_b: q_b,
+                    weight: cell_weight,
+                    stiffness: &c_kappa,
+                    rest_curvature: rod.rest_curvature(j),
+                };
+                let derivatives = bend_twist(&element);
+                let curvature = element.curvature();
+                let delta = curvature - rod.rest_curvature(j);
+                let m_material = c_kappa.component_mul(&delta);
+                let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
+                let tangent_frame = match j {
+                    0 => *q_a,
+                    j if j == n => *q_b,
+                    _ if clip.is_some() => *q_a,
+                    _ => crate::so3::mid_frame(q_a, q_b),
+                };
+                let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
+                (curvature, moment, h, tangent_frame * Vector3::z())
+            }
+            None => {
+                let edge = if j == 0 { 0 } else { n - 1 };
+                (
+                    Vector3::zeros(),
+                    Vector3::zeros(),
+                    0.0,
+                    state.frames[edge] * Vector3::z(),
+                )
+            }
+        };
         let (mut force, mut edge_h) = (Vector3::zeros(), 0.0);
         for e in [j.wrapping_sub(1), j] {
             if e < n {

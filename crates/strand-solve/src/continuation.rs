@@ -31,7 +31,11 @@ pub(crate) fn ramp(
     initial: SystemState,
     settings: &SolverSettings,
 ) -> Result<Option<(Solution, usize)>, SolveError> {
-    let step_settings = SolverSettings { nested_iteration: false, load_continuation: false, ..settings.clone() };
+    let step_settings = SolverSettings {
+        nested_iteration: false,
+        load_continuation: false,
+        ..settings.clone()
+    };
     let mut state = initial;
     let mut iterations = 0;
     for &factor in &LOAD_STEPS {

@@ -35,13 +35,23 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
     }
     let mut rods = Vec::with_capacity(system.rods.len());
     let mut kept = Vec::with_capacity(system.rods.len());
-    for spec in &system.rods {
+    for (r, spec) in system.rods.iter().enumerate() {
         let n = spec.rod.segments();
-        let indices = if n > COARSE_THRESHOLD {
+        let mut indices = if n > COARSE_THRESHOLD {
             coarse_indices(n)
         } else {
             (0..=n).collect()
         };
+        // Clipped vertices stay vertices of the coarse rod.
+        indices.extend(
+            system
+                .clips
+                .iter()
+                .filter(|c| c.rod.0 == r)
+                .map(|c| c.vertex),
+        );
+        indices.sort_unstable();
+        indices.dedup();
         let coarse = coarse_rod(&spec.rod, &indices)?;
         rods.push(RodSpec {
             rod: coarse,
@@ -49,11 +59,24 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
         });
         kept.push(indices);
     }
+    let clips = system
+        .clips
+        .iter()
+        .map(|clip| {
+            let vertex = kept[clip.rod.0]
+                .binary_search(&clip.vertex)
+                .expect("clipped vertex kept");
+            strand_system::ClipSpec {
+                vertex,
+                ..clip.clone()
+            }
+        })
+        .collect();
     Some((
         System {
             rods,
             bodies: system.bodies.clone(),
-            clips: system.clips.clone(),
+            clips,
             gravity: system.gravity,
         },
         kept,
@@ -79,7 +102,9 @@ fn coarse_rod(rod: &Rod, indices: &[usize]) -> Option<Rod> {
     let mut coarse_frames = Vec::with_capacity(indices.len() - 1);
     for w in indices.windows(2) {
         let length: f64 = (w[0]..w[1]).map(|e| rod.edge_length(e)).sum();
-        let chord: Vector3<f64> = (w[0]..w[1]).map(|e| frames[e] * rod.rest_strain(e) * rod.edge_length(e)).sum();
+        let chord: Vector3<f64> = (w[0]..w[1])
+            .map(|e| frames[e] * rod.rest_strain(e) * rod.edge_length(e))
+            .sum();
         let frame = frames[middle(w)];
         lengths.push(length);
         strains.push(frame.inverse() * chord / length);
@@ -89,12 +114,18 @@ fn coarse_rod(rod: &Rod, indices: &[usize]) -> Option<Rod> {
     let start_boundary = frames[0] * relative(0).inverse();
     let end_boundary = frames[n - 1] * relative(n);
     let mut curvatures = Vec::with_capacity(nc + 1);
-    curvatures.push(so3::relative_rotation_vector(&start_boundary, &coarse_frames[0]) / (0.5 * lengths[0]));
+    curvatures.push(
+        so3::relative_rotation_vector(&start_boundary, &coarse_frames[0]) / (0.5 * lengths[0]),
+    );
     for c in 1..nc {
         let weight = 0.5 * (lengths[c - 1] + lengths[c]);
-        curvatures.push(so3::relative_rotation_vector(&coarse_frames[c - 1], &coarse_frames[c]) / weight);
+        curvatures
+            .push(so3::relative_rotation_vector(&coarse_frames[c - 1], &coarse_frames[c]) / weight);
     }
-    curvatures.push(so3::relative_rotation_vector(&coarse_frames[nc - 1], &end_boundary) / (0.5 * lengths[nc - 1]));
+    curvatures.push(
+        so3::relative_rotation_vector(&coarse_frames[nc - 1], &end_boundary)
+            / (0.5 * lengths[nc - 1]),
+    );
     Rod::try_new(*rod.section(), lengths, strains, curvatures).ok()
 }
 
@@ -113,7 +144,11 @@ pub(crate) fn restrict(state: &SystemState, kept: &[Vec<usize>]) -> SystemState 
             RodState::new(positions, frames)
         })
         .collect();
-    SystemState { rods, bodies: state.bodies.clone(), clips: state.clips.clone() }
+    SystemState {
+        rods,
+        bodies: state.bodies.clone(),
+        clips: state.clips.clone(),
+    }
 }
 
 /// The coarse solution carried to the fine model.
@@ -130,7 +165,11 @@ pub(crate) fn prolong(
         .enumerate()
         .map(|(r, spec)| prolong_rod(spec, coarse, r, coarse_state, &kept[r]))
         .collect();
-    SystemState { rods, bodies: coarse_state.bodies.clone(), clips: coarse_state.clips.clone() }
+    SystemState {
+        rods,
+        bodies: coarse_state.bodies.clone(),
+        clips: coarse_state.clips.clone(),
+    }
 }
 
 fn prolong_rod(
@@ -230,7 +269,8 @@ mod tests {
             })
             .collect();
         let section = Section::try_explicit(3e4, 1e4, 1.0, 0.8, 0.0, 0.0).unwrap();
-        let nominal = Rod::try_from_nominal(section, &NominalShape::from_points(points), 200).unwrap();
+        let nominal =
+            Rod::try_from_nominal(section, &NominalShape::from_points(points), 200).unwrap();
         let system = System {
             rods: vec![RodSpec {
                 name: "moulded".into(),
@@ -245,7 +285,11 @@ mod tests {
         };
         let (coarse_system, kept) = coarsen(&system).expect("coarsened");
         let coarse = Model::try_new(coarse_system).unwrap();
-        let fine_state = SystemState { rods: vec![nominal.state.clone()], bodies: vec![], clips: vec![] };
+        let fine_state = SystemState {
+            rods: vec![nominal.state.clone()],
+            bodies: vec![],
+            clips: vec![],
+        };
         let coarse_state = restrict(&fine_state, &kept);
         let mut eval = coarse.new_evaluation();
         coarse.evaluate(&coarse_state, &mut eval, false);

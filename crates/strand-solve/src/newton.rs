@@ -126,7 +126,8 @@ impl<'m> Solver<'m> {
         let mut initial = initial;
         self.model.enforce_supports(&mut initial);
         self.model.evaluate(&initial, &mut self.eval, false);
-        let already_converged = self.model.residual(&self.eval.gradient).combined_n <= settings.tolerance_n;
+        let already_converged =
+            self.model.residual(&self.eval.gradient).combined_n <= settings.tolerance_n;
         if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
             .filter(|_| settings.nested_iteration && !already_converged)
         {
@@ -252,8 +253,15 @@ impl<'m> Solver<'m> {
             // Joint limits: if the Newton step leaves them, the step is the QP with the
             // same (positive definite) Hessian and the limits as bounds.
             let bounds = model.step_bounds(&state);
-            if bounds.iter().any(|&(i, lower, upper)| step[i] < lower || step[i] > upper) {
-                let values: &[f64] = if shift > 0.0 { shifted_values } else { &eval.hessian };
+            if bounds
+                .iter()
+                .any(|&(i, lower, upper)| step[i] < lower || step[i] > upper)
+            {
+                let values: &[f64] = if shift > 0.0 {
+                    shifted_values
+                } else {
+                    &eval.hessian
+                };
                 match qp::bounded_step(model.pattern(), values, &eval.gradient, &bounds) {
                     Ok(bounded) => {
                         // The exact Newton step on the QP's active set.

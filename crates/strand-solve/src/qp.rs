@@ -24,7 +24,13 @@ pub(crate) fn bounded_step(
     bounds: &[(usize, f64, f64)],
 ) -> Result<BoundedStep, SolveError> {
     let n = pattern.dim();
-    let p = CscMatrix::new(n, n, pattern.col_ptr.clone(), pattern.row_idx.clone(), values.to_vec());
+    let p = CscMatrix::new(
+        n,
+        n,
+        pattern.col_ptr.clone(),
+        pattern.row_idx.clone(),
+        values.to_vec(),
+    );
     // Rows 2k (d_i ≤ upper) and 2k+1 (−d_i ≤ −lower) of bound k, as `A d + s = b, s ≥ 0`.
     let mut order: Vec<usize> = (0..bounds.len()).collect();
     order.sort_by_key(|&k| bounds[k].0);
@@ -43,17 +49,27 @@ pub(crate) fn bounded_step(
     }
     col_ptr.push(row_idx.len());
     let a = CscMatrix::new(2 * bounds.len(), n, col_ptr, row_idx, a_values);
-    let b: Vec<f64> = bounds.iter().flat_map(|&(_, lower, upper)| [upper, -lower]).collect();
+    let b: Vec<f64> = bounds
+        .iter()
+        .flat_map(|&(_, lower, upper)| [upper, -lower])
+        .collect();
     let cones = [NonnegativeConeT(2 * bounds.len())];
     // Moderate accuracy: the QP only has to find which stops are active; the exact step
     // on that active set is then computed with the sparse Cholesky ([`fix_active`]).
-    let settings = DefaultSettings::<f64> { verbose: false, ..Default::default() };
+    let settings = DefaultSettings::<f64> {
+        verbose: false,
+        ..Default::default()
+    };
     let mut solver = DefaultSolver::new(&p, gradient, &a, &b, &cones, settings)
         .map_err(|e| SolveError::Linear(format!("QP set-up failed: {e:?}")))?;
     solver.solve();
     match solver.solution.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {}
-        status => return Err(SolveError::Linear(format!("the bound-constrained step QP ended with {status:?}"))),
+        status => {
+            return Err(SolveError::Linear(format!(
+                "the bound-constrained step QP ended with {status:?}"
+            )));
+        }
     }
     let mut step = solver.solution.x.clone();
     let mut active = Vec::new();
@@ -72,8 +88,18 @@ pub(crate) fn bounded_step(
 /// The Hessian and right-hand side of the Newton step with the `active` unknowns fixed
 /// at their values: their rows and columns become unit rows, their known values move to
 /// the right-hand side `rhs` (which holds `−g` on entry).
-pub(crate) fn fix_active(pattern: &HessianPattern, values: &mut [f64], rhs: &mut [f64], active: &[(usize, f64)]) {
-    let fixed = |i: usize| active.iter().find(|&&(index, _)| index == i).map(|&(_, v)| v);
+pub(crate) fn fix_active(
+    pattern: &HessianPattern,
+    values: &mut [f64],
+    rhs: &mut [f64],
+    active: &[(usize, f64)],
+) {
+    let fixed = |i: usize| {
+        active
+            .iter()
+            .find(|&&(index, _)| index == i)
+            .map(|&(_, v)| v)
+    };
     for column in 0..pattern.dim() {
         for k in pattern.col_ptr[column]..pattern.col_ptr[column + 1] {
             let row = pattern.row_idx[k];
@@ -116,10 +142,20 @@ mod tests {
             values[pattern.col_ptr[c] + at] = diag[c];
         }
         let gradient = [-2.0, 8.0, -3.0];
-        let result = bounded_step(&pattern, &values, &gradient, &[(1, -0.5, 10.0), (2, -10.0, 1.0)]).unwrap();
+        let result = bounded_step(
+            &pattern,
+            &values,
+            &gradient,
+            &[(1, -0.5, 10.0), (2, -10.0, 1.0)],
+        )
+        .unwrap();
         let expected = [1.0, -0.5, 1.0];
         for i in 0..3 {
-            assert!((result.step[i] - expected[i]).abs() < 1e-9, "{:?}", result.step);
+            assert!(
+                (result.step[i] - expected[i]).abs() < 1e-9,
+                "{:?}",
+                result.step
+            );
         }
     }
 }

@@ -24,7 +24,10 @@ pub(crate) enum LocalBlock {
     /// A point of free body `body` at `lever` (body coordinates, m).
     BodyPoint { body: usize, lever: Vector3<f64> },
     /// A frame of free body `body`: `q_body ⊗ offset`.
-    BodyFrame { body: usize, offset: UnitQuaternion<f64> },
+    BodyFrame {
+        body: usize,
+        offset: UnitQuaternion<f64>,
+    },
     /// The output origin of clip `clip` (a joint with freedom).
     ClipPoint { clip: usize },
     /// The output frame of clip `clip` (a joint with freedom).
@@ -74,20 +77,40 @@ pub(crate) fn chain_rule(
     let columns = 3 * globals.len();
     let mut jacobian = DMatrix::zeros(3 * locals.len(), columns);
     let mut curvature = DMatrix::zeros(columns, columns);
-    let column = |g: usize| 3 * globals.iter().position(|&x| x == g).expect("global block of element");
-    let gradient_of = |a: usize| Vector3::new(local_gradient[3 * a], local_gradient[3 * a + 1], local_gradient[3 * a + 2]);
+    let column = |g: usize| {
+        3 * globals
+            .iter()
+            .position(|&x| x == g)
+            .expect("global block of element")
+    };
+    let gradient_of = |a: usize| {
+        Vector3::new(
+            local_gradient[3 * a],
+            local_gradient[3 * a + 1],
+            local_gradient[3 * a + 2],
+        )
+    };
     for (a, local) in locals.iter().enumerate() {
         let row = 3 * a;
         match *local {
             LocalBlock::Fixed => {}
             LocalBlock::Free(g) => {
-                jacobian.fixed_view_mut::<3, 3>(row, column(g)).copy_from(&Matrix3::identity());
+                jacobian
+                    .fixed_view_mut::<3, 3>(row, column(g))
+                    .copy_from(&Matrix3::identity());
             }
             LocalBlock::BodyPoint { body, lever } => {
                 let (t, r) = dofs.body(body).expect("free body");
-                let rotation = state.bodies[body].orientation.to_rotation_matrix().into_inner();
-                jacobian.fixed_view_mut::<3, 3>(row, column(t)).copy_from(&Matrix3::identity());
-                jacobian.fixed_view_mut::<3, 3>(row, column(r)).copy_from(&(-rotation * skew(&lever)));
+                let rotation = state.bodies[body]
+                    .orientation
+                    .to_rotation_matrix()
+                    .into_inner();
+                jacobian
+                    .fixed_view_mut::<3, 3>(row, column(t))
+                    .copy_from(&Matrix3::identity());
+                jacobian
+                    .fixed_view_mut::<3, 3>(row, column(r))
+                    .copy_from(&(-rotation * skew(&lever)));
                 if with_curvature {
                     let c = column(r);
                     let term = lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
@@ -98,7 +121,9 @@ pub(crate) fn chain_rule(
             LocalBlock::BodyFrame { body, offset } => {
                 let r = dofs.body(body).expect("free body").1;
                 let offset_matrix = offset.to_rotation_matrix().into_inner();
-                jacobian.fixed_view_mut::<3, 3>(row, column(r)).copy_from(&offset_matrix.transpose());
+                jacobian
+                    .fixed_view_mut::<3, 3>(row, column(r))
+                    .copy_from(&offset_matrix.transpose());
             }
             LocalBlock::ClipPoint { clip } => {
                 let spec = &system.clips[clip];
@@ -110,20 +135,31 @@ pub(crate) fn chain_rule(
                     Joint::Fixed => {}
                     Joint::Revolute { axis } => {
                         // r = p_B + R_B Rot(a, φ) o: ∂r/∂φ = R_B Rot (a × o).
-                        let moved = base * UnitQuaternion::from_scaled_axis(axis * joint.value).to_rotation_matrix().into_inner();
-                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(moved * axis.cross(&lever)));
+                        let moved = base
+                            * UnitQuaternion::from_scaled_axis(axis * joint.value)
+                                .to_rotation_matrix()
+                                .into_inner();
+                        jacobian
+                            .fixed_view_mut::<3, 1>(row, c)
+                            .copy_from(&(moved * axis.cross(&lever)));
                         if with_curvature {
-                            curvature[(c, c)] += gradient_of(a).dot(&(moved * axis.cross(&axis.cross(&lever))));
+                            curvature[(c, c)] +=
+                                gradient_of(a).dot(&(moved * axis.cross(&axis.cross(&lever))));
                         }
                     }
                     Joint::Prismatic { axis } => {
-                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(base * axis));
+                        jacobian
+                            .fixed_view_mut::<3, 1>(row, c)
+                            .copy_from(&(base * axis));
                     }
                     Joint::Spherical => {
                         let rotation = base * joint.rotation.to_rotation_matrix().into_inner();
-                        jacobian.fixed_view_mut::<3, 3>(row, c).copy_from(&(-rotation * skew(&lever)));
+                        jacobian
+                            .fixed_view_mut::<3, 3>(row, c)
+                            .copy_from(&(-rotation * skew(&lever)));
                         if with_curvature {
-                            let term = lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
+                            let term =
+                                lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
                             let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
                             view += term;
                         }
@@ -138,10 +174,14 @@ pub(crate) fn chain_rule(
                     Joint::Fixed | Joint::Prismatic { .. } => {}
                     // Q = q_B Rot(a, φ) q_o: a right increment R_oᵀ a δφ of Q.
                     Joint::Revolute { axis } => {
-                        jacobian.fixed_view_mut::<3, 1>(row, c).copy_from(&(offset.transpose() * axis));
+                        jacobian
+                            .fixed_view_mut::<3, 1>(row, c)
+                            .copy_from(&(offset.transpose() * axis));
                     }
                     Joint::Spherical => {
-                        jacobian.fixed_view_mut::<3, 3>(row, c).copy_from(&offset.transpose());
+                        jacobian
+                            .fixed_view_mut::<3, 3>(row, c)
+                            .copy_from(&offset.transpose());
                     }
                 }
             }

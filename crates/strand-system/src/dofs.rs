@@ -42,7 +42,10 @@ impl Dofs {
             for j in 0..=n {
                 let held = (j == 0 && spec.start.support.is_held())
                     || (j == n && spec.end.support.is_held())
-                    || system.clips.iter().any(|c| c.rod.0 == dofs.vertex_blocks.len() && c.vertex == j);
+                    || system
+                        .clips
+                        .iter()
+                        .any(|c| c.rod.0 == dofs.vertex_blocks.len() && c.vertex == j);
                 if !held {
                     vertices[j] = Some(dofs.push(BlockKind::Position, 1.0));
                 }
@@ -55,10 +58,17 @@ impl Dofs {
         }
         // Free bodies last: they couple the ends of several rods (an arrow-head pattern
         // that keeps each rod's band intact).
-        let longest_rod = system.rods.iter().map(|r| r.rod.length()).fold(0.0, f64::max);
+        let longest_rod = system
+            .rods
+            .iter()
+            .map(|r| r.rod.length())
+            .fold(0.0, f64::max);
         for body in &system.bodies {
             let blocks = (!body.fixed).then(|| {
-                (dofs.push(BlockKind::Position, 1.0), dofs.push(BlockKind::Rotation, longest_rod))
+                (
+                    dofs.push(BlockKind::Position, 1.0),
+                    dofs.push(BlockKind::Rotation, longest_rod),
+                )
             });
             dofs.body_blocks.push(blocks);
         }
@@ -67,7 +77,9 @@ impl Dofs {
         for clip in &system.clips {
             let block = match clip.joint {
                 Joint::Fixed => None,
-                Joint::Revolute { .. } | Joint::Spherical => Some(dofs.push(BlockKind::Rotation, longest_rod)),
+                Joint::Revolute { .. } | Joint::Spherical => {
+                    Some(dofs.push(BlockKind::Rotation, longest_rod))
+                }
                 Joint::Prismatic { .. } => Some(dofs.push(BlockKind::Position, 1.0)),
             };
             dofs.clip_blocks.push(block);

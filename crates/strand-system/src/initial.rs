@@ -13,7 +13,9 @@ use crate::system::{Pose, System, SystemState};
 pub fn initial_state(system: &System) -> SystemState {
     let poses = system.body_poses();
     SystemState {
-        rods: (0..system.rods.len()).map(|r| initial_rod_state(system, r, &poses)).collect(),
+        rods: (0..system.rods.len())
+            .map(|r| initial_rod_state(system, r, &poses))
+            .collect(),
         bodies: poses,
         clips: vec![Default::default(); system.clips.len()],
     }
@@ -75,22 +77,43 @@ struct Station {
 }
 
 /// The held ends and clips of a rod at their initial placement, in arc-length order.
-fn held_stations(system: &System, rod_index: usize, start: &Placement, end: &Placement) -> Vec<Station> {
+fn held_stations(
+    system: &System,
+    rod_index: usize,
+    start: &Placement,
+    end: &Placement,
+) -> Vec<Station> {
     let spec = &system.rods[rod_index];
     let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
     let arc = spec.rod.arc_lengths();
     let mut stations = Vec::new();
     if let Some(position) = start.position() {
-        stations.push(Station { s: 0.0, position, tangent: tangent_of(start.frame()) });
+        stations.push(Station {
+            s: 0.0,
+            position,
+            tangent: tangent_of(start.frame()),
+        });
     }
-    let mut clips: Vec<_> = system.clips.iter().filter(|c| c.rod.0 == rod_index).collect();
+    let mut clips: Vec<_> = system
+        .clips
+        .iter()
+        .filter(|c| c.rod.0 == rod_index)
+        .collect();
     clips.sort_by_key(|c| c.vertex);
     for clip in clips {
         let output = clip.output(&Default::default());
-        stations.push(Station { s: arc[clip.vertex], position: output.position, tangent: Some(output.orientation * Vector3::z()) });
+        stations.push(Station {
+            s: arc[clip.vertex],
+            position: output.position,
+            tangent: Some(output.orientation * Vector3::z()),
+        });
     }
     if let Some(position) = end.position() {
-        stations.push(Station { s: spec.rod.length(), position, tangent: tangent_of(end.frame()) });
+        stations.push(Station {
+            s: spec.rod.length(),
+            position,
+            tangent: tangent_of(end.frame()),
+        });
     }
     stations
 }
@@ -105,10 +128,20 @@ fn guide_curve(stations: &[Station], length: f64) -> Vec<Vector3<f64>> {
     let last = stations.last().expect("non-empty");
     let chord_direction = |a: &Station, b: &Station| {
         let chord = b.position - a.position;
-        if chord.norm() > 0.0 { chord.normalize() } else { Vector3::x() }
+        if chord.norm() > 0.0 {
+            chord.normalize()
+        } else {
+            Vector3::x()
+        }
     };
     let mut polyline = Vec::new();
-    let lead = first.tangent.unwrap_or_else(|| if stations.len() > 1 { chord_direction(first, &stations[1]) } else { Vector3::x() });
+    let lead = first.tangent.unwrap_or_else(|| {
+        if stations.len() > 1 {
+            chord_direction(first, &stations[1])
+        } else {
+            Vector3::x()
+        }
+    });
     if first.s > 0.0 {
         polyline.push(first.position - lead * first.s);
     }
@@ -127,7 +160,11 @@ fn guide_curve(stations: &[Station], length: f64) -> Vec<Vector3<f64>> {
     }
     if last.s < length {
         let trail = last.tangent.unwrap_or_else(|| {
-            if stations.len() > 1 { chord_direction(&stations[stations.len() - 2], last) } else { lead }
+            if stations.len() > 1 {
+                chord_direction(&stations[stations.len() - 2], last)
+            } else {
+                lead
+            }
         });
         polyline.push(last.position + trail * (length - last.s));
     }

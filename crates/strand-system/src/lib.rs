@@ -24,8 +24,8 @@ pub use model::{Evaluation, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
 pub use system::{
-    BodyHandle, BodySpec, ClipSpec, End, EndLoad, Joint, JointState, Pose, Port, RodHandle, RodSpec, Support, System, SystemError,
-    SystemState,
+    BodyHandle, BodySpec, ClipSpec, End, EndLoad, Joint, JointState, Port, Pose, RodHandle,
+    RodSpec, Support, System, SystemError, SystemState,
 };
 
 #[cfg(test)]

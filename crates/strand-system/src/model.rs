@@ -26,7 +26,12 @@ enum ElementKind {
     BodyWeight { body: usize },
     /// Half-cell bend–twist energy between an edge and a clip's output frame, before
     /// (`after == false`: blocks `(θ_{j−1/2}, Q)`) or after the clip (`(Q, θ_{j+1/2})`).
-    ClipHalf { rod: usize, vertex: usize, clip: usize, after: bool },
+    ClipHalf {
+        rod: usize,
+        vertex: usize,
+        clip: usize,
+        after: bool,
+    },
     /// Unit stiffness on the two spare components of a scalar joint's block.
     JointPadding,
 }
@@ -91,14 +96,24 @@ impl Model {
                 }
             }
             let direct = locals.iter().all(LocalBlock::is_direct);
-            elements.push(Element { kind, locals, globals, direct, scatter: 0..0 });
+            elements.push(Element {
+                kind,
+                locals,
+                globals,
+                direct,
+                scatter: 0..0,
+            });
         };
         for (r, spec) in system.rods.iter().enumerate() {
             let n = spec.rod.segments();
             let vertex_block = |j: usize| vertex_local(&system, &dofs, r, j);
             let frame_block = |at_end: bool| boundary_local(&system, r, at_end);
             for e in 0..n {
-                let locals = [vertex_block(e), vertex_block(e + 1), LocalBlock::Free(dofs.edge(r, e))];
+                let locals = [
+                    vertex_block(e),
+                    vertex_block(e + 1),
+                    LocalBlock::Free(dofs.edge(r, e)),
+                ];
                 push(ElementKind::Edge { rod: r, edge: e }, locals);
             }
             for j in 0..=n {
@@ -114,16 +129,44 @@ impl Model {
                     j => match system.clip_at(r, j) {
                         Some(clip) => {
                             let frame = clip_frame_local(&system, clip);
-                            let before = [LocalBlock::Free(dofs.edge(r, j - 1)), frame, LocalBlock::Fixed];
-                            let after = [frame, LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed];
-                            push(ElementKind::ClipHalf { rod: r, vertex: j, clip, after: false }, before);
-                            push(ElementKind::ClipHalf { rod: r, vertex: j, clip, after: true }, after);
+                            let before = [
+                                LocalBlock::Free(dofs.edge(r, j - 1)),
+                                frame,
+                                LocalBlock::Fixed,
+                            ];
+                            let after =
+                                [frame, LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed];
+                            push(
+                                ElementKind::ClipHalf {
+                                    rod: r,
+                                    vertex: j,
+                                    clip,
+                                    after: false,
+                                },
+                                before,
+                            );
+                            push(
+                                ElementKind::ClipHalf {
+                                    rod: r,
+                                    vertex: j,
+                                    clip,
+                                    after: true,
+                                },
+                                after,
+                            );
                             if let local @ LocalBlock::ClipPoint { .. } = vertex_block(j) {
-                                push(ElementKind::PointLoad { rod: r, vertex: j }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+                                push(
+                                    ElementKind::PointLoad { rod: r, vertex: j },
+                                    [local, LocalBlock::Fixed, LocalBlock::Fixed],
+                                );
                             }
                             continue;
                         }
-                        None => [LocalBlock::Free(dofs.edge(r, j - 1)), LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed],
+                        None => [
+                            LocalBlock::Free(dofs.edge(r, j - 1)),
+                            LocalBlock::Free(dofs.edge(r, j)),
+                            LocalBlock::Fixed,
+                        ],
                     },
                 };
                 push(ElementKind::Vertex { rod: r, vertex: j }, locals);
@@ -131,40 +174,80 @@ impl Model {
             for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
                 let edge = if at_end { n - 1 } else { 0 };
                 if end.load.moment != Vector3::zeros() {
-                    let locals = [LocalBlock::Free(dofs.edge(r, edge)), LocalBlock::Fixed, LocalBlock::Fixed];
+                    let locals = [
+                        LocalBlock::Free(dofs.edge(r, edge)),
+                        LocalBlock::Fixed,
+                        LocalBlock::Fixed,
+                    ];
                     push(ElementKind::EndMoment { rod: r, at_end }, locals);
                 }
                 let vertex = if at_end { n } else { 0 };
                 if let local @ LocalBlock::BodyPoint { .. } = vertex_block(vertex) {
-                    push(ElementKind::PointLoad { rod: r, vertex }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+                    push(
+                        ElementKind::PointLoad { rod: r, vertex },
+                        [local, LocalBlock::Fixed, LocalBlock::Fixed],
+                    );
                 }
             }
         }
         for (b, body) in system.bodies.iter().enumerate() {
             if !body.fixed {
-                let local = LocalBlock::BodyPoint { body: b, lever: body.center_of_mass };
-                push(ElementKind::BodyWeight { body: b }, [local, LocalBlock::Fixed, LocalBlock::Fixed]);
+                let local = LocalBlock::BodyPoint {
+                    body: b,
+                    lever: body.center_of_mass,
+                };
+                push(
+                    ElementKind::BodyWeight { body: b },
+                    [local, LocalBlock::Fixed, LocalBlock::Fixed],
+                );
             }
         }
         for (c, clip) in system.clips.iter().enumerate() {
-            if let (Joint::Revolute { .. } | Joint::Prismatic { .. }, Some(block)) = (clip.joint, dofs.clip(c)) {
-                push(ElementKind::JointPadding, [LocalBlock::Free(block), LocalBlock::Fixed, LocalBlock::Fixed]);
+            if let (Joint::Revolute { .. } | Joint::Prismatic { .. }, Some(block)) =
+                (clip.joint, dofs.clip(c))
+            {
+                push(
+                    ElementKind::JointPadding,
+                    [
+                        LocalBlock::Free(block),
+                        LocalBlock::Fixed,
+                        LocalBlock::Fixed,
+                    ],
+                );
             }
         }
-        let pattern =
-            HessianPattern::new(dofs.block_count(), elements.iter().map(|e| e.globals.as_slice()));
+        let pattern = HessianPattern::new(
+            dofs.block_count(),
+            elements.iter().map(|e| e.globals.as_slice()),
+        );
         let mut scatter = Vec::new();
         for element in &mut elements {
             let start = scatter.len();
             let blocks: Vec<Option<usize>> = if element.direct {
-                element.locals.iter().map(|l| if let LocalBlock::Free(g) = l { Some(*g) } else { None }).collect()
+                element
+                    .locals
+                    .iter()
+                    .map(|l| {
+                        if let LocalBlock::Free(g) = l {
+                            Some(*g)
+                        } else {
+                            None
+                        }
+                    })
+                    .collect()
             } else {
                 element.globals.iter().map(|&g| Some(g)).collect()
             };
             scatter.extend(pattern.scatter(&blocks));
             element.scatter = start..scatter.len();
         }
-        Ok(Self { system, dofs, pattern, elements, scatter })
+        Ok(Self {
+            system,
+            dofs,
+            pattern,
+            elements,
+            scatter,
+        })
     }
 
     /// The system this model was built from.
@@ -186,7 +269,10 @@ impl Model {
     pub fn boundary_frames(&self, rod: usize, state: &SystemState) -> BoundaryFrames {
         let spec = &self.system.rods[rod];
         BoundaryFrames {
-            start: self.system.end_placement(&spec.start, false, &state.bodies).1,
+            start: self
+                .system
+                .end_placement(&spec.start, false, &state.bodies)
+                .1,
             end: self.system.end_placement(&spec.end, true, &state.bodies).1,
             clips: self
                 .system
@@ -234,13 +320,22 @@ impl Model {
                     let d = self.point_load_derivatives(state, element.kind);
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
-                ElementKind::ClipHalf { rod, vertex, clip, after } => {
+                ElementKind::ClipHalf {
+                    rod,
+                    vertex,
+                    clip,
+                    after,
+                } => {
                     let d = bend_twist(&self.clip_half(state, rod, vertex, clip, after).element());
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::JointPadding => {
                     let hessian = nalgebra::Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0));
-                    let d = ElementDerivatives::<3> { energy: 0.0, gradient: Default::default(), hessian };
+                    let d = ElementDerivatives::<3> {
+                        energy: 0.0,
+                        gradient: Default::default(),
+                        hessian,
+                    };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
             }
@@ -262,8 +357,8 @@ impl Model {
                 ElementKind::Vertex { rod, vertex } => {
                     let spec = &self.system.rods[rod];
                     let c = spec.rod.section().curvature_stiffness();
-                    let (q_a, q_b) =
-                        vertex_frames(&state.rods[rod], &boundary[rod], vertex).expect("vertex element");
+                    let (q_a, q_b) = vertex_frames(&state.rods[rod], &boundary[rod], vertex)
+                        .expect("vertex element");
                     BendTwist {
                         frame_a: q_a,
                         frame_b: q_b,
@@ -273,11 +368,18 @@ impl Model {
                     }
                     .energy()
                 }
-                ElementKind::EndMoment { rod, at_end } => self.end_moment_derivatives(state, rod, at_end).energy,
+                ElementKind::EndMoment { rod, at_end } => {
+                    self.end_moment_derivatives(state, rod, at_end).energy
+                }
                 kind @ (ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. }) => {
                     self.point_load_derivatives(state, kind).energy
                 }
-                ElementKind::ClipHalf { rod, vertex, clip, after } => self.clip_half(state, rod, vertex, clip, after).energy(),
+                ElementKind::ClipHalf {
+                    rod,
+                    vertex,
+                    clip,
+                    after,
+                } => self.clip_half(state, rod, vertex, clip, after).energy(),
                 ElementKind::JointPadding => 0.0,
             };
         }
@@ -292,7 +394,9 @@ impl Model {
     }
 
     fn all_boundary_frames(&self, state: &SystemState) -> Vec<BoundaryFrames> {
-        (0..self.system.rods.len()).map(|r| self.boundary_frames(r, state)).collect()
+        (0..self.system.rods.len())
+            .map(|r| self.boundary_frames(r, state))
+            .collect()
     }
 
     /// Gravity plus dead end load on vertex `j` of rod `r`, N.
@@ -311,7 +415,10 @@ impl Model {
     /// Whether vertex `j` of rod `r` moves with a free body or a clip joint (its loads
     /// then act through a `PointLoad` element).
     fn is_on_free_body(&self, r: usize, j: usize) -> bool {
-        matches!(vertex_local(&self.system, &self.dofs, r, j), LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. })
+        matches!(
+            vertex_local(&self.system, &self.dofs, r, j),
+            LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. }
+        )
     }
 
     /// The half-cell element on one side of clip `clip` at vertex `vertex` of rod `rod`.
@@ -324,10 +431,15 @@ impl Model {
         after: bool,
     ) -> ClipHalfElement {
         let spec = &self.system.rods[rod];
-        let output = self.system.clips[clip].output(&state.clips[clip]).orientation;
+        let output = self.system.clips[clip]
+            .output(&state.clips[clip])
+            .orientation;
         let frames = &state.rods[rod].frames;
-        let (frame_a, frame_b, edge) =
-            if after { (output, frames[vertex], vertex) } else { (frames[vertex - 1], output, vertex - 1) };
+        let (frame_a, frame_b, edge) = if after {
+            (output, frames[vertex], vertex)
+        } else {
+            (frames[vertex - 1], output, vertex - 1)
+        };
         ClipHalfElement {
             frame_a,
             frame_b,
@@ -337,7 +449,12 @@ impl Model {
         }
     }
 
-    fn edge_derivatives(&self, state: &SystemState, rod: usize, edge: usize) -> ElementDerivatives<9> {
+    fn edge_derivatives(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        edge: usize,
+    ) -> ElementDerivatives<9> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().strain_stiffness();
         stretch_shear(&edge_element(&spec.rod, &state.rods[rod], &c, edge))
@@ -362,24 +479,47 @@ impl Model {
         })
     }
 
-    fn end_moment_derivatives(&self, state: &SystemState, rod: usize, at_end: bool) -> ElementDerivatives<3> {
+    fn end_moment_derivatives(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        at_end: bool,
+    ) -> ElementDerivatives<3> {
         let spec = &self.system.rods[rod];
         let frames = &state.rods[rod].frames;
-        let (frame, load) = if at_end { (frames.last(), &spec.end.load) } else { (frames.first(), &spec.start.load) };
+        let (frame, load) = if at_end {
+            (frames.last(), &spec.end.load)
+        } else {
+            (frames.first(), &spec.start.load)
+        };
         dead_moment(frame.expect("edges"), &load.moment_reference, &load.moment)
     }
 
     /// Potential `−F·r` of a constant force on a point that moves with a body.
-    fn point_load_derivatives(&self, state: &SystemState, kind: ElementKind) -> ElementDerivatives<3> {
+    fn point_load_derivatives(
+        &self,
+        state: &SystemState,
+        kind: ElementKind,
+    ) -> ElementDerivatives<3> {
         let (force, point) = match kind {
-            ElementKind::PointLoad { rod, vertex } => (self.vertex_load(rod, vertex), state.rods[rod].positions[vertex]),
+            ElementKind::PointLoad { rod, vertex } => (
+                self.vertex_load(rod, vertex),
+                state.rods[rod].positions[vertex],
+            ),
             ElementKind::BodyWeight { body } => {
                 let spec = &self.system.bodies[body];
-                (spec.mass * self.system.gravity, state.bodies[body].transform_point(&spec.center_of_mass))
+                (
+                    spec.mass * self.system.gravity,
+                    state.bodies[body].transform_point(&spec.center_of_mass),
+                )
             }
             _ => unreachable!("not a point load"),
         };
-        ElementDerivatives { energy: -force.dot(&point), gradient: -force, hessian: Default::default() }
+        ElementDerivatives {
+            energy: -force.dot(&point),
+            gradient: -force,
+            hessian: Default::default(),
+        }
     }
 
     fn accumulate<const D: usize>(
@@ -406,8 +546,15 @@ impl Model {
             return;
         }
         let locals = &element.locals[..D / 3];
-        let (jacobian, curvature) =
-            chain_rule(locals, &element.globals, &self.dofs, &self.system, state, d.gradient.as_slice(), with_hessian);
+        let (jacobian, curvature) = chain_rule(
+            locals,
+            &element.globals,
+            &self.dofs,
+            &self.system,
+            state,
+            d.gradient.as_slice(),
+            with_hessian,
+        );
         let local_gradient = DVector::from_column_slice(d.gradient.as_slice());
         let gradient = jacobian.transpose() * local_gradient;
         for (k, &g) in element.globals.iter().enumerate() {
@@ -505,7 +652,13 @@ impl Model {
 
     /// Writes `state` moved by `scale · step` into `out` (same shape as `state`),
     /// without allocating.
-    pub fn retract_into(&self, state: &SystemState, step: &[f64], scale: f64, out: &mut SystemState) {
+    pub fn retract_into(
+        &self,
+        state: &SystemState,
+        step: &[f64],
+        scale: f64,
+        out: &mut SystemState,
+    ) {
         out.clone_from(state);
         let block = |b: usize| scale * Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
         for (r, rod_state) in out.rods.iter_mut().enumerate() {
@@ -555,7 +708,11 @@ impl Model {
             let last = rod_state.positions.len() - 1;
             for (vertex, at_end, end) in [(0, false, &spec.start), (last, true, &spec.end)] {
                 if let Support::Port { .. } = end.support {
-                    let position = self.system.end_placement(end, at_end, &out.bodies).0.expect("port position");
+                    let position = self
+                        .system
+                        .end_placement(end, at_end, &out.bodies)
+                        .0
+                        .expect("port position");
                     rod_state.set_position(vertex, position);
                 }
             }
@@ -566,7 +723,8 @@ impl Model {
     pub fn residual(&self, gradient: &[f64]) -> Residual {
         let mut residual = Residual::default();
         for b in 0..self.dofs.block_count() {
-            let norm = Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
+            let norm =
+                Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]).norm();
             match self.dofs.kind(b) {
                 BlockKind::Position => residual.force_n = residual.force_n.max(norm),
                 BlockKind::Rotation => residual.moment_nm = residual.moment_nm.max(norm),
@@ -604,9 +762,10 @@ fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock 
     let spec = &system.rods[r];
     let end = if j == 0 { &spec.start } else { &spec.end };
     match end.support {
-        Support::Port { body, port, .. } if !system.bodies[body.0].fixed => {
-            LocalBlock::BodyPoint { body: body.0, lever: system.bodies[body.0].ports[port].position }
-        }
+        Support::Port { body, port, .. } if !system.bodies[body.0].fixed => LocalBlock::BodyPoint {
+            body: body.0,
+            lever: system.bodies[body.0].ports[port].position,
+        },
         _ => LocalBlock::Fixed,
     }
 }
@@ -618,10 +777,17 @@ fn boundary_local(system: &System, r: usize, at_end: bool) -> Option<LocalBlock>
     let end = if at_end { &spec.end } else { &spec.start };
     match end.support {
         Support::Clamped { .. } => Some(LocalBlock::Fixed),
-        Support::Port { body, port, clamped: true } => Some(if system.bodies[body.0].fixed {
+        Support::Port {
+            body,
+            port,
+            clamped: true,
+        } => Some(if system.bodies[body.0].fixed {
             LocalBlock::Fixed
         } else {
-            LocalBlock::BodyFrame { body: body.0, offset: system.port_offset(body, port, at_end) }
+            LocalBlock::BodyFrame {
+                body: body.0,
+                offset: system.port_offset(body, port, at_end),
+            }
         }),
         _ => None,
     }

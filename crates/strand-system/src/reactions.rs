@@ -60,17 +60,24 @@ impl Model {
             for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
                 let (kind, name) = match end.support {
                     Support::Free => continue,
-                    Support::Pinned { .. } | Support::Clamped { .. } => {
-                        (ReactionKind::Connector, format!("{}.{}", spec.name, if at_end { "end" } else { "start" }))
-                    }
+                    Support::Pinned { .. } | Support::Clamped { .. } => (
+                        ReactionKind::Connector,
+                        format!("{}.{}", spec.name, if at_end { "end" } else { "start" }),
+                    ),
                     Support::Port { body, port, .. } => {
                         let body = &system.bodies[body.0];
-                        (ReactionKind::Port, format!("{}.{}", body.name, body.ports[port].name))
+                        (
+                            ReactionKind::Port,
+                            format!("{}.{}", body.name, body.ports[port].name),
+                        )
                     }
                 };
                 let (vertex, edge, local) = if at_end { (n, n - 1, 3) } else { (0, 0, 0) };
                 let edge_derivatives = stretch_shear(&edge_element(&spec.rod, rod_state, &c, edge));
-                let force = edge_derivatives.gradient.fixed_rows::<3>(local).into_owned()
+                let force = edge_derivatives
+                    .gradient
+                    .fixed_rows::<3>(local)
+                    .into_owned()
                     - spec.rod.vertex_mass(vertex) * system.gravity
                     - end.load.force;
                 let moment = match vertex_frames(rod_state, &boundary, vertex) {
@@ -89,7 +96,16 @@ impl Model {
                     }
                     None => Vector3::zeros(),
                 };
-                out.push(Reaction { name, kind, rod: r, at_end, vertex, position: rod_state.positions[vertex], force, moment });
+                out.push(Reaction {
+                    name,
+                    kind,
+                    rod: r,
+                    at_end,
+                    vertex,
+                    position: rod_state.positions[vertex],
+                    force,
+                    moment,
+                });
             }
         }
         for (c, clip) in system.clips.iter().enumerate() {
@@ -99,13 +115,15 @@ impl Model {
             let c_gamma = spec.rod.section().strain_stiffness();
             let before = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j - 1));
             let after = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j));
-            let force = before.gradient.fixed_rows::<3>(3).into_owned() + after.gradient.fixed_rows::<3>(0).into_owned()
+            let force = before.gradient.fixed_rows::<3>(3).into_owned()
+                + after.gradient.fixed_rows::<3>(0).into_owned()
                 - spec.rod.vertex_mass(j) * system.gravity;
             let half_before = bend_twist(&self.clip_half(state, r, j, c, false).element());
             let half_after = bend_twist(&self.clip_half(state, r, j, c, true).element());
             let output = clip.output(&state.clips[c]).orientation;
             let moment = output
-                * (half_before.gradient.fixed_rows::<3>(3).into_owned() + half_after.gradient.fixed_rows::<3>(0).into_owned());
+                * (half_before.gradient.fixed_rows::<3>(3).into_owned()
+                    + half_after.gradient.fixed_rows::<3>(0).into_owned());
             out.push(Reaction {
                 name: clip.name.clone(),
                 kind: ReactionKind::Clip,

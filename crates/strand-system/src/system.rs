@@ -82,7 +82,10 @@ pub struct JointState {
 
 impl Default for JointState {
     fn default() -> Self {
-        Self { value: 0.0, rotation: UnitQuaternion::identity() }
+        Self {
+            value: 0.0,
+            rotation: UnitQuaternion::identity(),
+        }
     }
 }
 
@@ -91,7 +94,10 @@ impl ClipSpec {
     pub fn joint_motion(&self, state: &JointState) -> (Vector3<f64>, UnitQuaternion<f64>) {
         match self.joint {
             Joint::Fixed => (Vector3::zeros(), UnitQuaternion::identity()),
-            Joint::Revolute { axis } => (Vector3::zeros(), UnitQuaternion::from_scaled_axis(axis * state.value)),
+            Joint::Revolute { axis } => (
+                Vector3::zeros(),
+                UnitQuaternion::from_scaled_axis(axis * state.value),
+            ),
             Joint::Prismatic { axis } => (axis * state.value, UnitQuaternion::identity()),
             Joint::Spherical => (Vector3::zeros(), state.rotation),
         }
@@ -101,7 +107,9 @@ impl ClipSpec {
     pub fn output(&self, state: &JointState) -> Pose {
         let (translation, rotation) = self.joint_motion(state);
         Pose {
-            position: self.base.transform_point(&(translation + rotation * self.offset.position)),
+            position: self
+                .base
+                .transform_point(&(translation + rotation * self.offset.position)),
             orientation: self.base.orientation * rotation * self.offset.orientation,
         }
     }
@@ -294,7 +302,11 @@ pub struct SystemState {
 
 impl Clone for SystemState {
     fn clone(&self) -> Self {
-        Self { rods: self.rods.clone(), bodies: self.bodies.clone(), clips: self.clips.clone() }
+        Self {
+            rods: self.rods.clone(),
+            bodies: self.bodies.clone(),
+            clips: self.clips.clone(),
+        }
     }
 
     /// Reuses the allocations of `self`.
@@ -408,10 +420,15 @@ impl System {
             Support::Free => (None, None),
             Support::Pinned { position } => (Some(position), None),
             Support::Clamped { position, frame } => (Some(position), Some(frame)),
-            Support::Port { body, port, clamped } => {
+            Support::Port {
+                body,
+                port,
+                clamped,
+            } => {
                 let pose = &poses[body.0];
                 let position = pose.transform_point(&self.bodies[body.0].ports[port].position);
-                let frame = clamped.then(|| pose.orientation * self.port_offset(body, port, at_end));
+                let frame =
+                    clamped.then(|| pose.orientation * self.port_offset(body, port, at_end));
                 (Some(position), frame)
             }
         }
@@ -427,12 +444,20 @@ impl System {
         let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
         let mut names = std::collections::HashSet::new();
         for body in &self.bodies {
-            let invalid = |what: String| SystemError::InvalidBody { body: body.name.clone(), what };
+            let invalid = |what: String| SystemError::InvalidBody {
+                body: body.name.clone(),
+                what,
+            };
             if !names.insert(body.name.as_str()) {
-                return Err(invalid("two bodies have this name: body names must be unique".into()));
+                return Err(invalid(
+                    "two bodies have this name: body names must be unique".into(),
+                ));
             }
             if !(body.mass.is_finite() && body.mass >= 0.0) {
-                return Err(invalid(format!("mass must be a finite number ≥ 0 kg (got {})", body.mass)));
+                return Err(invalid(format!(
+                    "mass must be a finite number ≥ 0 kg (got {})",
+                    body.mass
+                )));
             }
             if !finite(&body.center_of_mass) || !finite(&body.pose.position) {
                 return Err(invalid("centre of mass and position must be finite".into()));
@@ -447,13 +472,21 @@ impl System {
                     let Some(b) = self.bodies.get(body.0) else {
                         return Err(SystemError::UnknownAttachment {
                             rod: spec.name.clone(),
-                            what: format!("body #{} does not exist ({} bodies)", body.0, self.bodies.len()),
+                            what: format!(
+                                "body #{} does not exist ({} bodies)",
+                                body.0,
+                                self.bodies.len()
+                            ),
                         });
                     };
                     if port >= b.ports.len() {
                         return Err(SystemError::UnknownAttachment {
                             rod: spec.name.clone(),
-                            what: format!("body '{}' has no port #{port} ({} ports)", b.name, b.ports.len()),
+                            what: format!(
+                                "body '{}' has no port #{port} ({} ports)",
+                                b.name,
+                                b.ports.len()
+                            ),
                         });
                     }
                 }
@@ -477,14 +510,19 @@ impl System {
 
     /// The clip holding vertex `vertex` of rod `rod`, if any.
     pub fn clip_at(&self, rod: usize, vertex: usize) -> Option<usize> {
-        self.clips.iter().position(|c| c.rod.0 == rod && c.vertex == vertex)
+        self.clips
+            .iter()
+            .position(|c| c.rod.0 == rod && c.vertex == vertex)
     }
 
     /// Checks that every clip holds an existing interior vertex, one clip per vertex,
     /// with a unit axis.
     fn validate_clips(&self) -> Result<(), SystemError> {
         for (i, clip) in self.clips.iter().enumerate() {
-            let invalid = |what: String| SystemError::InvalidClip { clip: clip.name.clone(), what };
+            let invalid = |what: String| SystemError::InvalidClip {
+                clip: clip.name.clone(),
+                what,
+            };
             let Some(rod) = self.rods.get(clip.rod.0) else {
                 return Err(invalid(format!("rod #{} does not exist", clip.rod.0)));
             };
@@ -497,20 +535,35 @@ impl System {
                     n - 1
                 )));
             }
-            if self.clips[..i].iter().any(|c| c.rod == clip.rod && c.vertex == clip.vertex) {
-                return Err(invalid(format!("another clip already holds vertex {} of rod '{}'", clip.vertex, rod.name)));
+            if self.clips[..i]
+                .iter()
+                .any(|c| c.rod == clip.rod && c.vertex == clip.vertex)
+            {
+                return Err(invalid(format!(
+                    "another clip already holds vertex {} of rod '{}'",
+                    clip.vertex, rod.name
+                )));
             }
             let is_unit = |a: &Vector3<f64>| (a.norm() - 1.0).abs() < 1e-9;
             if let Joint::Revolute { axis } | Joint::Prismatic { axis } = clip.joint
                 && !is_unit(&axis)
             {
-                return Err(invalid(format!("joint axis {axis:?} must be a unit vector")));
+                return Err(invalid(format!(
+                    "joint axis {axis:?} must be a unit vector"
+                )));
             }
             if let Some((lower, upper)) = clip.limits {
                 if !matches!(clip.joint, Joint::Revolute { .. } | Joint::Prismatic { .. }) {
-                    return Err(invalid("only revolute and prismatic joints take limits".into()));
+                    return Err(invalid(
+                        "only revolute and prismatic joints take limits".into(),
+                    ));
                 }
-                if !(lower.is_finite() && upper.is_finite() && lower <= 0.0 && 0.0 <= upper && lower < upper) {
+                if !(lower.is_finite()
+                    && upper.is_finite()
+                    && lower <= 0.0
+                    && 0.0 <= upper
+                    && lower < upper)
+                {
                     return Err(invalid(format!(
                         "limits ({lower}, {upper}) must be finite with lower ≤ 0 ≤ upper and lower < upper (the joint starts at 0)"
                     )));
@@ -553,7 +606,9 @@ impl System {
             for end in [&spec.start, &spec.end] {
                 match end.support {
                     Support::Free => {}
-                    Support::Pinned { .. } | Support::Clamped { .. } => union(&mut parent, r, ground),
+                    Support::Pinned { .. } | Support::Clamped { .. } => {
+                        union(&mut parent, r, ground)
+                    }
                     Support::Port { body, .. } => union(&mut parent, r, rods + body.0),
                 }
             }
@@ -561,7 +616,9 @@ impl System {
         let ground_root = find(&mut parent, ground);
         for (r, spec) in self.rods.iter().enumerate() {
             if find(&mut parent, r) != ground_root {
-                return Err(SystemError::Floating { rod: spec.name.clone() });
+                return Err(SystemError::Floating {
+                    rod: spec.name.clone(),
+                });
             }
         }
         Ok(())
@@ -604,8 +661,12 @@ impl System {
                     return Err(bad("load"));
                 }
             }
-            let clipped = self.clips.iter().any(|c| self.rods.get(c.rod.0).is_some_and(|r| r.name == spec.name));
-            if spec.start.support == Support::Free && spec.end.support == Support::Free && !clipped {
+            let clipped = self
+                .clips
+                .iter()
+                .any(|c| self.rods.get(c.rod.0).is_some_and(|r| r.name == spec.name));
+            if spec.start.support == Support::Free && spec.end.support == Support::Free && !clipped
+            {
                 return Err(SystemError::Unsupported {
                     rod: spec.name.clone(),
                 });
@@ -619,8 +680,10 @@ impl System {
                 Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
                 _ => self.end_placement(end, at_end, &poses).0,
             };
-            if let (Some(a), Some(b)) = (fixed_position(&spec.start, false), fixed_position(&spec.end, true))
-            {
+            if let (Some(a), Some(b)) = (
+                fixed_position(&spec.start, false),
+                fixed_position(&spec.end, true),
+            ) {
                 let length_m = spec.rod.length();
                 let distance_m = (b - a).norm();
                 if distance_m > 1.1 * length_m {

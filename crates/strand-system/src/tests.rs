@@ -43,15 +43,26 @@ fn junction_system() -> System {
     let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let along_y = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
-    let port = |name: &str, position: Vector3<f64>, frame| Port { name: name.into(), position, frame };
+    let port = |name: &str, position: Vector3<f64>, frame| Port {
+        name: name.into(),
+        position,
+        frame,
+    };
     let body = BodySpec {
         name: "tee".into(),
         mass: 0.4,
         center_of_mass: Vector3::new(0.01, -0.02, 0.005),
-        pose: Pose { position: Vector3::new(0.5, 0.1, 0.0), orientation: UnitQuaternion::identity() },
+        pose: Pose {
+            position: Vector3::new(0.5, 0.1, 0.0),
+            orientation: UnitQuaternion::identity(),
+        },
         fixed: false,
         ports: vec![
-            port("left", Vector3::new(-0.05, 0.0, 0.0), UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -std::f64::consts::FRAC_PI_2)),
+            port(
+                "left",
+                Vector3::new(-0.05, 0.0, 0.0),
+                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -std::f64::consts::FRAC_PI_2),
+            ),
             port("right", Vector3::new(0.05, 0.0, 0.0), along_x),
             port("down", Vector3::new(0.0, 0.05, 0.0), along_y),
         ],
@@ -64,20 +75,41 @@ fn junction_system() -> System {
                 name: "a".into(),
                 rod: rod(0.5, 4),
                 start: End::clamped(Vector3::zeros(), along_x),
-                end: End { support: Support::Port { body: tee, port: 0, clamped: true }, load: EndLoad::default() },
+                end: End {
+                    support: Support::Port {
+                        body: tee,
+                        port: 0,
+                        clamped: true,
+                    },
+                    load: EndLoad::default(),
+                },
                 route: None,
             },
             RodSpec {
                 name: "b".into(),
                 rod: rod(0.5, 3),
-                start: End { support: Support::Port { body: tee, port: 1, clamped: true }, load: EndLoad::default() },
+                start: End {
+                    support: Support::Port {
+                        body: tee,
+                        port: 1,
+                        clamped: true,
+                    },
+                    load: EndLoad::default(),
+                },
                 end: End::clamped(Vector3::new(1.0, 0.0, 0.0), along_x),
                 route: None,
             },
             RodSpec {
                 name: "c".into(),
                 rod: rod(0.4, 3),
-                start: End { support: Support::Port { body: tee, port: 2, clamped: false }, load: EndLoad::default() },
+                start: End {
+                    support: Support::Port {
+                        body: tee,
+                        port: 2,
+                        clamped: false,
+                    },
+                    load: EndLoad::default(),
+                },
                 end: End::pinned(Vector3::new(0.5, 0.45, 0.0)),
                 route: None,
             },
@@ -96,9 +128,15 @@ fn clipped_system() -> System {
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
     let clip = |name: &str, x: f64, joint, vertex| ClipSpec {
         name: name.into(),
-        base: Pose { position: Vector3::new(x, 0.02, 0.0), orientation: tilt(0.3) },
+        base: Pose {
+            position: Vector3::new(x, 0.02, 0.0),
+            orientation: tilt(0.3),
+        },
         joint,
-        offset: Pose { position: Vector3::new(0.01, -0.005, 0.02), orientation: tilt(-0.3) * along_x },
+        offset: Pose {
+            position: Vector3::new(0.01, -0.005, 0.02),
+            orientation: tilt(-0.3) * along_x,
+        },
         rod: RodHandle(0),
         vertex,
         limits: None,
@@ -113,8 +151,22 @@ fn clipped_system() -> System {
         }],
         bodies: vec![],
         clips: vec![
-            clip("hinge", 0.3, Joint::Revolute { axis: Vector3::new(0.0, 0.6, 0.8) }, 2),
-            clip("rail", 0.6, Joint::Prismatic { axis: Vector3::new(0.0, 0.0, 1.0) }, 4),
+            clip(
+                "hinge",
+                0.3,
+                Joint::Revolute {
+                    axis: Vector3::new(0.0, 0.6, 0.8),
+                },
+                2,
+            ),
+            clip(
+                "rail",
+                0.6,
+                Joint::Prismatic {
+                    axis: Vector3::new(0.0, 0.0, 1.0),
+                },
+                4,
+            ),
             clip("ball", 0.9, Joint::Spherical, 6),
         ],
         gravity: Vector3::new(0.0, 0.0, -9.81),
@@ -181,7 +233,12 @@ fn clip_coupling_matches_finite_differences() {
 fn spare_components(model: &Model) -> Vec<usize> {
     let system = model.system();
     (0..system.clips.len())
-        .filter(|&c| matches!(system.clips[c].joint, Joint::Revolute { .. } | Joint::Prismatic { .. }))
+        .filter(|&c| {
+            matches!(
+                system.clips[c].joint,
+                Joint::Revolute { .. } | Joint::Prismatic { .. }
+            )
+        })
         .filter_map(|c| model.dofs().clip(c))
         .flat_map(|b| [3 * b + 1, 3 * b + 2])
         .collect()
