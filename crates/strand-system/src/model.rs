@@ -55,6 +55,9 @@ pub struct Model {
     pattern: HessianPattern,
     elements: Vec<Element>,
     scatter: Vec<ScatterBlock>,
+    /// Per rod and vertex: whether the vertex moves with a free body or a clip joint
+    /// (its loads then act through a `PointLoad` element).
+    moving_vertex: Vec<Vec<bool>>,
 }
 
 /// Energy, gradient and (optionally) Hessian values of one configuration.
@@ -241,12 +244,28 @@ impl Model {
             scatter.extend(pattern.scatter(&blocks));
             element.scatter = start..scatter.len();
         }
+        let moving_vertex = system
+            .rods
+            .iter()
+            .enumerate()
+            .map(|(r, spec)| {
+                (0..spec.rod.vertex_count())
+                    .map(|j| {
+                        matches!(
+                            vertex_local(&system, &dofs, r, j),
+                            LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. }
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
         Ok(Self {
             system,
             dofs,
             pattern,
             elements,
             scatter,
+            moving_vertex,
         })
     }
 
@@ -415,10 +434,7 @@ impl Model {
     /// Whether vertex `j` of rod `r` moves with a free body or a clip joint (its loads
     /// then act through a `PointLoad` element).
     fn is_on_free_body(&self, r: usize, j: usize) -> bool {
-        matches!(
-            vertex_local(&self.system, &self.dofs, r, j),
-            LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. }
-        )
+        self.moving_vertex[r][j]
     }
 
     /// The half-cell element on one side of clip `clip` at vertex `vertex` of rod `rod`.
