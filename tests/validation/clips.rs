@@ -28,6 +28,7 @@ fn clipped_hose(joint: Joint, limits: Option<(f64, f64)>) -> System {
         }],
         bodies: vec![],
         clips: vec![ClipSpec {
+            body: None,
             name: "clip".into(),
             base,
             joint,
@@ -111,6 +112,7 @@ fn a_fixed_clip_at_mid_length_splits_a_rod_into_two_clamped_rods() {
         }],
         bodies: vec![],
         clips: vec![ClipSpec {
+            body: None,
             name: "clip".into(),
             base: clip_pose,
             joint: Joint::Fixed,

@@ -1,8 +1,10 @@
 //! The clipped cable harness `cases/harness_clips.ron`: a trunk and two branches on a
 //! free breakout, held by connectors and by clips of every joint kind, under gravity.
 //!
-//! Checks that it converges to a stable equilibrium; that connectors and clips carry
-//! the whole weight (≤ 1e-9 relative); that every joint transmits nothing along its
+//! Checks that it converges to a stable equilibrium; that connectors and clips fixed in
+//! space carry the whole weight (≤ 1e-9 relative) and each free body (the breakout, with
+//! a clip mounted on it, and the hose-to-hose clip) balances its own weight with its
+//! ports and clips; that every joint transmits nothing along its
 //! freedom (a revolute clip no moment about its axis, the rail no force along it, the
 //! ball no moment); that the limited hinge is either inside its limits with no moment
 //! about its axis or at a limit with a moment that holds it there; and that
@@ -42,16 +44,27 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
             kinds(ReactionKind::Port),
             kinds(ReactionKind::Clip)
         ),
-        (3, 3, 5)
+        (3, 3, 8)
     );
 
-    // Global balance: connectors and clips carry the cables and the breakout.
+    // Global balance: connectors and the clips fixed in space carry the cables, the
+    // breakout and the twin clip (clips on bodies are internal).
     let mass: f64 = system.rods.iter().map(|r| r.rod.mass()).sum::<f64>()
         + system.bodies.iter().map(|b| b.mass).sum::<f64>();
     let weight = mass * system.gravity;
+    let on_body = |name: &str| {
+        system
+            .clips
+            .iter()
+            .find(|c| c.name == name)
+            .and_then(|c| c.body)
+    };
     let external: Vec<_> = reactions
         .iter()
-        .filter(|r| r.kind != ReactionKind::Port)
+        .filter(|r| {
+            r.kind == ReactionKind::Connector
+                || (r.kind == ReactionKind::Clip && on_body(&r.name).is_none())
+        })
         .collect();
     let force = external.iter().map(|r| r.force).sum::<Vector3<f64>>() + weight;
     assert!(
@@ -76,6 +89,38 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
     let scale = weight.norm() * 1.4;
     assert!(moment.norm() <= 1e-9 * scale, "moment imbalance {moment:?}");
 
+    // Each free body (the breakout and the twin clip) balances its weight with what
+    // its ports and its clips exert on the rods (the body feels the opposite).
+    for (b, body) in system.bodies.iter().enumerate() {
+        let name = body.name.as_str();
+        let carried: Vec<_> = reactions
+            .iter()
+            .filter(|r| match r.kind {
+                ReactionKind::Port => r.name.starts_with(&format!("{name}.")),
+                ReactionKind::Clip => on_body(&r.name).is_some_and(|h| h.0 == b),
+                ReactionKind::Connector => false,
+            })
+            .collect();
+        assert!(!carried.is_empty(), "{name} holds rods");
+        let weight = body.mass * system.gravity;
+        let force = weight - carried.iter().map(|r| r.force).sum::<Vector3<f64>>();
+        let centre = state.bodies[b].transform_point(&body.center_of_mass);
+        let moment = centre.cross(&weight)
+            - carried
+                .iter()
+                .map(|r| r.moment + r.position.cross(&r.force))
+                .sum::<Vector3<f64>>();
+        let scale = carried.iter().map(|r| r.force.norm()).sum::<f64>();
+        assert!(
+            force.norm() <= 1e-9 * scale,
+            "{name}: force imbalance {force:?}"
+        );
+        assert!(
+            moment.norm() <= 1e-9 * scale * 1.4,
+            "{name}: moment imbalance {moment:?}"
+        );
+    }
+
     // What each joint transmits.
     let mut seen = Vec::new();
     for (c, clip) in system.clips.iter().enumerate() {
@@ -97,7 +142,8 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
                 seen.push("spherical");
             }
             Joint::Prismatic { axis } => {
-                let along = force.dot(&(clip.base.orientation * axis));
+                let base = clip.base_in_world(&state.bodies).orientation;
+                let along = force.dot(&(base * axis));
                 assert!(
                     along.abs() <= 1e-9 * force.norm().max(1.0),
                     "rail '{}': {along} N along",
@@ -107,7 +153,8 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
                 seen.push("prismatic");
             }
             Joint::Revolute { axis } => {
-                let about = moment.dot(&(clip.base.orientation * axis));
+                let base = clip.base_in_world(&state.bodies).orientation;
+                let about = moment.dot(&(base * axis));
                 let tolerance = 1e-9 * moment.norm().max(1.0);
                 match clip.limits {
                     None => {
@@ -150,11 +197,11 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
             }
         }
         // The clipped vertex sits at the clip's output origin.
-        let output = clip.output(&state.clips[c]);
+        let output = clip.output(&state.clips[c], &state.bodies);
         assert!((state.rods[clip.rod.0].positions[clip.vertex] - output.position).norm() < 1e-12);
     }
     seen.sort_unstable();
-    assert_eq!(seen.len(), 5);
+    assert_eq!(seen.len(), 8);
     for kind in ["fixed", "prismatic", "revolute", "spherical"] {
         assert!(seen.contains(&kind), "{kind} missing: {seen:?}");
     }
@@ -162,7 +209,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
 
     // result.json: the clips section agrees with the model.
     let doc = collect(&built.name, &built.model, &solution, Timing::default());
-    assert_eq!(doc.clips.len(), 5);
+    assert_eq!(doc.clips.len(), 8);
     let json = serde_json::to_value(&doc).unwrap();
     for (c, (clip, result)) in system.clips.iter().zip(&doc.clips).enumerate() {
         assert_eq!(result.name, clip.name);
@@ -206,6 +253,9 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
         ("hinge", 0.2),
         ("ball", 0.45),
         ("rail", 0.3),
+        ("strain_relief", 0.7),
+        ("twin_left", 0.04),
+        ("twin_right", 0.04),
     ] {
         assert!((s(name) - at).abs() <= 1e-15, "{name}: {}", s(name));
     }

@@ -4,14 +4,17 @@
 //! equilibrium. One test binary; each module is one topic.
 
 mod balance;
+mod batch;
 mod cantilever;
 mod cli;
 mod clips;
 mod common;
+mod contact;
 mod cooler;
 mod elastica;
 mod harness;
 mod helix;
 mod junction;
 mod predeformed;
+mod report;
 mod study;

@@ -146,6 +146,7 @@ fn mounted_at_its_nominal_ends_a_moulded_rod_keeps_its_shape_without_stress() {
             &Solution {
                 state: guess.clone(),
                 report: at_rest.report.clone(),
+                constraints: Vec::new(),
             },
         )
         .0;

@@ -138,11 +138,16 @@ pub(crate) fn build_attachments(
                 &o.normal,
             )?,
         };
-        if def.ports.is_empty() {
+        let carries_clip = file
+            .clips
+            .iter()
+            .any(|(_, c)| c.on.as_deref() == Some(name));
+        if def.ports.is_empty() && !carries_clip {
             return Err(report.invalid(
                 &item,
-                "the junction has no ports",
-                "add ports: { \"name\": (position: ..., direction: ..., normal: ...) }",
+                "the junction has no ports and no clip is mounted on it",
+                "add ports: { \"name\": (position: ..., direction: ..., normal: ...) }, \
+                 or mount a clip on it with `on`",
             ));
         }
         let mut ports = Vec::with_capacity(def.ports.len());
@@ -313,10 +318,14 @@ impl Attachments {
         }
         for body in &self.bodies {
             let prefix = format!("port {}.", body.name);
-            if !users.iter().any(|(k, _)| k.starts_with(&prefix)) {
+            let carries_clip = file
+                .clips
+                .iter()
+                .any(|(_, c)| c.on.as_deref() == Some(body.name.as_str()));
+            if !carries_clip && !users.iter().any(|(k, _)| k.starts_with(&prefix)) {
                 return Err(report.invalid(
                     format!("junctions '{}'", body.name),
-                    "no rod end is attached to this junction",
+                    "no rod end is attached to this junction and no clip is mounted on it",
                     format!(
                         "attach a rod end with Port(\"{}\", \"<port>\") or remove the junction",
                         body.name

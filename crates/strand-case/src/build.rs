@@ -1,6 +1,9 @@
 //! A parsed case file → a validated [`Model`] with its initial state and settings.
 
+use std::sync::Arc;
+
 use nalgebra::Vector3;
+use strand_contact::ObstacleMesh;
 use strand_rod::{RodState, Section};
 use strand_solve::SolverSettings;
 use strand_system::{Model, RodSpec, System, SystemState, initial_state};
@@ -8,10 +11,11 @@ use strand_system::{Model, RodSpec, System, SystemState, initial_state};
 use crate::attach::{Attachments, build_attachments, check_reach};
 use crate::clips::{clip_specs, place_clips, resolve_clips};
 use crate::ends::build_end;
+use crate::environment::{EnvironmentCache, load_environment};
 use crate::error::{CaseError, Reporter};
 use crate::nominal::{build_reference, initial_guess, nominal_end, stated_length, use_guesses};
 use crate::schema::{CaseFile, EndDef, RodDef};
-use crate::sections::{build_sections, names};
+use crate::sections::{build_sections, min_bend_radii, names};
 use crate::units::LengthUnit;
 
 /// Largest allowed distance between a route's first/last point and the held end it
@@ -36,14 +40,22 @@ pub struct BuiltCase {
     /// Per rod, the names of the connectors holding its start and end (`None` for an
     /// end held otherwise): the names of their reactions in the results.
     pub connector_names: Vec<[Option<String>; 2]>,
+    /// Per rod, the smallest allowed bend radius of its section in m (`None` where
+    /// the section states no `min_bend_radius`).
+    pub min_bend_radius: Vec<Option<f64>>,
+    /// Environment meshes (OBJ files in world coordinates, m, with their BVH), in
+    /// file order; shared with the case's other builds (variants, batches).
+    pub environment: Vec<Arc<ObstacleMesh>>,
 }
 
-/// Builds the model; `segments` overrides every rod's number of segments.
+/// Builds the model; `segments` overrides every rod's number of segments. Environment
+/// meshes come from `environment` when already built there.
 pub(crate) fn build(
     name: &str,
     origin: &str,
     file: &CaseFile,
     segments: Option<usize>,
+    environment: &EnvironmentCache,
 ) -> Result<BuiltCase, CaseError> {
     let report = Reporter { origin };
     let unit = LengthUnit::parse(&file.units.length).ok_or_else(|| {
@@ -54,6 +66,7 @@ pub(crate) fn build(
         )
     })?;
     let sections = build_sections(&report, unit, &file.sections)?;
+    let min_bend_radius = min_bend_radii(&report, unit, file)?;
     let attachments = build_attachments(&report, unit, file)?;
     let mut clips = resolve_clips(&report, unit, file)?;
     if file.rods.is_empty() {
@@ -104,8 +117,10 @@ pub(crate) fn build(
         spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
     }
     let model = Model::try_new(system).map_err(system_error)?;
-    let mut initial = initial_state(model.system());
-    use_guesses(&mut initial, &guesses);
+    let environment = load_environment(&report, unit, file, environment)?;
+    // The initial guess does not depend on the loads' moment references: it is the
+    // nominal state just computed (computing it again doubled the build time).
+    let initial = nominal;
     Ok(BuiltCase {
         name: name.to_string(),
         origin: origin.to_string(),
@@ -114,6 +129,8 @@ pub(crate) fn build(
         initial,
         settings: file.solver.clone(),
         connector_names: file.rods.iter().map(connector_names).collect(),
+        min_bend_radius,
+        environment,
     })
 }
 

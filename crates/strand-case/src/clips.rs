@@ -25,7 +25,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use strand_rod::Rod;
-use strand_system::{ClipSpec, Joint, Pose, RodHandle, RodSpec};
+use strand_system::{BodyHandle, ClipSpec, Joint, Pose, RodHandle, RodSpec};
 
 use crate::ends::frame_from_tangent_normal;
 use crate::error::{CaseError, Reporter};
@@ -75,7 +75,13 @@ pub struct ClipDef {
     pub rod: String,
     /// Arc length along the rod (from its start) where the clip holds it, length unit.
     pub at: f64,
-    /// The base frame, fixed in space.
+    /// The junction that carries the clip's base, if any: the base (and with it the
+    /// joint axes) is then given in that junction's body frame and moves with it: a
+    /// clip mounted on a T-piece, or, on a light junction without ports, one half of a
+    /// hose-to-hose clip. Default: the base is fixed in space.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub on: Option<String>,
+    /// The base frame: in the world, or in the body frame of the junction `on`.
     pub base: ClipFrameDef,
     /// The joint.
     pub joint: JointDef,
@@ -177,6 +183,28 @@ pub(crate) fn resolve_clips(
                 "name one of the case's rods",
             ));
         };
+        let body = match &def.on {
+            None => None,
+            Some(junction) => match file.junctions.iter().position(|(j, _)| j == junction) {
+                Some(b) => Some(BodyHandle(b)),
+                None => {
+                    let defined: Vec<&str> =
+                        file.junctions.iter().map(|(j, _)| j.as_str()).collect();
+                    return Err(report.invalid(
+                        format!("{item}.on"),
+                        format!(
+                            "junction '{junction}' is not defined (defined: {})",
+                            if defined.is_empty() {
+                                "none".to_string()
+                            } else {
+                                defined.join(", ")
+                            }
+                        ),
+                        "name one of the case's junctions, or remove `on` for a base fixed in space",
+                    ));
+                }
+            },
+        };
         let at_file = report.finite(&format!("{item}.at"), def.at, &format!(" {unit}"))?;
         let base = pose(report, &format!("{item}.base"), unit, &def.base)?;
         let offset = match &def.offset {
@@ -234,6 +262,7 @@ pub(crate) fn resolve_clips(
         };
         out.push(PendingClip {
             spec: ClipSpec {
+                body,
                 name: name.clone(),
                 base,
                 joint,

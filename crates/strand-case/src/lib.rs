@@ -36,10 +36,12 @@ mod attach;
 mod build;
 mod clips;
 mod ends;
+mod environment;
 mod error;
 mod nominal;
 pub mod schema;
 mod sections;
+mod solve;
 mod units;
 mod variant;
 mod warm;
@@ -53,6 +55,7 @@ use std::path::Path;
 
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
 pub use ends::{FrameError, frame_from_tangent_normal};
+pub use environment::EnvironmentCache;
 pub use error::CaseError;
 pub use nominal::NOMINAL_LENGTH_TOLERANCE;
 pub use schema::CaseFile;
@@ -69,6 +72,9 @@ pub struct Case {
     pub origin: String,
     /// The file's content.
     pub file: CaseFile,
+    /// Environment meshes built so far, shared by clones of the case, its variants
+    /// and batch runs (see [`EnvironmentCache`]).
+    pub environment: EnvironmentCache,
 }
 
 impl Case {
@@ -109,13 +115,20 @@ impl Case {
             name: name.to_string(),
             origin: origin.to_string(),
             file,
+            environment: EnvironmentCache::default(),
         })
     }
 
     /// Validates the case and builds the model; `segments` overrides the number of
     /// segments of every rod (e.g. for convergence studies).
     pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, CaseError> {
-        build::build(&self.name, &self.origin, &self.file, segments)
+        build::build(
+            &self.name,
+            &self.origin,
+            &self.file,
+            segments,
+            &self.environment,
+        )
     }
 
     /// The names of the case's variants, in file order.
@@ -142,7 +155,26 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
-        build::build(&self.name, &self.origin, &file, segments)
+        build::build(&self.name, &self.origin, &file, segments, &self.environment)
             .map_err(|e| variant::in_variant(e, name))
+    }
+
+    /// Validates the case with `changes` applied (items and changes as under
+    /// `variants`, see [`VARIANT_ITEMS`]) and builds its model, like
+    /// [`Case::build_variant`] for an unnamed variant: `label` names the changes in
+    /// messages (e.g. the batch variant's id). The case's own named variants are not
+    /// involved.
+    pub fn build_with_changes(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+        segments: Option<usize>,
+    ) -> Result<BuiltCase, CaseError> {
+        let report = error::Reporter {
+            origin: &self.origin,
+        };
+        let file = variant::apply_changes(&report, &self.file, label, changes)?;
+        build::build(&self.name, &self.origin, &file, segments, &self.environment)
+            .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 use strand_solve::SolverSettings;
 
 pub use crate::clips::{ClipDef, ClipFrameDef, JointDef};
+pub use crate::environment::{AxisAngleDef, EnvironmentDef};
 
 /// A 3-vector as written in a case file: `(x, y, z)`.
 pub type Vec3 = [f64; 3];
@@ -85,6 +86,12 @@ pub struct CaseFile {
         skip_serializing_if = "Vec::is_empty"
     )]
     pub clips: Vec<(String, ClipDef)>,
+    /// Environment meshes (OBJ files), in file order (optional):
+    /// `[(name: "engine", obj: "../assets/engine_bay/engine.obj", unit: "mm",
+    /// scale: 1.0, position: (0, 0, 0), rotation: (axis: (0, 0, 1), angle_deg: 0))]`
+    /// (see [`EnvironmentDef`]; paths relative to the case file).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub environment: Vec<EnvironmentDef>,
 }
 
 /// The units of a case file.
@@ -114,6 +121,10 @@ pub enum SectionDef {
         /// Outer radius in the case's length unit (for contact and drawing; optional).
         #[serde(default)]
         outer_radius: Option<f64>,
+        /// Smallest allowed bend radius of the centreline in the case's length unit
+        /// (optional; `strand batch` reports the solved minimum against it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        min_bend_radius: Option<f64>,
     },
     /// A circular tube of an isotropic material (`inner_radius: 0` for a solid rod).
     Tube {
@@ -127,6 +138,10 @@ pub enum SectionDef {
         inner_radius: f64,
         /// Outer radius in the case's length unit.
         outer_radius: f64,
+        /// Smallest allowed bend radius of the centreline in the case's length unit
+        /// (optional; `strand batch` reports the solved minimum against it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        min_bend_radius: Option<f64>,
     },
 }
 
@@ -526,6 +541,7 @@ pub struct JunctionDef {
     pub fixed: bool,
     /// Named ports, in file order: `{ "hose1": (position: ..., direction: ..., normal: ...) }`.
     #[serde(
+        default,
         deserialize_with = "ordered_ports",
         serialize_with = "serialize_ordered_map"
     )]

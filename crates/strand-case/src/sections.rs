@@ -3,7 +3,7 @@
 use strand_rod::{Section, TubeMaterial};
 
 use crate::error::{CaseError, Reporter};
-use crate::schema::SectionDef;
+use crate::schema::{CaseFile, SectionDef};
 use crate::units::LengthUnit;
 
 /// Converts and validates every section, keeping the file order.
@@ -42,6 +42,7 @@ fn build_section(
             gj,
             mass_per_length,
             outer_radius,
+            ..
         } => {
             let ea = report.positive(&format!("{item}.ea"), ea, " N")?;
             let ga = report.positive(&format!("{item}.ga"), ga, " N")?;
@@ -66,6 +67,7 @@ fn build_section(
             density,
             inner_radius,
             outer_radius,
+            ..
         } => {
             let e = report.positive(&format!("{item}.youngs_modulus"), youngs_modulus, " Pa")?;
             let nu = report.finite(&format!("{item}.poisson_ratio"), poisson_ratio, "")?;
@@ -88,6 +90,43 @@ fn build_section(
         }
     };
     section.map_err(|e| report.invalid(item, e.to_string(), "correct the section's data"))
+}
+
+/// The allowed minimum bend radius of every rod's section, m (`None` where the
+/// section states none), in rod order. Rods naming an undefined section get `None`
+/// (the build reports them).
+pub(crate) fn min_bend_radii(
+    report: &Reporter,
+    unit: LengthUnit,
+    file: &CaseFile,
+) -> Result<Vec<Option<f64>>, CaseError> {
+    file.rods
+        .iter()
+        .map(|rod| {
+            let Some((name, def)) = file.sections.iter().find(|(n, _)| *n == rod.section) else {
+                return Ok(None);
+            };
+            let radius = match def {
+                SectionDef::Explicit {
+                    min_bend_radius, ..
+                }
+                | SectionDef::Tube {
+                    min_bend_radius, ..
+                } => *min_bend_radius,
+            };
+            radius
+                .map(|r| {
+                    report
+                        .positive(
+                            &format!("sections '{name}'.min_bend_radius"),
+                            r,
+                            &format!(" {unit}"),
+                        )
+                        .map(|r| r * unit.metres())
+                })
+                .transpose()
+        })
+        .collect()
 }
 
 /// Lists section names for messages: `a, b, c` or `(none)`.

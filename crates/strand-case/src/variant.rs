@@ -297,6 +297,17 @@ fn changed3(base: &Vec3, change: &Change, v: &Vec3) -> Vec3 {
 pub(crate) fn apply(report: &Reporter, file: &CaseFile, name: &str) -> Result<CaseFile, CaseError> {
     let changes = find(report, file, name)?;
     check_name(report, name)?;
+    apply_changes(report, file, name, changes)
+}
+
+/// The file with `changes` applied; `name` labels them in messages
+/// (`variants '<name>'[k] "<item>"`).
+pub(crate) fn apply_changes(
+    report: &Reporter,
+    file: &CaseFile,
+    name: &str,
+    changes: &[VariantChange],
+) -> Result<CaseFile, CaseError> {
     let unit = format!(" (in {})", file.units.length);
     let mut out = file.clone();
     for (k, VariantChange { item, change }) in changes.iter().enumerate() {

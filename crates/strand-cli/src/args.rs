@@ -47,6 +47,43 @@ pub enum Command {
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
         segments: Option<u32>,
     },
+    /// Solve every combination of varied parameters in parallel, warm-started along
+    /// each parameter; resumable; DIR/summary.csv, DIR/summary.svg and
+    /// DIR/variants/<id>/ (see README, "Batches").
+    Batch {
+        /// The case file (RON).
+        case: PathBuf,
+        /// A varied parameter, ITEM=A..B:STEP or ITEM=A,B,C; a sign makes the values
+        /// offsets from the case (hose2.length=+0mm..+100mm:10mm), none sets them
+        /// (tee.mass=0.5kg,1kg). Repeat for a grid.
+        #[arg(long, value_name = "ITEM=VALUES", required = true)]
+        vary: Vec<String>,
+        /// Output directory (re-running with the same options resumes it).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Worker threads [default: the available cores].
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Run only the I-th of N deterministic shares of the variants (1-based);
+        /// combine the shards with `strand merge`.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Override the number of segments of every rod.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        segments: Option<u32>,
+        /// Solve variants recorded as failed (failed.json) again instead of skipping them.
+        #[arg(long)]
+        retry_failed: bool,
+    },
+    /// Combine the directories of a sharded batch and write summary.csv and summary.svg.
+    Merge {
+        /// Batch output directories (shards of one batch).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Where to combine them [default: the first DIR].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Validate a case without solving it.
     Check {
         /// The case file (RON).
@@ -54,6 +91,24 @@ pub enum Command {
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
         segments: Option<u32>,
+    },
+    /// Write an HTML design-review report comparing results (one self-contained file:
+    /// summary, sectional quantities along each hose, side and top views, tables).
+    Report {
+        /// Result directories, each with a result.json from `strand solve` or
+        /// `strand study`; the first is the reference.
+        #[arg(required = true, value_name = "RESULT_DIR")]
+        dirs: Vec<PathBuf>,
+        /// The HTML file to write.
+        #[arg(long, value_name = "FILE", default_value = "report.html")]
+        out: PathBuf,
+        /// Comma-separated labels of the results, in order [default: each result's
+        /// variant, or its directory's name].
+        #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+        labels: Vec<String>,
+        /// Title of the report [default: "Design review: <case>"].
+        #[arg(long)]
+        title: Option<String>,
     },
     /// Benchmark: solve time, iterations and residual at several discretisations
     /// (medians of repeated solves; the paper's IPOPT times for comparison).

@@ -54,7 +54,11 @@ pub fn run(
         let mut last = None;
         for _ in 0..repeats.max(1) {
             let started = Instant::now();
+            let contact = built.contact();
             let mut solver = Solver::try_new(&built.model)?;
+            if let Some(c) = &contact {
+                solver = solver.with_constraints(c);
+            }
             let solution = solver.solve(built.initial.clone(), &built.settings)?;
             cold.push(started.elapsed().as_secs_f64() * 1e3);
             let started = Instant::now();

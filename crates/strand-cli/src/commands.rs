@@ -60,6 +60,36 @@ pub(crate) fn execute(
             out,
             err,
         ),
+        Command::Batch {
+            case,
+            vary,
+            out: dir,
+            jobs,
+            shard,
+            segments,
+            retry_failed,
+        } => crate::batch::run(
+            &crate::batch::BatchOptions {
+                case,
+                vary,
+                out: dir,
+                jobs: *jobs,
+                shard: shard.as_deref(),
+                segments: segments.map(|n| n as usize),
+                retry_failed: *retry_failed,
+            },
+            out,
+            err,
+        ),
+        Command::Merge { dirs, out: dir } => {
+            crate::batch::merge::run(dirs, dir.as_deref(), out, err)
+        }
+        Command::Report {
+            dirs,
+            out: file,
+            labels,
+            title,
+        } => crate::report::run(dirs, file, labels, title.as_deref(), out),
         Command::Check { case, segments } => check_case(case, segments.map(|n| n as usize), out),
         Command::Bench {
             case,
@@ -134,9 +164,30 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     Ok(Exit::Success)
 }
 
+/// Contacts and clearances of `solution` into `doc`, for a case with an environment.
+pub(crate) fn add_contacts(
+    doc: &mut strand_report::ResultDoc,
+    built: &BuiltCase,
+    solution: &strand_solve::Solution,
+) -> Result<(), Failure> {
+    if let Some(contact) = built.contact() {
+        strand_report::collect_contacts(doc, &built.model, solution, &contact).map_err(|e| {
+            Failure {
+                exit: Exit::Failure,
+                message: format!("{}: contacts: {e}", built.origin),
+            }
+        })?;
+    }
+    Ok(())
+}
+
 /// The failure of a solve that could not start.
 pub(crate) fn solver_failure(origin: &str, e: SolveError) -> Failure {
     match e {
+        SolveError::StartsInside(_) => Failure {
+            exit: Exit::InvalidInput,
+            message: format!("{origin}: {e}"),
+        },
         SolveError::Settings(_) => Failure {
             exit: Exit::InvalidInput,
             message: format!("{origin}: solver: {e}"),
@@ -188,6 +239,7 @@ fn solve_case(
     timing.solve = solution.report.solve_seconds;
     timing.total = started.elapsed().as_secs_f64();
     let mut doc = collect(&built.name, &built.model, &solution, timing);
+    add_contacts(&mut doc, &built, &solution)?;
     name_connectors(&mut doc, &built.connector_names);
     doc.variant = variant.map(str::to_string);
     doc.warm_start = base_iterations.is_some();

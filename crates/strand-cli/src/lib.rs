@@ -10,6 +10,12 @@
 //! strand study CASE [--variants base,a,b] [--out DIR] [--segments N]
 //!                                                solve variants; DIR/study.svg, DIR/study.csv,
 //!                                                DIR/<variant>/result.json
+//! strand batch CASE --vary ITEM=A..B:STEP [--vary …] --out DIR [--jobs N] [--shard I/N]
+//!                                                every combination, parallel, warm-started,
+//!                                                resumable; DIR/summary.csv, DIR/summary.svg
+//! strand merge DIR… [--out DIR]                  combine the shards of a batch
+//! strand report RESULT_DIR… [--out report.html] [--labels a,b] [--title T]
+//!                                                HTML design review of results (first = reference)
 //! strand check CASE [--segments N]               validate the case only
 //! strand bench [CASE] [--segments 19,99,999] [--repeats 20]   timing table
 //! ```
@@ -25,8 +31,10 @@
 //! `line:column` for syntax errors). Bad input never panics.
 
 mod args;
+mod batch;
 pub mod bench;
 mod commands;
+mod report;
 mod study;
 pub mod summary;
 

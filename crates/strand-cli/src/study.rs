@@ -16,7 +16,7 @@ use strand_report::{
     ArcOrigin, ResultDoc, StudyPeak, StudyRun, Timing, arc_origin, collect, name_connectors,
     study_csv, study_peaks, study_svg, write_atomic, write_results,
 };
-use strand_solve::{Solution, SolverSettings, solve};
+use strand_solve::{Solution, SolverSettings};
 
 use crate::Exit;
 use crate::commands::{Failure, solver_failure};
@@ -24,7 +24,8 @@ use crate::summary::{number, significant};
 
 /// Solves `built` from its own initial guess with its own settings.
 pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
-    solve(&built.model, built.initial.clone(), &built.settings)
+    built
+        .solve_from(built.initial.clone(), &built.settings)
         .map_err(|e| solver_failure(&built.origin, e))
 }
 
@@ -40,7 +41,9 @@ pub(crate) fn solve_warm(
         nested_iteration: false,
         ..built.settings.clone()
     };
-    solve(&built.model, initial, &settings).map_err(|e| solver_failure(&built.origin, e))
+    built
+        .solve_from(initial, &settings)
+        .map_err(|e| solver_failure(&built.origin, e))
 }
 
 /// Solves variant `name` warm-started from the base solution if that converged,
@@ -147,6 +150,7 @@ pub(crate) fn run(
             total: read + build + solve_s,
         };
         let mut doc = collect(&case.name, &built.model, &solution, timing);
+        crate::commands::add_contacts(&mut doc, built, &solution)?;
         name_connectors(&mut doc, &built.connector_names);
         doc.variant = Some(name.clone());
         doc.warm_start = warm;

@@ -178,6 +178,7 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         }
     }
     clip_lines(&mut s, doc, unit);
+    contact_lines(&mut s, built, doc, unit);
     let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(s, "written     {}", files.join(", "));
     s
@@ -219,6 +220,65 @@ fn clip_lines(s: &mut String, doc: &ResultDoc, unit: LengthUnit) {
             vector(&c.force_n, 1.0, force_noise),
             vector(&c.moment_nm, 1.0, moment_noise),
         );
+    }
+}
+
+/// Active contacts and the smallest clearance of every rod (cases with an environment).
+fn contact_lines(s: &mut String, built: &BuiltCase, doc: &ResultDoc, unit: LengthUnit) {
+    if built.environment.is_empty() {
+        return;
+    }
+    let u = unit.symbol();
+    if doc.contacts.is_empty() {
+        let _ = writeln!(s, "contacts    none");
+    } else {
+        let _ = writeln!(
+            s,
+            "contacts    (force on the rod along the normal, from the obstacle)"
+        );
+        for c in &doc.contacts {
+            let _ = writeln!(
+                s,
+                "  {} at s = {} {u} on {}  at {} {u}  {} N along {}",
+                c.rod,
+                number(c.s_m / unit.metres()),
+                c.with,
+                vector(&c.point_m, 1.0 / unit.metres(), 1e-12),
+                number(c.force_n),
+                vector(&c.normal, 1.0, 1e-12),
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "clearance   (smallest surface distance per rod, other rods included)"
+    );
+    for rod in &doc.rods {
+        let nearest = doc
+            .clearance
+            .iter()
+            .filter(|c| c.rod == rod.name && c.with != rod.name)
+            .min_by(|a, b| a.distance_m.total_cmp(&b.distance_m));
+        match nearest {
+            Some(c) => {
+                let _ = writeln!(
+                    s,
+                    "  {}  {} {u} to {} at s = {} {u}",
+                    rod.name,
+                    number(c.distance_m / unit.metres()),
+                    c.with,
+                    number(c.s_m / unit.metres())
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "  {}  nothing within {} {u}",
+                    rod.name,
+                    number(strand_report::CLEARANCE_SEARCH_M / unit.metres())
+                );
+            }
+        }
     }
 }
 

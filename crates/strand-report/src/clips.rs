@@ -87,7 +87,8 @@ pub fn collect_clips(
                 s_m: rod.rod.arc_lengths()[clip.vertex],
                 position_m: arr(&position),
                 joint: joint.to_string(),
-                axis_world: axis.map(|a| arr(&(clip.base.orientation * a))),
+                axis_world: axis
+                    .map(|a| arr(&(clip.base_in_world(&solution.state.bodies).orientation * a))),
                 value,
                 rotation_wxyz: rotation,
                 limits: clip.limits.map(|(l, u)| [l, u]),

@@ -24,24 +24,47 @@
 //! and moment of every rod in every variant with the change against the first variant;
 //! [`study_svg`] plots `|f|` and `|m|` against arc length (from the rod's
 //! [`arc_origin`]) in two stacked panels, as self-contained SVG.
+//!
+//! Exports: [`rods_vtp`] (VTK XML PolyData of the centrelines with the sectional
+//! quantities as point data, `DIR/rods.vtp`) and [`tubes_obj`] (tube surface meshes,
+//! `DIR/tubes.obj`), both written by [`write_results`].
+//!
+//! Design review: [`report_html`] renders one self-contained HTML page (inline SVG, no
+//! scripts or network) comparing several results: summary, sectional quantities
+//! along the arc length, side and top projections coloured by `|f|`, and tables of
+//! peaks, reactions, contacts, clearances, bend radii and differences against the
+//! first result. [`check_result`] rejects a `result.json` whose arrays do not fit.
 
 mod clips;
+mod contacts;
 mod csv;
+mod report;
 mod result;
 mod study;
 mod svg;
+mod tube;
+mod vtk;
 mod write;
 
+#[cfg(test)]
+mod export_tests;
 #[cfg(test)]
 mod tests;
 
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
+pub use contacts::{CLEARANCE_SEARCH_M, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
+pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
-    BodyResult, ReactionResult, ResultDoc, RodResult, Timing, collect, name_connectors,
+    BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
+    RodResult, Timing, collect, name_connectors,
 };
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,
 };
 pub use svg::study_svg;
+pub use tube::{
+    DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, tube_radius, tube_rings, tubes_obj,
+};
+pub use vtk::{VTK_POINT_ARRAYS, VtkPointArray, rods_vtp};
 pub use write::{ReportError, is_safe_name, write_atomic, write_results};

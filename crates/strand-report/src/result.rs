@@ -78,6 +78,60 @@ pub struct ResultDoc {
     /// Clips: joint coordinates and reactions (see [`crate::ClipResult`]).
     #[serde(default)]
     pub clips: Vec<crate::ClipResult>,
+    /// Active contacts (rod against an environment mesh or another rod), one per
+    /// contact point; empty without contact.
+    #[serde(default)]
+    pub contacts: Vec<ContactResult>,
+    /// Smallest surface-to-surface distance of every rod to every obstacle (mesh or
+    /// other rod) within the contact search margin.
+    #[serde(default)]
+    pub clearance: Vec<ClearanceResult>,
+    /// Outlines of the environment (mesh silhouettes) for drawings such as the HTML
+    /// report's projections; empty when the case has no environment or nobody has
+    /// computed them.
+    #[serde(default)]
+    pub environment: Vec<EnvironmentOutline>,
+}
+
+/// The outline of one environment part as line segments in space, for drawings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EnvironmentOutline {
+    /// Name of the part (environment mesh).
+    pub name: String,
+    /// Line segments `[start, end]` of the outline, m, world frame.
+    pub segments_m: Vec<[[f64; 3]; 2]>,
+}
+
+/// One contact: where a rod touches an obstacle and how hard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactResult {
+    /// The rod that is touched.
+    pub rod: String,
+    /// Reference arc length of the contact point along the rod, m.
+    pub s_m: f64,
+    /// Contact point on the rod's centreline, m.
+    pub point_m: [f64; 3],
+    /// Unit contact normal, from the obstacle towards the rod.
+    pub normal: [f64; 3],
+    /// Contact force magnitude on the rod (along `normal`), N; never negative.
+    #[serde(rename = "force_N")]
+    pub force_n: f64,
+    /// The obstacle: an environment mesh name or another rod's name.
+    pub with: String,
+}
+
+/// The smallest surface-to-surface distance between a rod and one obstacle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ClearanceResult {
+    /// The rod.
+    pub rod: String,
+    /// The obstacle: an environment mesh name or another rod's name.
+    pub with: String,
+    /// Smallest distance between the rod's surface (outer radius) and the obstacle's
+    /// surface, m (0 at contact).
+    pub distance_m: f64,
+    /// Reference arc length along `rod` where it occurs, m.
+    pub s_m: f64,
 }
 
 /// A rigid body (junction) at its solved pose.
@@ -141,6 +195,13 @@ pub struct RodResult {
     /// Edge forces `f_{j-1/2}` (`N` entries), N.
     #[serde(rename = "edge_force_N")]
     pub edge_force_n: Vec<[f64; 3]>,
+    /// Outer radius of the section (for contact and drawing), m; absent when the
+    /// section does not state one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_radius_m: Option<f64>,
+    /// Smallest allowed bend radius of the hose, m, if the case states one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_bend_radius_m: Option<f64>,
 }
 
 /// Force and moment a support exerts on a rod end.
@@ -203,6 +264,8 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
                 hamiltonian_n: s.hamiltonian,
                 curvature_1pm: arrs(&s.curvatures),
                 edge_force_n: arrs(&s.edge_forces),
+                outer_radius_m: Some(spec.rod.section().outer_radius).filter(|r| *r > 0.0),
+                min_bend_radius_m: None,
             }
         })
         .collect();
@@ -269,6 +332,9 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         reactions,
         bodies,
         clips,
+        contacts: Vec::new(),
+        clearance: Vec::new(),
+        environment: Vec::new(),
     }
 }
 

@@ -199,6 +199,9 @@ pub(crate) mod tests {
             reactions: Vec::new(),
             bodies: Vec::new(),
             clips: Vec::new(),
+            contacts: Vec::new(),
+            clearance: Vec::new(),
+            environment: Vec::new(),
         }
     }
 

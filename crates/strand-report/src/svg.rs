@@ -21,7 +21,7 @@ const PANEL_GAP: f64 = 78.0;
 const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 64.0;
 
 /// One colour per rod (Tableau 10), reused cyclically.
-const COLOURS: [&str; 10] = [
+pub(crate) const COLOURS: [&str; 10] = [
     "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
     "#bcbd22", "#17becf",
 ];
@@ -29,12 +29,12 @@ const COLOURS: [&str; 10] = [
 const DASHES: [&str; 5] = ["8 5", "2 4", "12 4 2 4", "4 4", "16 6"];
 
 /// The `stroke-dasharray` of variant `k` (`None`: solid).
-fn dash(k: usize) -> Option<&'static str> {
+pub(crate) fn dash(k: usize) -> Option<&'static str> {
     (k > 0).then(|| DASHES[(k - 1) % DASHES.len()])
 }
 
 /// `text` escaped for XML character data and attribute values.
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -51,7 +51,7 @@ fn escape(text: &str) -> String {
 
 /// A "nice" tick step (1, 2 or 5 × 10^k) for about five intervals up to `max`, and the
 /// axis top (the first tick at or above `max`).
-fn ticks(max: f64) -> (f64, f64) {
+pub(crate) fn ticks(max: f64) -> (f64, f64) {
     let max = if max.is_finite() && max > 0.0 {
         max
     } else {
@@ -69,7 +69,7 @@ fn ticks(max: f64) -> (f64, f64) {
 }
 
 /// A tick label: as few decimals as the step needs.
-fn tick_label(value: f64, step: f64) -> String {
+pub(crate) fn tick_label(value: f64, step: f64) -> String {
     let exponent = step.log10().floor();
     // A step of 2.5 × 10^k needs one decimal more than 1, 2 or 5 × 10^k.
     let quarter = f64::from(u8::from((step / 10f64.powf(exponent) - 2.5).abs() < 1e-9));
@@ -82,23 +82,58 @@ fn tick_label(value: f64, step: f64) -> String {
     }
 }
 
-/// One panel's frame, grid, ticks and labels.
-struct Panel {
-    top: f64,
-    x_max: f64,
-    y_max: f64,
+/// A nice tick step for about five intervals over `[min, max]` and the axis range
+/// `(step, low, high)` rounded outwards to whole steps; `[0, max]` gives [`ticks`].
+pub(crate) fn tick_range(min: f64, max: f64) -> (f64, f64, f64) {
+    let (min, max) = (min.min(0.0), max.max(0.0));
+    let (min, max) = if min.is_finite() && max.is_finite() {
+        (min, max)
+    } else {
+        (0.0, 1.0)
+    };
+    let (step, _) = ticks(max - min);
+    let low = (min / step + 1e-9).floor() * step;
+    let high = ((max / step - 1e-9).ceil() * step).max(low + step);
+    (step, low, high)
+}
+
+/// One panel's frame, grid, ticks and labels: the data rectangle
+/// `[x_min, x_max] × [y_min, y_max]` drawn at `left..right`, `top..top + height` (px).
+pub(crate) struct Panel {
+    pub(crate) left: f64,
+    pub(crate) right: f64,
+    pub(crate) top: f64,
+    pub(crate) height: f64,
+    pub(crate) x_min: f64,
+    pub(crate) x_max: f64,
+    pub(crate) y_min: f64,
+    pub(crate) y_max: f64,
 }
 
 impl Panel {
-    fn x(&self, value: f64) -> f64 {
-        LEFT + (PLOT_RIGHT - LEFT) * value / self.x_max
+    /// A study panel: the fixed study geometry, axes from 0.
+    fn study(top: f64, x_max: f64, y_max: f64) -> Self {
+        Panel {
+            left: LEFT,
+            right: PLOT_RIGHT,
+            top,
+            height: PANEL_HEIGHT,
+            x_min: 0.0,
+            x_max,
+            y_min: 0.0,
+            y_max,
+        }
     }
 
-    fn y(&self, value: f64) -> f64 {
-        self.top + PANEL_HEIGHT * (1.0 - value / self.y_max)
+    pub(crate) fn x(&self, value: f64) -> f64 {
+        self.left + (self.right - self.left) * (value - self.x_min) / (self.x_max - self.x_min)
     }
 
-    fn draw_axes(
+    pub(crate) fn y(&self, value: f64) -> f64 {
+        self.top + self.height * (self.y_max - value) / (self.y_max - self.y_min)
+    }
+
+    pub(crate) fn draw_axes(
         &self,
         svg: &mut String,
         x_step: f64,
@@ -107,12 +142,13 @@ impl Panel {
         y_label: &str,
         title: &str,
     ) {
-        let bottom = self.top + PANEL_HEIGHT;
+        let bottom = self.top + self.height;
+        let (left, right, height) = (self.left, self.right, self.height);
         let _ = writeln!(svg, "<g class=\"axes\">");
         // Grid and ticks.
-        let count = |max: f64, step: f64| (max / step + 1e-9).floor() as usize;
-        for i in 0..=count(self.x_max, x_step) {
-            let v = i as f64 * x_step;
+        let count = |min: f64, max: f64, step: f64| ((max - min) / step + 1e-9).floor() as usize;
+        for i in 0..=count(self.x_min, self.x_max, x_step) {
+            let v = self.x_min + i as f64 * x_step;
             let x = self.x(v);
             let _ = writeln!(
                 svg,
@@ -126,35 +162,35 @@ impl Panel {
                 tick_label(v, x_step)
             );
         }
-        for i in 0..=count(self.y_max, y_step) {
-            let v = i as f64 * y_step;
+        for i in 0..=count(self.y_min, self.y_max, y_step) {
+            let v = self.y_min + i as f64 * y_step;
             let y = self.y(v);
             let _ = writeln!(
                 svg,
-                "<line x1=\"{LEFT:.2}\" y1=\"{y:.2}\" x2=\"{PLOT_RIGHT:.2}\" y2=\"{y:.2}\" stroke=\"#e3e3e3\" stroke-width=\"1\"/>"
+                "<line x1=\"{left:.2}\" y1=\"{y:.2}\" x2=\"{right:.2}\" y2=\"{y:.2}\" stroke=\"#e3e3e3\" stroke-width=\"1\"/>"
             );
             let _ = writeln!(
                 svg,
                 "<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-                LEFT - 7.0,
+                left - 7.0,
                 y + 4.0,
                 tick_label(v, y_step)
             );
         }
         let _ = writeln!(
             svg,
-            "<rect x=\"{LEFT:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{PANEL_HEIGHT:.2}\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>",
+            "<rect x=\"{left:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{height:.2}\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>",
             self.top,
-            PLOT_RIGHT - LEFT
+            right - left
         );
         let _ = writeln!(
             svg,
             "<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            0.5 * (LEFT + PLOT_RIGHT),
+            0.5 * (left + right),
             bottom + 38.0,
             escape(x_label)
         );
-        let (cx, cy) = (LEFT - 50.0, self.top + 0.5 * PANEL_HEIGHT);
+        let (cx, cy) = (left - 50.0, self.top + 0.5 * height);
         let _ = writeln!(
             svg,
             "<text x=\"{cx:.2}\" y=\"{cy:.2}\" text-anchor=\"middle\" transform=\"rotate(-90 {cx:.2} {cy:.2})\">{}</text>",
@@ -162,7 +198,7 @@ impl Panel {
         );
         let _ = writeln!(
             svg,
-            "<text x=\"{LEFT:.2}\" y=\"{:.2}\" font-weight=\"bold\">{}</text>",
+            "<text x=\"{left:.2}\" y=\"{:.2}\" font-weight=\"bold\">{}</text>",
             self.top - 8.0,
             escape(title)
         );
@@ -171,7 +207,7 @@ impl Panel {
 }
 
 /// The path data of one curve (`M x y L x y …`); non-finite values break the curve.
-fn path_data(panel: &Panel, points: impl Iterator<Item = (f64, f64)>) -> String {
+pub(crate) fn path_data(panel: &Panel, points: impl Iterator<Item = (f64, f64)>) -> String {
     let mut d = String::new();
     let mut pen_down = false;
     for (x, y) in points {
@@ -223,22 +259,14 @@ pub fn study_svg(
     let panels = [
         (
             "force",
-            Panel {
-                top: TOP,
-                x_max: x_top,
-                y_max: f_top,
-            },
+            Panel::study(TOP, x_top, f_top),
             f_step,
             "|f| [N]",
             "internal force magnitude |f|",
         ),
         (
             "moment",
-            Panel {
-                top: TOP + PANEL_HEIGHT + PANEL_GAP,
-                x_max: x_top,
-                y_max: m_top,
-            },
+            Panel::study(TOP + PANEL_HEIGHT + PANEL_GAP, x_top, m_top),
             m_step,
             "|m| [N·m]",
             "internal moment magnitude |m|",

@@ -26,6 +26,8 @@ pub(crate) fn sample_rod() -> RodResult {
         hamiltonian_n: vec![1.0; 3],
         curvature_1pm: vec![v(0.0); 3],
         edge_force_n: vec![v(1.0); 2],
+        outer_radius_m: Some(0.01),
+        min_bend_radius_m: None,
     }
 }
 
@@ -102,10 +104,18 @@ fn writes_json_and_csv_and_reads_back() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("nested/out");
     let written = write_results(&dir, &doc).unwrap();
-    assert_eq!(written, vec![dir.join("beam.csv"), dir.join("result.json")]);
+    assert_eq!(
+        written,
+        vec![
+            dir.join("beam.csv"),
+            dir.join("rods.vtp"),
+            dir.join("tubes.obj"),
+            dir.join("result.json")
+        ]
+    );
     assert_eq!(
         listing(&dir),
-        vec!["beam.csv", "result.json"],
+        vec!["beam.csv", "result.json", "rods.vtp", "tubes.obj"],
         "no temporary files remain"
     );
     let text = std::fs::read_to_string(dir.join("result.json")).unwrap();

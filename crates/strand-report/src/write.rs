@@ -94,9 +94,11 @@ pub fn write_atomic(path: &Path, content: &[u8]) -> Result<(), ReportError> {
     staged.commit().map(|_| ())
 }
 
-/// Writes `DIR/result.json` and `DIR/<rod>.csv` for every rod, creating `DIR` if
+/// Writes `DIR/result.json`, `DIR/<rod>.csv` for every rod, `DIR/rods.vtp` (the
+/// centrelines with their sectional quantities for ParaView, [`crate::rods_vtp`]) and
+/// `DIR/tubes.obj` (tube surface meshes, [`crate::tubes_obj`]), creating `DIR` if
 /// missing. Returns the written paths (`result.json` last: it is renamed into place
-/// only after every CSV, so its presence marks a complete set).
+/// only after every other file, so its presence marks a complete set).
 pub fn write_results(dir: &Path, doc: &ResultDoc) -> Result<Vec<PathBuf>, ReportError> {
     if let Some(bad) = doc.rods.iter().find(|r| !is_safe_name(&r.name)) {
         return Err(ReportError::UnsafeName(bad.name.clone()));
@@ -110,6 +112,8 @@ pub fn write_results(dir: &Path, doc: &ResultDoc) -> Result<Vec<PathBuf>, Report
     for rod in &doc.rods {
         staged.add(dir, &format!("{}.csv", rod.name), rod_csv(rod).as_bytes())?;
     }
+    staged.add(dir, "rods.vtp", crate::vtk::rods_vtp(doc).as_bytes())?;
+    staged.add(dir, "tubes.obj", crate::tube::tubes_obj(doc).as_bytes())?;
     staged.add(dir, "result.json", &json)?;
     staged.commit()
 }

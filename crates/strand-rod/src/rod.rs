@@ -253,6 +253,12 @@ impl RodState {
             + (self.compensation[edge + 1] - self.compensation[edge])
     }
 
+    /// The low-order part of vertex `vertex`'s position (m): the position is
+    /// `positions[vertex] + compensation(vertex)` to about twice double precision.
+    pub fn compensation(&self, vertex: usize) -> Vector3<f64> {
+        self.compensation[vertex]
+    }
+
     /// Sets vertex `vertex` to `position` (m), clearing its compensation.
     pub fn set_position(&mut self, vertex: usize, position: Vector3<f64>) {
         self.positions[vertex] = position;

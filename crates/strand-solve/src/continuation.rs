@@ -4,6 +4,7 @@
 
 use strand_system::{Model, System, SystemState};
 
+use crate::constraints::Constraints;
 use crate::newton::{Solution, Solver};
 use crate::{SolveError, SolverSettings};
 
@@ -28,6 +29,7 @@ pub fn scaled_loads(system: &System, factor: f64) -> System {
 /// not converge.
 pub(crate) fn ramp(
     model: &Model,
+    constraints: Option<&dyn Constraints>,
     initial: SystemState,
     settings: &SolverSettings,
 ) -> Result<Option<(Solution, usize)>, SolveError> {
@@ -41,14 +43,22 @@ pub(crate) fn ramp(
     for &factor in &LOAD_STEPS {
         let scaled = Model::try_new(scaled_loads(model.system(), factor))
             .map_err(|e| SolveError::InitialState(e.to_string()))?;
-        let solution = Solver::try_new(&scaled)?.solve(state, &step_settings)?;
+        let mut solver = Solver::try_new(&scaled)?;
+        if let Some(c) = constraints {
+            solver = solver.with_constraints(c);
+        }
+        let solution = solver.solve(state, &step_settings)?;
         iterations += solution.report.iterations;
         if !solution.report.converged {
             return Ok(None);
         }
         state = solution.state;
     }
-    let mut solution = Solver::try_new(model)?.solve(state, &step_settings)?;
+    let mut solver = Solver::try_new(model)?;
+    if let Some(c) = constraints {
+        solver = solver.with_constraints(c);
+    }
+    let mut solution = solver.solve(state, &step_settings)?;
     solution.report.continuation_iterations = iterations;
     Ok(Some((solution, LOAD_STEPS.len())))
 }

@@ -9,15 +9,18 @@
 //! newtons ([`strand_system::Residual`]); every [`Solution`] says whether it converged
 //! and whether the equilibrium is stable.
 
+mod constraints;
+pub mod contact;
 pub mod continuation;
 mod linear;
 mod nested;
 mod newton;
-mod qp;
 mod settings;
+mod sqp;
 
+pub use constraints::{Constraints, Row, RowKey, limit_rows};
 pub use linear::SparseCholesky;
-pub use newton::{Solution, SolveReport, Solver, Termination, solve};
+pub use newton::{Solution, SolveReport, Solver, Termination, solve, solve_constrained};
 pub use settings::{SettingsError, SolverSettings};
 
 /// A failure that prevents solving at all (not a mere lack of convergence, which is
@@ -33,4 +36,8 @@ pub enum SolveError {
     /// The settings are invalid.
     #[error(transparent)]
     Settings(#[from] SettingsError),
+    /// The starting configuration violates a contact constraint (a hose starts inside
+    /// an obstacle); the message says where.
+    #[error("{0}")]
+    StartsInside(String),
 }

@@ -5,7 +5,8 @@ use std::time::Instant;
 use serde::Serialize;
 use strand_system::{Model, Residual, SystemState};
 
-use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, qp};
+use crate::constraints::{Constraints, Row, RowKey, limit_rows};
+use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, sqp};
 
 /// Why the iteration stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -20,7 +21,7 @@ pub enum Termination {
     LineSearchFailed,
     /// A non-finite number appeared.
     NotFinite,
-    /// The QP of a bound-constrained step (joint limits) could not be solved.
+    /// The QP of a constrained step (joint limits, contact) could not be solved.
     SubproblemFailed,
 }
 
@@ -64,6 +65,9 @@ pub struct Solution {
     pub state: SystemState,
     /// Convergence and stability report.
     pub report: SolveReport,
+    /// The inequality constraints (joint limits, contact) at the final state with their
+    /// multipliers: the force (N) or moment (N·m) each one exerts, zero when inactive.
+    pub constraints: Vec<(Row, f64)>,
 }
 
 /// Solves for the equilibrium of `model` starting from `initial`: a fresh [`Solver`]
@@ -83,11 +87,27 @@ pub fn solve(
     Ok(solution)
 }
 
+/// [`solve`] with inequality constraints beyond joint limits (contact).
+pub fn solve_constrained(
+    model: &Model,
+    constraints: &dyn Constraints,
+    initial: SystemState,
+    settings: &SolverSettings,
+) -> Result<Solution, SolveError> {
+    let started = Instant::now();
+    let mut solution = Solver::try_new(model)?
+        .with_constraints(constraints)
+        .solve(initial, settings)?;
+    solution.report.solve_seconds = started.elapsed().as_secs_f64();
+    Ok(solution)
+}
+
 /// A Newton solver bound to one model: the symbolic factorisation and all work
 /// buffers are set up once and reused by every [`Solver::solve`] (variants, load
 /// steps, warm starts).
 pub struct Solver<'m> {
     model: &'m Model,
+    constraints: Option<&'m dyn Constraints>,
     cholesky: SparseCholesky,
     diagonal: Vec<usize>,
     eval: strand_system::Evaluation,
@@ -101,6 +121,7 @@ impl<'m> Solver<'m> {
     pub fn try_new(model: &'m Model) -> Result<Self, SolveError> {
         Ok(Self {
             model,
+            constraints: None,
             cholesky: SparseCholesky::try_new(model.pattern())?,
             diagonal: diagonal_positions(model),
             eval: model.new_evaluation(),
@@ -108,6 +129,12 @@ impl<'m> Solver<'m> {
             shifted_values: vec![0.0; model.pattern().nnz()],
             step: vec![0.0; model.dofs().len()],
         })
+    }
+
+    /// Adds inequality constraints (contact) to every solve.
+    pub fn with_constraints(mut self, constraints: &'m dyn Constraints) -> Self {
+        self.constraints = Some(constraints);
+        self
     }
 
     /// Solves from `initial`, first through a coarsened model when
@@ -119,6 +146,12 @@ impl<'m> Solver<'m> {
     ) -> Result<Solution, SolveError> {
         settings.validate()?;
         check_initial_state(self.model, &initial)?;
+        if let Some(c) = self.constraints {
+            let mut start = initial.clone();
+            self.model.enforce_supports(&mut start);
+            c.check_start(self.model, &start)
+                .map_err(SolveError::StartsInside)?;
+        }
         let started = Instant::now();
         let mut coarse_iterations = 0;
         // A start that is already an equilibrium (a warm start, a moulded rod in its
@@ -137,11 +170,10 @@ impl<'m> Solver<'m> {
                 nested_iteration: false,
                 ..settings.clone()
             };
-            let coarse = solve(
-                &coarse_model,
-                nested::restrict(&initial, &kept),
-                &coarse_settings,
-            )?;
+            let mut coarse_solver = Solver::try_new(&coarse_model)?;
+            coarse_solver.constraints = self.constraints;
+            let coarse =
+                coarse_solver.solve(nested::restrict(&initial, &kept), &coarse_settings)?;
             coarse_iterations = coarse.report.iterations;
             if coarse.report.converged {
                 initial = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
@@ -150,7 +182,8 @@ impl<'m> Solver<'m> {
         let continuation_start = settings.load_continuation.then(|| initial.clone());
         let mut solution = self.newton(initial, settings);
         if let Some(start) = continuation_start.filter(|_| !solution.report.converged)
-            && let Some((ramped, steps)) = continuation::ramp(self.model, start, settings)?
+            && let Some((ramped, steps)) =
+                continuation::ramp(self.model, self.constraints, start, settings)?
             && ramped.report.converged
         {
             solution = ramped;
@@ -165,6 +198,7 @@ impl<'m> Solver<'m> {
     fn newton(&mut self, initial: SystemState, settings: &SolverSettings) -> Solution {
         let Self {
             model,
+            constraints,
             cholesky,
             diagonal,
             eval,
@@ -179,7 +213,7 @@ impl<'m> Solver<'m> {
             .iter()
             .map(|r| r.rod.length())
             .fold(0.0, f64::max);
-        let max_translation = settings.max_translation_step * longest_rod;
+        let mut max_translation = settings.max_translation_step * longest_rod;
         let mut state = initial;
         model.enforce_supports(&mut state);
         model.evaluate(&state, eval, true);
@@ -190,22 +224,52 @@ impl<'m> Solver<'m> {
         let mut termination = Termination::MaxIterations;
         let mut stable_at_current: Option<bool> = None;
 
-        let kkt_residual = |state: &SystemState, gradient: &[f64]| {
-            if model.system().clips.iter().any(|c| c.limits.is_some()) {
-                let mut projected = gradient.to_vec();
-                model.project_onto_limits(state, &mut projected);
-                model.residual(&projected)
-            } else {
-                model.residual(gradient)
+        let constraints: Option<&dyn Constraints> = *constraints;
+        if let Some(c) = constraints {
+            max_translation = max_translation.min(c.max_translation_m());
+        }
+        // The rows at the current state and the multipliers of the last step by key.
+        let mut rows: Vec<Row> = Vec::new();
+        let collect_rows = |state: &SystemState, rows: &mut Vec<Row>| {
+            rows.clear();
+            limit_rows(model, state, rows);
+            match constraints {
+                Some(c) => c.rows(model, state, rows).is_ok(),
+                None => true,
             }
         };
+        collect_rows(&state, &mut rows);
+        let mut multipliers: Vec<(RowKey, f64)> = Vec::new();
+        let mut merit_weight = 0.0f64;
+        // KKT residual `g − Σ λ_i a_i` (the multipliers of the last step, re-linearised
+        // rows), and whether the constraints hold: feasible to the tolerance, and every
+        // row with a multiplier closed (complementarity).
+        let kkt = |rows: &[Row], multipliers: &[(RowKey, f64)], gradient: &[f64]| {
+            let mut r = gradient.to_vec();
+            let mut satisfied = true;
+            for row in rows {
+                let lambda = multipliers
+                    .binary_search_by(|(k, _)| k.cmp(&row.key))
+                    .map_or(0.0, |i| multipliers[i].1);
+                if row.value < -settings.constraint_tolerance
+                    || (lambda > 0.0 && row.value > settings.constraint_tolerance)
+                {
+                    satisfied = false;
+                }
+                for &(k, a) in &row.gradient {
+                    r[k] -= lambda * a;
+                }
+            }
+            (model.residual(&r), satisfied)
+        };
+        let violation = |rows: &[Row]| rows.iter().map(|r| (-r.value).max(0.0)).sum::<f64>();
         while iterations < settings.max_iterations {
-            let residual = kkt_residual(&state, &eval.gradient);
+            let (residual, satisfied) = kkt(&rows, &multipliers, &eval.gradient);
             if !residual.combined_n.is_finite() || !eval.energy.is_finite() {
                 termination = Termination::NotFinite;
                 break;
             }
-            if residual.combined_n <= settings.tolerance_n {
+            if residual.combined_n <= settings.tolerance_n && satisfied {
                 termination = Termination::Converged;
                 break;
             }
@@ -250,34 +314,41 @@ impl<'m> Solver<'m> {
                 *s = -g;
             }
             cholesky.solve_in_place(step);
-            // Joint limits: if the Newton step leaves them, the step is the QP with the
-            // same (positive definite) Hessian and the limits as bounds.
-            let bounds = model.step_bounds(&state);
-            if bounds
-                .iter()
-                .any(|&(i, lower, upper)| step[i] < lower || step[i] > upper)
-            {
+            // Inequalities (joint limits, contact): the step of the QP with the same
+            // positive definite Hessian and the linearised rows.
+            if !rows.is_empty() {
+                let hint: Vec<usize> = (0..rows.len())
+                    .filter(|&i| {
+                        multipliers
+                            .binary_search_by(|(k, _)| k.cmp(&rows[i].key))
+                            .is_ok()
+                    })
+                    .collect();
                 let values: &[f64] = if shift > 0.0 {
                     shifted_values
                 } else {
                     &eval.hessian
                 };
-                match qp::bounded_step(model.pattern(), values, &eval.gradient, &bounds) {
-                    Ok(bounded) => {
-                        // The exact Newton step on the QP's active set.
-                        let mut fixed_values = values.to_vec();
-                        for (s, g) in step.iter_mut().zip(&eval.gradient) {
-                            *s = -g;
-                        }
-                        qp::fix_active(model.pattern(), &mut fixed_values, step, &bounded.active);
-                        if cholesky.factor(&fixed_values) {
-                            cholesky.solve_in_place(step);
-                            for &(i, lower, upper) in &bounds {
-                                step[i] = step[i].clamp(lower, upper);
-                            }
-                        } else {
-                            step.copy_from_slice(&bounded.step);
-                        }
+                match sqp::constrained_step(
+                    model.pattern(),
+                    values,
+                    cholesky,
+                    &eval.gradient,
+                    &rows,
+                    step,
+                    &hint,
+                ) {
+                    Ok(constrained) => {
+                        step.copy_from_slice(&constrained.step);
+                        multipliers = rows
+                            .iter()
+                            .zip(&constrained.multipliers)
+                            .filter(|(_, l)| **l > 0.0)
+                            .map(|(r, l)| (r.key, *l))
+                            .collect();
+                        multipliers.sort_by_key(|a| a.0);
+                        let largest = multipliers.iter().fold(0.0f64, |m, (_, l)| m.max(*l));
+                        merit_weight = merit_weight.max(2.0 * largest);
                     }
                     Err(_) => {
                         termination = Termination::SubproblemFailed;
@@ -286,17 +357,21 @@ impl<'m> Solver<'m> {
                 }
             }
 
-            // Step-length limits keep the manifold retraction and the line search sane.
+            // Step-length limits keep the manifold retraction, the linearised contact
+            // and the line search sane.
             let (rotation, translation) = model.step_size(step);
             let limit = (settings.max_rotation_step_rad / rotation.max(1e-300))
                 .min(max_translation / translation.max(1e-300))
                 .min(1.0);
-            let slope: f64 = limit
-                * step
-                    .iter()
-                    .zip(&eval.gradient)
-                    .map(|(s, g)| s * g)
-                    .sum::<f64>();
+            // Merit `E + μ Σ max(0, −gap)` (exact penalty) and its slope along the step.
+            let current_violation = violation(&rows);
+            let merit = eval.energy + merit_weight * current_violation;
+            let slope_per_t: f64 = step
+                .iter()
+                .zip(&eval.gradient)
+                .map(|(s, g)| s * g)
+                .sum::<f64>()
+                - merit_weight * current_violation;
 
             // The full step is tried with a complete evaluation (energy, gradient,
             // Hessian): it is accepted almost always, and its derivatives then serve the
@@ -304,6 +379,7 @@ impl<'m> Solver<'m> {
             let mut t = limit;
             let mut accepted = false;
             let mut evaluated = false;
+            let mut trial_rows: Vec<Row> = Vec::new();
             for trial_number in 0..=settings.max_line_search_steps {
                 model.retract_into(&state, step, t, &mut trial);
                 evaluated = trial_number == 0;
@@ -313,20 +389,28 @@ impl<'m> Solver<'m> {
                 } else {
                     model.energy(&trial)
                 };
+                // A trial whose centreline passes through an obstacle is rejected.
+                let admissible = collect_rows(&trial, &mut trial_rows);
+                let trial_merit = if admissible {
+                    energy + merit_weight * violation(&trial_rows)
+                } else {
+                    f64::INFINITY
+                };
                 let noise = 1e-13 * eval.energy.abs().max(energy.abs()).max(1e-12);
-                let armijo = energy <= eval.energy + 1e-4 * (t / limit) * slope;
-                if armijo && energy.is_finite() {
+                let armijo = trial_merit <= merit + 1e-4 * t * slope_per_t;
+                if armijo && trial_merit.is_finite() {
                     accepted = true;
                     break;
                 }
-                // Round-off regime: energy differences are below their noise; accept the
+                // Round-off regime: merit differences are below their noise; accept the
                 // step if it reduces the residual instead.
-                if (energy - eval.energy).abs() <= noise && (t / limit) * slope.abs() <= noise {
+                if (trial_merit - merit).abs() <= noise && t * slope_per_t.abs() <= noise {
                     if !evaluated {
                         model.evaluate(&trial, trial_eval, true);
                         evaluated = true;
                     }
-                    if kkt_residual(&trial, &trial_eval.gradient).combined_n < residual.combined_n {
+                    let (trial_residual, _) = kkt(&trial_rows, &multipliers, &trial_eval.gradient);
+                    if trial_residual.combined_n < residual.combined_n {
                         accepted = true;
                         break;
                     }
@@ -338,6 +422,7 @@ impl<'m> Solver<'m> {
                 break;
             }
             std::mem::swap(&mut state, &mut trial);
+            std::mem::swap(&mut rows, &mut trial_rows);
             stable_at_current = None;
             if evaluated {
                 std::mem::swap(eval, trial_eval);
@@ -350,7 +435,16 @@ impl<'m> Solver<'m> {
             Some(s) => s,
             None => cholesky.factor(&eval.hessian),
         };
-        let residual = kkt_residual(&state, &eval.gradient);
+        let (residual, _) = kkt(&rows, &multipliers, &eval.gradient);
+        let constraints = rows
+            .into_iter()
+            .map(|row| {
+                let lambda = multipliers
+                    .binary_search_by(|(k, _)| k.cmp(&row.key))
+                    .map_or(0.0, |i| multipliers[i].1);
+                (row, lambda)
+            })
+            .collect();
         Solution {
             report: SolveReport {
                 converged: termination == Termination::Converged,
@@ -368,6 +462,7 @@ impl<'m> Solver<'m> {
                 unknowns: model.dofs().len(),
             },
             state,
+            constraints,
         }
     }
 }

@@ -24,6 +24,10 @@ pub struct SolverSettings {
     /// When a solve does not converge, ramp gravity and dead loads up in steps
     /// (1/8, 1/4, 1/2, 3/4, 1), each warm-started, and report that result instead.
     pub load_continuation: bool,
+    /// Inequality constraints (contact gaps in m, joint limits in rad or m): a converged
+    /// state violates none by more than this, and every constraint that carries a force
+    /// is closed to within it.
+    pub constraint_tolerance: f64,
 }
 
 impl Default for SolverSettings {
@@ -36,6 +40,7 @@ impl Default for SolverSettings {
             max_line_search_steps: 40,
             nested_iteration: true,
             load_continuation: true,
+            constraint_tolerance: 1e-9,
         }
     }
 }
@@ -69,6 +74,7 @@ impl SolverSettings {
         positive("tolerance_n", self.tolerance_n)?;
         positive("max_rotation_step_rad", self.max_rotation_step_rad)?;
         positive("max_translation_step", self.max_translation_step)?;
+        positive("constraint_tolerance", self.constraint_tolerance)?;
         if self.max_iterations == 0 {
             return Err(SettingsError {
                 field: "max_iterations",

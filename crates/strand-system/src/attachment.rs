@@ -12,7 +12,7 @@ use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
 use strand_rod::so3::skew;
 
 use crate::dofs::Dofs;
-use crate::system::{Joint, System, SystemState};
+use crate::system::{ClipSpec, Joint, JointState, System, SystemState};
 
 /// How one local 3-block of an element depends on the unknowns.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,7 +41,7 @@ impl LocalBlock {
     }
 
     /// The global blocks this local block depends on.
-    pub(crate) fn globals(&self, dofs: &Dofs) -> Vec<usize> {
+    pub(crate) fn globals(&self, dofs: &Dofs, system: &System) -> Vec<usize> {
         match *self {
             LocalBlock::Fixed => vec![],
             LocalBlock::Free(g) => vec![g],
@@ -50,8 +50,21 @@ impl LocalBlock {
                 vec![t, r]
             }
             LocalBlock::BodyFrame { body, .. } => vec![dofs.body(body).expect("free body").1],
-            LocalBlock::ClipPoint { clip } | LocalBlock::ClipFrame { clip } => {
-                dofs.clip(clip).into_iter().collect()
+            LocalBlock::ClipPoint { clip } => {
+                let mut blocks = vec![];
+                if let Some((t, r)) = system.clips[clip].body.and_then(|b| dofs.body(b.0)) {
+                    blocks.extend([t, r]);
+                }
+                blocks.extend(dofs.clip(clip));
+                blocks
+            }
+            LocalBlock::ClipFrame { clip } => {
+                let mut blocks = vec![];
+                if let Some((_, r)) = system.clips[clip].body.and_then(|b| dofs.body(b.0)) {
+                    blocks.push(r);
+                }
+                blocks.extend(dofs.clip(clip));
+                blocks
             }
         }
     }
@@ -126,66 +139,182 @@ pub(crate) fn chain_rule(
                     .copy_from(&offset_matrix.transpose());
             }
             LocalBlock::ClipPoint { clip } => {
-                let spec = &system.clips[clip];
-                let joint = &state.clips[clip];
-                let c = column(dofs.clip(clip).expect("clip with a joint"));
-                let base = spec.base.orientation.to_rotation_matrix().into_inner();
-                let lever = spec.offset.position;
-                match spec.joint {
-                    Joint::Fixed => {}
-                    Joint::Revolute { axis } => {
-                        // r = p_B + R_B Rot(a, φ) o: ∂r/∂φ = R_B Rot (a × o).
-                        let moved = base
-                            * UnitQuaternion::from_scaled_axis(axis * joint.value)
-                                .to_rotation_matrix()
-                                .into_inner();
-                        jacobian
-                            .fixed_view_mut::<3, 1>(row, c)
-                            .copy_from(&(moved * axis.cross(&lever)));
-                        if with_curvature {
-                            curvature[(c, c)] +=
-                                gradient_of(a).dot(&(moved * axis.cross(&axis.cross(&lever))));
+                let g = gradient_of(a);
+                let map = ClipMap::new(system, dofs, state, clip);
+                let joint_columns = point_columns(&system.clips[clip], &state.clips[clip]);
+                if let Some((t, r)) = map.body_blocks {
+                    // r = x + R_b exp(θ) ρ(φ) with ρ the output origin in body coordinates.
+                    let rho = system.clips[clip].output_in_carrier(&state.clips[clip]);
+                    let (t, r) = (column(t), column(r));
+                    jacobian
+                        .fixed_view_mut::<3, 3>(row, t)
+                        .copy_from(&Matrix3::identity());
+                    jacobian
+                        .fixed_view_mut::<3, 3>(row, r)
+                        .copy_from(&(-map.carrier * skew(&rho)));
+                    if with_curvature {
+                        let body_force = map.carrier.transpose() * g;
+                        let mut view = curvature.fixed_view_mut::<3, 3>(r, r);
+                        view += lever_curvature(&body_force, &rho);
+                        if let Some(j) = map.joint_block {
+                            // ∂²/∂θ∂φ_m of gᵀ R_b exp(θ) ρ(φ) is ∂ρ/∂φ_m × R_bᵀ g.
+                            let j = column(j);
+                            for (m, rho_m) in joint_columns.iter().enumerate() {
+                                let mixed = rho_m.cross(&body_force);
+                                add_symmetric(&mut curvature, r, j + m, &mixed);
+                            }
                         }
                     }
-                    Joint::Prismatic { axis } => {
+                }
+                if let Some(j) = map.joint_block {
+                    let c = column(j);
+                    for (m, rho_m) in joint_columns.iter().enumerate() {
                         jacobian
-                            .fixed_view_mut::<3, 1>(row, c)
-                            .copy_from(&(base * axis));
+                            .fixed_view_mut::<3, 1>(row, c + m)
+                            .copy_from(&(map.carrier * rho_m));
                     }
-                    Joint::Spherical => {
-                        let rotation = base * joint.rotation.to_rotation_matrix().into_inner();
-                        jacobian
-                            .fixed_view_mut::<3, 3>(row, c)
-                            .copy_from(&(-rotation * skew(&lever)));
-                        if with_curvature {
-                            let term =
-                                lever_curvature(&(rotation.transpose() * gradient_of(a)), &lever);
-                            let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
-                            view += term;
-                        }
+                    if with_curvature {
+                        add_joint_point_curvature(
+                            &system.clips[clip],
+                            &state.clips[clip],
+                            &(map.carrier.transpose() * g),
+                            c,
+                            &mut curvature,
+                        );
                     }
                 }
             }
             LocalBlock::ClipFrame { clip } => {
+                let map = ClipMap::new(system, dofs, state, clip);
                 let spec = &system.clips[clip];
-                let c = column(dofs.clip(clip).expect("clip with a joint"));
                 let offset = spec.offset.orientation.to_rotation_matrix().into_inner();
-                match spec.joint {
-                    Joint::Fixed | Joint::Prismatic { .. } => {}
-                    // Q = q_B Rot(a, φ) q_o: a right increment R_oᵀ a δφ of Q.
-                    Joint::Revolute { axis } => {
-                        jacobian
-                            .fixed_view_mut::<3, 1>(row, c)
-                            .copy_from(&(offset.transpose() * axis));
+                let joint_columns = frame_columns(spec, &offset);
+                if let Some((_, r)) = map.body_blocks {
+                    // Q = q_b exp(θ) q_B J q_o = Q exp(Aθ) with A = (R_B R_J R_o)ᵀ.
+                    let (_, joint_rotation) = spec.joint_motion(&state.clips[clip]);
+                    let to_output = (spec.base.orientation * joint_rotation)
+                        .to_rotation_matrix()
+                        .into_inner()
+                        * offset;
+                    let r = column(r);
+                    jacobian
+                        .fixed_view_mut::<3, 3>(row, r)
+                        .copy_from(&to_output.transpose());
+                    if with_curvature && let Some(j) = map.joint_block {
+                        // exp(Aθ) exp(b δ) = exp(Aθ + bδ + ½ Aθ × bδ + …) (BCH).
+                        let g = gradient_of(a);
+                        let j = column(j);
+                        for (m, b) in joint_columns.iter().enumerate() {
+                            let mixed = 0.5 * to_output * b.cross(&g);
+                            add_symmetric(&mut curvature, r, j + m, &mixed);
+                        }
                     }
-                    Joint::Spherical => {
-                        jacobian
-                            .fixed_view_mut::<3, 3>(row, c)
-                            .copy_from(&offset.transpose());
+                }
+                if let Some(j) = map.joint_block {
+                    let c = column(j);
+                    for (m, b) in joint_columns.iter().enumerate() {
+                        jacobian.fixed_view_mut::<3, 1>(row, c + m).copy_from(b);
                     }
                 }
             }
         }
     }
     (jacobian, curvature)
+}
+
+/// Adds `v` to the rows `r..r+3` of column `c` and to the columns `r..r+3` of row `c`.
+fn add_symmetric(matrix: &mut DMatrix<f64>, r: usize, c: usize, v: &Vector3<f64>) {
+    for k in 0..3 {
+        matrix[(r + k, c)] += v[k];
+        matrix[(c, r + k)] += v[k];
+    }
+}
+
+/// Right-increment directions of a clip's output frame per joint coordinate.
+fn frame_columns(spec: &ClipSpec, offset: &Matrix3<f64>) -> Vec<Vector3<f64>> {
+    match spec.joint {
+        Joint::Fixed | Joint::Prismatic { .. } => vec![],
+        // Q = q_B Rot(a, φ) q_o: a right increment R_oᵀ a δφ of Q.
+        Joint::Revolute { axis } => vec![offset.transpose() * axis],
+        Joint::Spherical => {
+            let t = offset.transpose();
+            vec![t.column(0).into(), t.column(1).into(), t.column(2).into()]
+        }
+    }
+}
+
+/// How a clip's output depends on its carrier body and its joint.
+struct ClipMap {
+    /// Rotation of the carrier (the body, or the identity for the world).
+    carrier: Matrix3<f64>,
+    /// Translation and rotation blocks of a free carrier body.
+    body_blocks: Option<(usize, usize)>,
+    /// The joint's block.
+    joint_block: Option<usize>,
+}
+
+impl ClipMap {
+    fn new(system: &System, dofs: &Dofs, state: &SystemState, clip: usize) -> Self {
+        let spec = &system.clips[clip];
+        let (carrier, body_blocks) = match spec.body {
+            Some(body) => (
+                state.bodies[body.0]
+                    .orientation
+                    .to_rotation_matrix()
+                    .into_inner(),
+                dofs.body(body.0),
+            ),
+            None => (Matrix3::identity(), None),
+        };
+        Self {
+            carrier,
+            body_blocks,
+            joint_block: dofs.clip(clip),
+        }
+    }
+}
+
+/// `∂ρ/∂φ_m`: how the output origin moves per joint coordinate, in the coordinates of
+/// the clip's carrier (world or body).
+fn point_columns(spec: &ClipSpec, joint: &JointState) -> Vec<Vector3<f64>> {
+    let base = spec.base.orientation.to_rotation_matrix().into_inner();
+    let lever = spec.offset.position;
+    match spec.joint {
+        Joint::Fixed => vec![],
+        // ρ = p_B + R_B Rot(a, φ) o: ∂ρ/∂φ = R_B Rot (a × o).
+        Joint::Revolute { axis } => {
+            let turn = UnitQuaternion::from_scaled_axis(axis * joint.value);
+            vec![base * (turn * axis.cross(&lever))]
+        }
+        Joint::Prismatic { axis } => vec![base * axis],
+        // ρ = p_B + R_B R_s exp(ψ) o: ∂ρ/∂ψ = −R_B R_s [o]×.
+        Joint::Spherical => {
+            let m = -base * joint.rotation.to_rotation_matrix().into_inner() * skew(&lever);
+            vec![m.column(0).into(), m.column(1).into(), m.column(2).into()]
+        }
+    }
+}
+
+/// Adds `Σ gᵢ ∂²ρᵢ/∂φ∂φ` for the carrier-frame force `force` at joint column `c`.
+fn add_joint_point_curvature(
+    spec: &ClipSpec,
+    joint: &JointState,
+    force: &Vector3<f64>,
+    c: usize,
+    curvature: &mut DMatrix<f64>,
+) {
+    let base = spec.base.orientation.to_rotation_matrix().into_inner();
+    let lever = spec.offset.position;
+    match spec.joint {
+        Joint::Fixed | Joint::Prismatic { .. } => {}
+        Joint::Revolute { axis } => {
+            let turn = UnitQuaternion::from_scaled_axis(axis * joint.value);
+            curvature[(c, c)] += force.dot(&(base * (turn * axis.cross(&axis.cross(&lever)))));
+        }
+        Joint::Spherical => {
+            let rotation = base * joint.rotation.to_rotation_matrix().into_inner();
+            let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
+            view += lever_curvature(&(rotation.transpose() * force), &lever);
+        }
+    }
 }

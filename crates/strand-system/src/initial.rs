@@ -101,7 +101,7 @@ fn held_stations(
         .collect();
     clips.sort_by_key(|c| c.vertex);
     for clip in clips {
-        let output = clip.output(&Default::default());
+        let output = clip.output(&Default::default(), &system.body_poses());
         stations.push(Station {
             s: arc[clip.vertex],
             position: output.position,

@@ -92,7 +92,7 @@ impl Model {
         let mut push = |kind, locals: [LocalBlock; 3]| {
             let mut globals = Vec::new();
             for local in &locals {
-                for g in local.globals(&dofs) {
+                for g in local.globals(&dofs, &system) {
                     if !globals.contains(&g) {
                         globals.push(g);
                     }
@@ -299,7 +299,7 @@ impl Model {
                 .iter()
                 .zip(&state.clips)
                 .filter(|(clip, _)| clip.rod.0 == rod)
-                .map(|(clip, joint)| (clip.vertex, clip.output(joint).orientation))
+                .map(|(clip, joint)| (clip.vertex, clip.output(joint, &state.bodies).orientation))
                 .collect(),
         }
     }
@@ -448,7 +448,7 @@ impl Model {
     ) -> ClipHalfElement {
         let spec = &self.system.rods[rod];
         let output = self.system.clips[clip]
-            .output(&state.clips[clip])
+            .output(&state.clips[clip], &state.bodies)
             .orientation;
         let frames = &state.rods[rod].frames;
         let (frame_a, frame_b, edge) = if after {
@@ -654,7 +654,7 @@ impl Model {
     /// Puts every clipped vertex at its clip's output origin.
     fn place_clipped_vertices(&self, state: &mut SystemState) {
         for (c, clip) in self.system.clips.iter().enumerate() {
-            let position = clip.output(&state.clips[c]).position;
+            let position = clip.output(&state.clips[c], &state.bodies).position;
             state.rods[clip.rod.0].set_position(clip.vertex, position);
         }
     }
@@ -706,10 +706,10 @@ impl Model {
                 }
             }
         }
-        if !self.system.clips.is_empty() {
-            self.place_clipped_vertices(out);
-        }
         if self.system.bodies.is_empty() {
+            if !self.system.clips.is_empty() {
+                self.place_clipped_vertices(out);
+            }
             return;
         }
         for (b, pose) in out.bodies.iter_mut().enumerate() {
@@ -731,6 +731,44 @@ impl Model {
                         .expect("port position");
                     rod_state.set_position(vertex, position);
                 }
+            }
+        }
+        // Clips follow their joints and carrier bodies.
+        self.place_clipped_vertices(out);
+    }
+
+    /// How `direction · r` changes with the unknowns, for the position `r` of vertex
+    /// `vertex` of rod `rod` at `state`: `(unknown index, ∂(direction · r)/∂unknown)`.
+    /// Empty for a vertex fixed in space; through the body or clip for a held vertex.
+    /// Contact constraints are linearised with it.
+    pub fn vertex_direction_gradient(
+        &self,
+        state: &SystemState,
+        rod: usize,
+        vertex: usize,
+        direction: &Vector3<f64>,
+    ) -> Vec<(usize, f64)> {
+        match vertex_local(&self.system, &self.dofs, rod, vertex) {
+            LocalBlock::Fixed => vec![],
+            LocalBlock::Free(b) => (0..3).map(|k| (3 * b + k, direction[k])).collect(),
+            local => {
+                let globals = local.globals(&self.dofs, &self.system);
+                let (jacobian, _) = chain_rule(
+                    &[local],
+                    &globals,
+                    &self.dofs,
+                    &self.system,
+                    state,
+                    direction.as_slice(),
+                    false,
+                );
+                let row = direction.transpose() * jacobian;
+                globals
+                    .iter()
+                    .flat_map(|&g| (0..3).map(move |k| 3 * g + k))
+                    .zip(row.iter().copied())
+                    .filter(|(_, v)| *v != 0.0)
+                    .collect()
             }
         }
     }
@@ -771,7 +809,7 @@ fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock 
     }
     if let Some(clip) = system.clip_at(r, j) {
         return match system.clips[clip].joint {
-            Joint::Fixed => LocalBlock::Fixed,
+            Joint::Fixed if !on_free_body(system, clip) => LocalBlock::Fixed,
             _ => LocalBlock::ClipPoint { clip },
         };
     }
@@ -812,9 +850,16 @@ fn boundary_local(system: &System, r: usize, at_end: bool) -> Option<LocalBlock>
 /// How a clip's output frame enters a half-cell element.
 fn clip_frame_local(system: &System, clip: usize) -> LocalBlock {
     match system.clips[clip].joint {
-        Joint::Fixed | Joint::Prismatic { .. } => LocalBlock::Fixed,
+        Joint::Fixed | Joint::Prismatic { .. } if !on_free_body(system, clip) => LocalBlock::Fixed,
         _ => LocalBlock::ClipFrame { clip },
     }
+}
+
+/// Whether clip `clip` is carried by a free body.
+fn on_free_body(system: &System, clip: usize) -> bool {
+    system.clips[clip]
+        .body
+        .is_some_and(|b| !system.bodies[b.0].fixed)
 }
 
 /// Owned inputs of a clip half-cell (the output frame is computed, not stored).

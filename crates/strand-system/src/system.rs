@@ -48,15 +48,20 @@ pub enum Joint {
     Spherical,
 }
 
-/// A clip: a joint from a base frame fixed in space to an output frame that holds a
-/// rod at one of its interior vertices (the vertex sits at the output origin; the
-/// curvature term there is split into two half-cells around the output frame, whose
-/// `a3` points along the rod).
+/// A clip: a joint from a base frame (fixed in space, or on a body) to an output frame
+/// that holds a rod at one of its interior vertices (the vertex sits at the output
+/// origin; the curvature term there is split into two half-cells around the output
+/// frame, whose `a3` points along the rod).
+///
+/// A clip based on a free body moves with it: a clip mounted on a hanging T-junction,
+/// or a hose-to-hose clip (a light body holding two rods through one clip each).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClipSpec {
     /// Name used in reactions and results.
     pub name: String,
-    /// Base frame in the world (m).
+    /// The body carrying the base frame, or `None` for a base fixed in the world.
+    pub body: Option<BodyHandle>,
+    /// Base frame (m): in the world, or in body coordinates when `body` is set.
     pub base: Pose,
     /// The joint.
     pub joint: Joint,
@@ -103,15 +108,36 @@ impl ClipSpec {
         }
     }
 
-    /// The output frame in the world for the given joint coordinates.
-    pub fn output(&self, state: &JointState) -> Pose {
+    /// The base frame in the world, for the body poses `bodies` (indexed by body).
+    pub fn base_in_world(&self, bodies: &[Pose]) -> Pose {
+        match self.body {
+            None => self.base,
+            Some(body) => {
+                let carrier = &bodies[body.0];
+                Pose {
+                    position: carrier.transform_point(&self.base.position),
+                    orientation: carrier.orientation * self.base.orientation,
+                }
+            }
+        }
+    }
+
+    /// The output frame in the world for the given joint coordinates and body poses.
+    pub fn output(&self, state: &JointState, bodies: &[Pose]) -> Pose {
+        let base = self.base_in_world(bodies);
         let (translation, rotation) = self.joint_motion(state);
         Pose {
-            position: self
-                .base
-                .transform_point(&(translation + rotation * self.offset.position)),
-            orientation: self.base.orientation * rotation * self.offset.orientation,
+            position: base.transform_point(&(translation + rotation * self.offset.position)),
+            orientation: base.orientation * rotation * self.offset.orientation,
         }
+    }
+
+    /// The output origin in the coordinates of the base's carrier (the world or the
+    /// body), m: `ρ = p_B + R_B (t + J o)` for the joint motion `(t, J)`.
+    pub fn output_in_carrier(&self, state: &JointState) -> Vector3<f64> {
+        let (translation, rotation) = self.joint_motion(state);
+        self.base
+            .transform_point(&(translation + rotation * self.offset.position))
     }
 }
 
@@ -497,11 +523,11 @@ impl System {
                 [&r.start, &r.end]
                     .iter()
                     .any(|e| matches!(e.support, Support::Port { body, .. } if body.0 == b))
-            });
+            }) || self.clips.iter().any(|c| c.body.is_some_and(|h| h.0 == b));
             if !attached && !body.fixed {
                 return Err(SystemError::InvalidBody {
                     body: body.name.clone(),
-                    what: "no rod is attached to this free body: attach a rod to one of its ports or remove it".into(),
+                    what: "no rod is attached to this free body: attach a rod to one of its ports (or hold one with a clip on it) or remove it".into(),
                 });
             }
         }
@@ -569,6 +595,11 @@ impl System {
                     )));
                 }
             }
+            if let Some(body) = clip.body
+                && body.0 >= self.bodies.len()
+            {
+                return Err(invalid(format!("body #{} does not exist", body.0)));
+            }
             let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
             if !finite(&clip.base.position) || !finite(&clip.offset.position) {
                 return Err(invalid("base and offset positions must be finite".into()));
@@ -600,7 +631,8 @@ impl System {
             }
         }
         for clip in &self.clips {
-            union(&mut parent, clip.rod.0, ground);
+            let carrier = clip.body.map_or(ground, |b| rods + b.0);
+            union(&mut parent, clip.rod.0, carrier);
         }
         for (r, spec) in self.rods.iter().enumerate() {
             for end in [&spec.start, &spec.end] {

@@ -127,6 +127,7 @@ fn clipped_system() -> System {
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
     let clip = |name: &str, x: f64, joint, vertex| ClipSpec {
+        body: None,
         name: name.into(),
         base: Pose {
             position: Vector3::new(x, 0.02, 0.0),
@@ -171,6 +172,104 @@ fn clipped_system() -> System {
         ],
         gravity: Vector3::new(0.0, 0.0, -9.81),
     }
+}
+
+/// The T-junction system with clips carried by bodies: a revolute, a prismatic, a
+/// spherical and a fixed clip on the free T, and a light free "hose-to-hose" clip body
+/// that holds rods `a` and `b` through a fixed and a revolute clip.
+fn body_clip_system() -> System {
+    let mut system = junction_system();
+    let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
+    let along = |d: Vector3<f64>| {
+        UnitQuaternion::rotation_between(&Vector3::z(), &d).expect("not antiparallel")
+    };
+    let clip = |name: &str, body, position, joint, rod, vertex, direction| ClipSpec {
+        name: String::from(name),
+        body: Some(BodyHandle(body)),
+        base: Pose {
+            position,
+            orientation: tilt(0.2),
+        },
+        joint,
+        offset: Pose {
+            position: Vector3::new(0.01, -0.004, 0.015),
+            orientation: tilt(-0.2) * along(direction),
+        },
+        rod: RodHandle(rod),
+        vertex,
+        limits: None,
+    };
+    system.bodies.push(BodySpec {
+        name: "pair".into(),
+        mass: 0.02,
+        center_of_mass: Vector3::new(0.003, 0.0, -0.002),
+        pose: Pose {
+            position: Vector3::new(0.3, 0.05, 0.0),
+            orientation: UnitQuaternion::identity(),
+        },
+        fixed: false,
+        ports: vec![],
+    });
+    let x = Vector3::x();
+    system.clips = vec![
+        clip(
+            "hinge",
+            0,
+            Vector3::new(-0.25, 0.0, 0.0),
+            Joint::Revolute {
+                axis: Vector3::new(0.0, 0.6, 0.8),
+            },
+            0,
+            2,
+            x,
+        ),
+        clip(
+            "rail",
+            0,
+            Vector3::new(0.17, 0.0, 0.0),
+            Joint::Prismatic { axis: x },
+            1,
+            1,
+            x,
+        ),
+        clip(
+            "ball",
+            0,
+            Vector3::new(0.0, 0.15, 0.0),
+            Joint::Spherical,
+            2,
+            1,
+            Vector3::y(),
+        ),
+        clip(
+            "bracket",
+            0,
+            Vector3::new(0.0, 0.28, 0.0),
+            Joint::Fixed,
+            2,
+            2,
+            Vector3::y(),
+        ),
+        clip(
+            "pair_a",
+            1,
+            Vector3::new(0.0, -0.05, 0.0),
+            Joint::Fixed,
+            0,
+            1,
+            x,
+        ),
+        clip(
+            "pair_b",
+            1,
+            Vector3::new(0.0, 0.05, 0.0),
+            Joint::Revolute { axis: x },
+            1,
+            2,
+            x,
+        ),
+    ];
+    system
 }
 
 fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
@@ -226,6 +325,11 @@ fn junction_coupling_matches_finite_differences() {
 #[test]
 fn clip_coupling_matches_finite_differences() {
     check_assembly(clipped_system());
+}
+
+#[test]
+fn clips_on_free_bodies_match_finite_differences() {
+    check_assembly(body_clip_system());
 }
 
 /// Scalar joints occupy the first component of a 3-block; the two spare components

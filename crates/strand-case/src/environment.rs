@@ -1,0 +1,241 @@
+//! Environment meshes of a case: OBJ files placed in the world, loaded once and shared.
+//!
+//! ```ron
+//! environment: [
+//!     (name: "engine", obj: "../assets/engine_bay/engine.obj", unit: "mm", scale: 1.0,
+//!      position: (0, 0, 0), rotation: (axis: (0, 0, 1), angle_deg: 0)),
+//! ],
+//! ```
+//!
+//! A file coordinate `x` becomes the world point `R (unit · scale · x) + position`
+//! (`position` in the case's length unit, `R` the rotation by `angle_deg` about
+//! `axis`). Paths are relative to the case file's folder. Built meshes (with their
+//! BVH) are cached in the [`crate::Case`], keyed by resolved path, name and
+//! transform, so variants and batch runs of a case share them.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use strand_contact::ObstacleMesh;
+
+use crate::build::BuiltCase;
+use crate::error::{CaseError, Reporter};
+use crate::schema::{CaseFile, Vec3};
+use crate::units::LengthUnit;
+
+/// One environment mesh: `(name: "engine", obj: "engine.obj", unit: "mm", scale: 1.0,
+/// position: (0, 0, 0), rotation: (axis: (0, 0, 1), angle_deg: 0))`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentDef {
+    /// Unique name (used in messages and results).
+    pub name: String,
+    /// Path of the Wavefront OBJ file, relative to the case file's folder (or absolute).
+    pub obj: String,
+    /// Length unit of the coordinates in the OBJ file: `"mm"` or `"m"` (independent of
+    /// the case's unit).
+    pub unit: String,
+    /// Extra scale factor applied to the file's coordinates (default 1).
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+    /// Where the file's origin is placed, in the case's length unit (default origin).
+    #[serde(default)]
+    pub position: Vec3,
+    /// Rotation of the file's axes (default none), applied about the file's origin
+    /// before the translation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotation: Option<AxisAngleDef>,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+/// A rotation by `angle_deg` degrees about `axis` (right-hand rule):
+/// `(axis: (0, 0, 1), angle_deg: 90)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisAngleDef {
+    /// Rotation axis (any non-zero length).
+    pub axis: Vec3,
+    /// Rotation angle in degrees.
+    pub angle_deg: f64,
+}
+
+/// Cache of built environment meshes, shared by clones of a [`crate::Case`] (and so by
+/// its variants and batch runs, also across threads).
+#[derive(Clone, Default)]
+pub struct EnvironmentCache {
+    entries: Arc<Mutex<Vec<CacheEntry>>>,
+}
+
+/// A built mesh with what it was built from.
+type CacheEntry = (MeshKey, Arc<ObstacleMesh>);
+
+/// What makes two environment entries the same mesh.
+#[derive(Clone, Debug, PartialEq)]
+struct MeshKey {
+    path: PathBuf,
+    name: String,
+    scale_to_metres: u64,
+    pose: [u64; 7],
+}
+
+impl EnvironmentCache {
+    /// Number of meshes held.
+    pub fn len(&self) -> usize {
+        self.lock().len()
+    }
+
+    /// Whether no mesh is held.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<CacheEntry>> {
+        self.entries.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+/// Caches compare equal: a cache never changes what a case means.
+impl PartialEq for EnvironmentCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for EnvironmentCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "EnvironmentCache({} meshes)", self.len())
+    }
+}
+
+impl BuiltCase {
+    /// Warnings about the environment meshes for the user, e.g. degenerate triangles
+    /// that were skipped: `environment 'engine': 12 degenerate triangles skipped`.
+    pub fn environment_warnings(&self) -> Vec<String> {
+        self.environment
+            .iter()
+            .filter(|m| m.skipped_degenerate() > 0)
+            .map(|m| {
+                format!(
+                    "environment '{}': {} degenerate (zero-area) triangle(s) skipped",
+                    m.name(),
+                    m.skipped_degenerate()
+                )
+            })
+            .collect()
+    }
+}
+
+/// Validates the case's `environment` entries and loads their meshes (from `cache`
+/// when already built), in file order.
+pub(crate) fn load_environment(
+    report: &Reporter,
+    unit: LengthUnit,
+    file: &CaseFile,
+    cache: &EnvironmentCache,
+) -> Result<Vec<Arc<ObstacleMesh>>, CaseError> {
+    let folder = Path::new(report.origin)
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let mut meshes = Vec::with_capacity(file.environment.len());
+    for (i, def) in file.environment.iter().enumerate() {
+        let item = format!("environment[{i}] '{}'", def.name);
+        if def.name.trim().is_empty() {
+            return Err(report.invalid(
+                format!("environment[{i}].name"),
+                "the name is empty",
+                "give every environment mesh a name",
+            ));
+        }
+        if let Some(first) = file.environment[..i]
+            .iter()
+            .position(|e| e.name == def.name)
+        {
+            return Err(report.invalid(
+                &item,
+                format!("duplicate environment name (also used by environment[{first}])"),
+                "give every environment mesh a unique name",
+            ));
+        }
+        let file_unit = LengthUnit::parse(&def.unit).ok_or_else(|| {
+            report.invalid(
+                format!("{item}.unit"),
+                format!("unknown length unit \"{}\"", def.unit),
+                format!(
+                    "use {} (the unit of the OBJ file's coordinates)",
+                    LengthUnit::ACCEPTED
+                ),
+            )
+        })?;
+        let scale = report.positive(&format!("{item}.scale"), def.scale, "")?;
+        let position = report.finite3(
+            &format!("{item}.position"),
+            &def.position,
+            &format!(" {unit}"),
+        )?;
+        let rotation = rotation(report, &item, def.rotation.as_ref())?;
+        let pose = Isometry3::from_parts(Translation3::from(position * unit.metres()), rotation);
+        let scale_to_metres = file_unit.metres() * scale;
+        let path = folder.join(&def.obj);
+        let key = MeshKey {
+            path: path.canonicalize().unwrap_or_else(|_| path.clone()),
+            name: def.name.clone(),
+            scale_to_metres: scale_to_metres.to_bits(),
+            pose: pose_bits(&pose),
+        };
+        let mut entries = cache.lock();
+        if let Some((_, mesh)) = entries.iter().find(|(k, _)| *k == key) {
+            meshes.push(Arc::clone(mesh));
+            continue;
+        }
+        let mesh = ObstacleMesh::load_obj(&path, scale_to_metres, &pose)
+            .map_err(|e| {
+                let text = e.to_string();
+                let (message, hint) = text.split_once("\n  hint: ").unwrap_or((&text, ""));
+                report.invalid(format!("environment[{i}].obj"), message, hint)
+            })?
+            .with_name(def.name.clone());
+        let mesh = Arc::new(mesh);
+        entries.push((key, Arc::clone(&mesh)));
+        meshes.push(mesh);
+    }
+    Ok(meshes)
+}
+
+/// The rotation of an entry (identity when not given).
+fn rotation(
+    report: &Reporter,
+    item: &str,
+    def: Option<&AxisAngleDef>,
+) -> Result<UnitQuaternion<f64>, CaseError> {
+    let Some(def) = def else {
+        return Ok(UnitQuaternion::identity());
+    };
+    let item = format!("{item}.rotation");
+    let axis = report.finite3(&format!("{item}.axis"), &def.axis, "")?;
+    let angle = report.finite(&format!("{item}.angle_deg"), def.angle_deg, "°")?;
+    let axis = Unit::try_new(axis, 0.0).ok_or_else(|| {
+        report.invalid(
+            format!("{item}.axis"),
+            "the rotation axis is zero",
+            "give a non-zero axis, e.g. (0, 0, 1)",
+        )
+    })?;
+    Ok(UnitQuaternion::from_axis_angle(&axis, angle.to_radians()))
+}
+
+/// The exact bits of a pose, for cache keys.
+fn pose_bits(pose: &Isometry3<f64>) -> [u64; 7] {
+    let t: Vector3<f64> = pose.translation.vector;
+    let q = pose.rotation.coords;
+    [t.x, t.y, t.z, q.x, q.y, q.z, q.w].map(f64::to_bits)
+}
+
+#[cfg(test)]
+#[path = "environment_tests.rs"]
+mod tests;

@@ -1,0 +1,164 @@
+//! `strand merge DIR… [--out DIR]`: combines the directories of a sharded batch.
+//!
+//! Every `DIR` must hold the same batch (`batch.json`). Each variant is taken from the
+//! first `DIR` where it is finished (`result.json`, else `failed.json`) and copied
+//! into the output directory (default: the first `DIR`; nothing is copied when the
+//! shards shared one directory). When every variant is there, `summary.csv` and
+//! `summary.svg` are written exactly as an unsharded batch writes them; otherwise
+//! the missing variants are listed and nothing is written.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use strand_report::write_atomic;
+
+use super::manifest::Manifest;
+use super::{invalid, io_failure, list_failures, write_summary};
+use crate::Exit;
+use crate::commands::Failure;
+
+/// Copies the files of one variant directory into `to` (created), `result.json` and
+/// `failed.json` last so that a partial copy is never taken for a finished variant.
+fn copy_variant(from: &Path, to: &Path) -> Result<(), Failure> {
+    let io =
+        |path: &Path, e: std::io::Error| io_failure(format!("cannot copy {}: {e}", path.display()));
+    std::fs::create_dir_all(to).map_err(|e| io(to, e))?;
+    let mut files: Vec<PathBuf> = std::fs::read_dir(from)
+        .map_err(|e| io(from, e))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.is_file()
+                && !p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        })
+        .collect();
+    files.sort_by_key(|p| {
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        (name == "result.json" || name == "failed.json", name)
+    });
+    for file in files {
+        let content = std::fs::read(&file).map_err(|e| io(&file, e))?;
+        let name = file.file_name().unwrap_or_default();
+        write_atomic(&to.join(name), &content)
+            .map_err(|e| io_failure(format!("cannot copy {}: {e}", file.display())))?;
+    }
+    Ok(())
+}
+
+/// `strand merge`.
+pub(crate) fn run(
+    dirs: &[PathBuf],
+    out_dir: Option<&Path>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    let Some(first_dir) = dirs.first() else {
+        return Err(invalid("strand merge needs at least one batch directory"));
+    };
+    let mut manifests = Vec::with_capacity(dirs.len());
+    for dir in dirs {
+        match Manifest::read(dir).map_err(invalid)? {
+            Some(m) => manifests.push(m),
+            None => {
+                return Err(invalid(format!(
+                    "{} has no batch.json: it is not a `strand batch` output directory",
+                    dir.display()
+                )));
+            }
+        }
+    }
+    let manifest = manifests[0].clone();
+    if let Some((dir, other)) = dirs
+        .iter()
+        .zip(&manifests)
+        .find(|(_, m)| !m.same_batch(&manifest))
+    {
+        return Err(invalid(format!(
+            "{} holds another batch than {}: {} vs {}; merge only the shards of one batch",
+            dir.display(),
+            first_dir.display(),
+            other.describe(),
+            manifest.describe()
+        )));
+    }
+    let target = out_dir.unwrap_or(first_dir);
+    if Manifest::read(target).map_err(invalid)?.is_none() {
+        std::fs::create_dir_all(target)
+            .map_err(|e| io_failure(format!("cannot create {}: {e}", target.display())))?;
+        let json = serde_json::to_vec_pretty(&manifest).map_err(|e| io_failure(e.to_string()))?;
+        write_atomic(&target.join("batch.json"), &json)
+            .map_err(|e| io_failure(format!("batch plan not written: {e}")))?;
+    } else if !Manifest::read(target)
+        .map_err(invalid)?
+        .is_some_and(|m| m.same_batch(&manifest))
+    {
+        return Err(invalid(format!(
+            "--out {} holds another batch; choose an empty directory",
+            target.display()
+        )));
+    }
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    let mut missing = Vec::new();
+    let mut copied = 0;
+    for entry in &manifest.variants {
+        let in_dir =
+            |dir: &Path, name: &str| dir.join("variants").join(&entry.id).join(name).is_file();
+        let source = ["result.json", "failed.json"]
+            .iter()
+            .find_map(|name| dirs.iter().find(|d| in_dir(d, name)));
+        match source {
+            None if !in_dir(target, "result.json") && !in_dir(target, "failed.json") => {
+                missing.push(entry.id.as_str());
+            }
+            Some(dir) if !same(dir, target) => {
+                let to = target.join("variants").join(&entry.id);
+                if !to.join("result.json").is_file() {
+                    copy_variant(&dir.join("variants").join(&entry.id), &to)?;
+                    copied += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    if !missing.is_empty() {
+        let shown: Vec<&str> = missing.iter().take(5).copied().collect();
+        return Err(io_failure(format!(
+            "{} of {} variants are in none of the directories ({}{}); run the shards that own them (strand batch … --shard I/N) and merge again",
+            missing.len(),
+            manifest.variants.len(),
+            shown.join(", "),
+            if missing.len() > shown.len() {
+                ", …"
+            } else {
+                ""
+            }
+        )));
+    }
+    let (outcomes, [csv, svg]) = write_summary(target, &manifest)?;
+    let _ = writeln!(
+        out,
+        "merge       {} director{} of {}: {copied} variant(s) copied into {}",
+        dirs.len(),
+        if dirs.len() == 1 { "y" } else { "ies" },
+        manifest.describe(),
+        target.display()
+    );
+    let failed = list_failures(&manifest, &outcomes, &vec![true; outcomes.len()], out);
+    let _ = writeln!(out, "written     {}, {}", csv.display(), svg.display());
+    if failed > 0 {
+        let _ = writeln!(
+            err,
+            "warning: {failed} variant(s) failed (see failed.json in their directories)"
+        );
+        Ok(Exit::NotConverged)
+    } else {
+        Ok(Exit::Success)
+    }
+}

@@ -1,0 +1,273 @@
+//! `strand batch` and `strand merge`: every combination of varied parameters, solved
+//! in parallel and warm-started along each parameter, resumable, shardable.
+//!
+//! ```text
+//! strand batch CASE --vary hose2.length=+0mm..+100mm:10mm [--vary …] --out DIR
+//!              [--jobs N] [--shard I/N] [--segments N] [--retry-failed]
+//! strand merge DIR… [--out DIR]
+//! ```
+//!
+//! Layout of `DIR`: `batch.json` (the plan, [`manifest`]), `variants/<id>/` with
+//! `result.json`, one CSV per rod and `state.json` (exact solved state) of a solved
+//! variant or `failed.json` (the reason) of a failed one, and — for a whole batch or
+//! after `strand merge` — `summary.csv` ([`summary`]) and `summary.svg` ([`plot`]).
+//!
+//! - [`spec`]: parsing `--vary` (items, ranges, units, offsets vs values);
+//! - [`plan`]: grid, ids, warm-start tree, shards;
+//! - [`run`]: parallel execution, progress bar, resume;
+//! - [`merge`]: combining shard directories.
+
+mod manifest;
+pub(crate) mod merge;
+mod plan;
+mod plot;
+mod predict;
+mod run;
+mod spec;
+mod state;
+mod summary;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use strand_case::Case;
+use strand_report::write_atomic;
+
+use crate::Exit;
+use crate::commands::Failure;
+use manifest::Manifest;
+use plan::Plan;
+use run::{Runner, Start};
+use spec::{Vary, parse_shard};
+use summary::{Outcome, read_outcome, summary_csv};
+
+/// The options of `strand batch`.
+pub(crate) struct BatchOptions<'a> {
+    /// The case file.
+    pub case: &'a Path,
+    /// The `--vary` options.
+    pub vary: &'a [String],
+    /// Output directory.
+    pub out: &'a Path,
+    /// Worker threads (default: the available cores).
+    pub jobs: Option<usize>,
+    /// `--shard I/N`.
+    pub shard: Option<&'a str>,
+    /// `--segments N`.
+    pub segments: Option<usize>,
+    /// Solve variants with a `failed.json` again.
+    pub retry_failed: bool,
+}
+
+pub(crate) fn invalid(message: impl Into<String>) -> Failure {
+    Failure {
+        exit: Exit::InvalidInput,
+        message: message.into(),
+    }
+}
+
+pub(crate) fn io_failure(message: impl Into<String>) -> Failure {
+    Failure {
+        exit: Exit::Failure,
+        message: message.into(),
+    }
+}
+
+/// The outcomes of every variant of `manifest` in `dir/variants`.
+pub(crate) fn read_outcomes(dir: &Path, manifest: &Manifest) -> Result<Vec<Outcome>, Failure> {
+    let variants = dir.join("variants");
+    manifest
+        .variants
+        .iter()
+        .map(|v| read_outcome(&variants.join(&v.id)).map_err(io_failure))
+        .collect()
+}
+
+/// Writes `dir/summary.csv` and `dir/summary.svg` from the files in `dir`; returns the
+/// outcomes and the two paths.
+pub(crate) fn write_summary(
+    dir: &Path,
+    manifest: &Manifest,
+) -> Result<(Vec<Outcome>, [PathBuf; 2]), Failure> {
+    let outcomes = read_outcomes(dir, manifest)?;
+    let csv_path = dir.join("summary.csv");
+    let svg_path = dir.join("summary.svg");
+    let not_written =
+        |e: strand_report::ReportError| io_failure(format!("summary not written: {e}"));
+    write_atomic(&csv_path, summary_csv(manifest, &outcomes).as_bytes()).map_err(not_written)?;
+    write_atomic(&svg_path, plot::summary_svg(manifest, &outcomes).as_bytes())
+        .map_err(not_written)?;
+    Ok((outcomes, [csv_path, svg_path]))
+}
+
+/// Prints the failed variants among `outcomes` (those with `show[n]`) to `out`;
+/// returns how many there are.
+pub(crate) fn list_failures(
+    manifest: &Manifest,
+    outcomes: &[Outcome],
+    show: &[bool],
+    out: &mut dyn Write,
+) -> usize {
+    let mut count = 0;
+    for ((entry, outcome), shown) in manifest.variants.iter().zip(outcomes).zip(show) {
+        if let (Outcome::Failed(f), true) = (outcome, *shown) {
+            count += 1;
+            let _ = writeln!(out, "failed      {} ({}): {}", entry.id, f.stage, f.reason);
+        }
+    }
+    count
+}
+
+/// `strand batch`.
+pub(crate) fn run(
+    options: &BatchOptions,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    let started = Instant::now();
+    let case = Case::from_path(options.case)?;
+    if options.vary.is_empty() {
+        return Err(invalid(
+            "strand batch needs at least one --vary, e.g. --vary hose2.length=+0mm..+100mm:10mm",
+        ));
+    }
+    let varies = options
+        .vary
+        .iter()
+        .map(|text| Vary::parse(text, &case.file))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| invalid(format!("{}: {e}", case.origin)))?;
+    let plan = Plan::new(varies).map_err(|e| invalid(format!("{}: {e}", case.origin)))?;
+    let shard = options
+        .shard
+        .map(parse_shard)
+        .transpose()
+        .map_err(invalid)?;
+    let jobs = match options.jobs {
+        Some(0) => return Err(invalid("--jobs: give 1 or more worker threads")),
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let base = case.build(options.segments)?;
+
+    let manifest = Manifest::new(&case, &plan, options.segments);
+    std::fs::create_dir_all(options.out.join("variants")).map_err(|e| {
+        io_failure(format!(
+            "cannot create {}: {e}",
+            options.out.join("variants").display()
+        ))
+    })?;
+    match Manifest::read(options.out).map_err(invalid)? {
+        Some(existing) if !existing.same_batch(&manifest) => {
+            return Err(invalid(format!(
+                "{} holds another batch ({}); use another --out, or delete it to start over",
+                options.out.display(),
+                existing.describe()
+            )));
+        }
+        Some(_) => {}
+        None => {
+            let json =
+                serde_json::to_vec_pretty(&manifest).map_err(|e| io_failure(e.to_string()))?;
+            write_atomic(&options.out.join("batch.json"), &json)
+                .map_err(|e| io_failure(format!("batch plan not written: {e}")))?;
+        }
+    }
+
+    let base_solution = base
+        .solve_from(base.initial.clone(), &base.settings)
+        .map_err(|e| crate::commands::solver_failure(&base.origin, e))?;
+    let start = if base_solution.report.converged {
+        Some(Start::base(base, base_solution.state))
+    } else {
+        let _ = writeln!(
+            err,
+            "warning: {}: the case itself did not converge; the first variant of each chain starts cold",
+            case.origin
+        );
+        None
+    };
+    let owned = plan.owned(shard);
+    let runner = Runner::new(
+        &case,
+        &plan,
+        options.segments,
+        options.out,
+        owned.clone(),
+        options.retry_failed,
+    );
+    let counts = runner.run(start, jobs).map_err(io_failure)?;
+
+    let (outcomes, written) = if shard.is_none() {
+        let (outcomes, paths) = write_summary(options.out, &manifest)?;
+        (outcomes, Some(paths))
+    } else {
+        (read_outcomes(options.out, &manifest)?, None)
+    };
+    let owned_count = owned.iter().filter(|o| **o).count();
+    let _ = writeln!(
+        out,
+        "batch       {} ({}): {} variant(s){}",
+        case.name,
+        case.origin,
+        plan.variants.len(),
+        shard
+            .map(|(i, n)| format!(", shard {i}/{n}: {owned_count} of them"))
+            .unwrap_or_default()
+    );
+    let _ = writeln!(
+        out,
+        "variants    computed {}, skipped {} (finished before), failed {}{}",
+        counts.computed,
+        counts.skipped,
+        counts.failed,
+        if counts.helpers > 0 {
+            format!(
+                "; {} other shards' variants solved as warm starts only",
+                counts.helpers
+            )
+        } else {
+            String::new()
+        }
+    );
+    let _ = writeln!(
+        out,
+        "solver      {} Newton iterations in this run, {:.3} s in total on {jobs} thread(s)",
+        counts.iterations,
+        started.elapsed().as_secs_f64()
+    );
+    let failed = list_failures(&manifest, &outcomes, &owned, out);
+    match written {
+        Some([csv, svg]) => {
+            let _ = writeln!(
+                out,
+                "written     {}, {}, {}",
+                csv.display(),
+                svg.display(),
+                options.out.join("variants").display()
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "written     {} (combine the shards with `strand merge {}`)",
+                options.out.join("variants").display(),
+                options.out.display()
+            );
+        }
+    }
+    if failed > 0 {
+        let _ = writeln!(
+            err,
+            "warning: {}: {failed} variant(s) failed (see failed.json in their directories); the others are complete",
+            case.origin
+        );
+        Ok(Exit::NotConverged)
+    } else {
+        Ok(Exit::Success)
+    }
+}
+
+#[cfg(test)]
+mod tests;

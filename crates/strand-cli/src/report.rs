@@ -1,0 +1,138 @@
+//! `strand report RESULT_DIR… --out FILE`: reads each directory's `result.json` and
+//! writes one self-contained HTML design review ([`strand_report::report_html`]),
+//! atomically. The first result is the reference.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use strand_report::{ReportRun, ResultDoc, check_result, report_html, write_atomic};
+
+use crate::Exit;
+use crate::commands::Failure;
+
+fn invalid(message: String) -> Failure {
+    Failure {
+        exit: Exit::InvalidInput,
+        message,
+    }
+}
+
+/// The `result.json` of `dir` (or `dir` itself when it is a file).
+fn result_path(dir: &Path) -> PathBuf {
+    if dir.is_file() {
+        dir.to_path_buf()
+    } else {
+        dir.join("result.json")
+    }
+}
+
+/// Reads and checks one result document.
+fn load(dir: &Path) -> Result<ResultDoc, Failure> {
+    let path = result_path(dir);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        invalid(format!(
+            "{}: cannot read the result: {e} (give a directory written by `strand solve --out DIR` or `strand study`)",
+            path.display()
+        ))
+    })?;
+    let doc: ResultDoc = serde_json::from_str(&text).map_err(|e| {
+        invalid(format!(
+            "{}:{}:{}: not a strand result.json: {e} (write it again with `strand solve`)",
+            path.display(),
+            e.line(),
+            e.column()
+        ))
+    })?;
+    check_result(&doc).map_err(|e| invalid(format!("{}: {e}", path.display())))?;
+    Ok(doc)
+}
+
+/// Labels: the given ones, else each result's variant or its directory's name; made
+/// unique by appending ` (2)`, ` (3)`, ….
+fn labels(dirs: &[PathBuf], docs: &[ResultDoc], given: &[String]) -> Vec<String> {
+    let mut labels: Vec<String> = Vec::with_capacity(docs.len());
+    for (k, (dir, doc)) in dirs.iter().zip(docs).enumerate() {
+        let base = given.get(k).cloned().unwrap_or_else(|| {
+            doc.variant.clone().unwrap_or_else(|| {
+                let dir = if dir.is_file() {
+                    dir.parent().unwrap_or(dir)
+                } else {
+                    dir
+                };
+                std::fs::canonicalize(dir)
+                    .ok()
+                    .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
+                    .unwrap_or_else(|| format!("result {}", k + 1))
+            })
+        });
+        let mut label = base.clone();
+        let mut n = 2;
+        while labels.contains(&label) {
+            label = format!("{base} ({n})");
+            n += 1;
+        }
+        labels.push(label);
+    }
+    labels
+}
+
+pub(crate) fn run(
+    dirs: &[PathBuf],
+    file: &Path,
+    given_labels: &[String],
+    title: Option<&str>,
+    out: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    if !given_labels.is_empty() && given_labels.len() != dirs.len() {
+        return Err(invalid(format!(
+            "--labels: {} label(s) for {} result directories; give one label per directory",
+            given_labels.len(),
+            dirs.len()
+        )));
+    }
+    let docs = dirs
+        .iter()
+        .map(|d| load(d))
+        .collect::<Result<Vec<_>, _>>()?;
+    let labels = labels(dirs, &docs, given_labels);
+    let runs: Vec<ReportRun> = labels
+        .iter()
+        .zip(&docs)
+        .map(|(label, doc)| ReportRun { label, doc })
+        .collect();
+    let mut cases: Vec<&str> = docs.iter().map(|d| d.case.as_str()).collect();
+    cases.dedup();
+    let title = title
+        .map(str::to_string)
+        .unwrap_or_else(|| format!("Design review: {}", cases.join(", ")));
+    let html = report_html(&title, &runs);
+    let not_written = |message: String| Failure {
+        exit: Exit::Failure,
+        message: format!("{}: report not written: {message}", file.display()),
+    };
+    if let Some(parent) = file.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| not_written(e.to_string()))?;
+    }
+    write_atomic(file, html.as_bytes()).map_err(|e| not_written(e.to_string()))?;
+    let _ = writeln!(
+        out,
+        "report      {} ({} result(s): {}; reference {})",
+        file.display(),
+        runs.len(),
+        labels.join(", "),
+        labels.first().map_or("none", String::as_str)
+    );
+    let unconverged: Vec<&str> = runs
+        .iter()
+        .filter(|r| !r.doc.converged)
+        .map(|r| r.label)
+        .collect();
+    if !unconverged.is_empty() {
+        let _ = writeln!(
+            out,
+            "note        not converged (marked in the report): {}",
+            unconverged.join(", ")
+        );
+    }
+    Ok(Exit::Success)
+}

@@ -1,0 +1,30 @@
+//! # strand-contact
+//!
+//! Contact geometry for hoses and cables: the only crate of the workspace that sees
+//! parry. Its public API speaks nalgebra (`Point3<f64>`, `Vector3<f64>`, m).
+//!
+//! - [`closest`]: exact closest points segment–segment and segment–triangle (parry's
+//!   GJK witness points are only about 1e-6 accurate, too coarse to linearise
+//!   contact constraints at).
+//! - [`mesh`]: environment meshes ([`ObstacleMesh`]): OBJ files or triangle lists
+//!   turned into a parry `TriMesh` with its BVH, built once and shared (`Arc`) across
+//!   iterations, variants and batches; nearest-point queries of segments.
+//! - [`gaps`]: the contact gaps of whole rods (each edge a capsule of the rod's outer
+//!   radius) against meshes and against each other (with a broad phase), with the
+//!   data the solver needs to linearise them.
+
+pub mod closest;
+
+pub use closest::{
+    SegmentSegment, SegmentTriangle, closest_segment_segment, closest_segment_triangle,
+};
+pub mod mesh;
+
+pub use mesh::{MeshError, ObstacleMesh, Proximity};
+pub mod gaps;
+
+pub use gaps::{
+    Gap, GapError, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance, rod_rod_gaps,
+};
+
+pub mod bench;

@@ -1,0 +1,85 @@
+//! Why an environment mesh could not be built.
+
+use std::path::PathBuf;
+
+/// Why an environment mesh could not be read or built. Every message names the mesh
+/// (its file path, or the name given to [`super::ObstacleMesh::try_from_triangles`])
+/// and says how to fix the problem.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The OBJ file could not be read (missing, no permission, …).
+    #[error("{}: cannot read the OBJ file: {source}\n  hint: check the path (relative paths are resolved against the case file's folder) and that the file is readable", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The OBJ file is malformed.
+    #[error("{}: not a valid OBJ file ({message})\n  hint: export the mesh again as Wavefront OBJ (vertices `v x y z`, faces `f i j k`)", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What the OBJ parser reported.
+        message: String,
+    },
+    /// A vertex has a NaN or infinite coordinate.
+    #[error(
+        "{mesh}: vertex {vertex}{at} has a non-finite coordinate ({x}, {y}, {z})\n  hint: repair or re-export the mesh"
+    )]
+    NonFiniteVertex {
+        /// The mesh's file path or name.
+        mesh: String,
+        /// 1-based vertex number (the OBJ numbering for a file).
+        vertex: usize,
+        /// Where in the file (`" (line 12)"`), or empty.
+        at: String,
+        /// The coordinates as read.
+        x: f64,
+        /// The coordinates as read.
+        y: f64,
+        /// The coordinates as read.
+        z: f64,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error(
+        "{mesh}: triangle {triangle} refers to vertex index {index}, but there are only {count} vertices\n  hint: triangle indices are 0-based and must be < the number of vertices"
+    )]
+    IndexOutOfRange {
+        /// The mesh's name.
+        mesh: String,
+        /// 0-based triangle number.
+        triangle: usize,
+        /// The offending 0-based vertex index.
+        index: u32,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// No triangle of positive area is left.
+    #[error(
+        "{mesh}: the mesh has no triangles{detail}\n  hint: check that the file holds faces (`f` lines), not only points or lines"
+    )]
+    NoTriangles {
+        /// The mesh's file path or name.
+        mesh: String,
+        /// Extra detail, e.g. `" (all 12 are degenerate)"`.
+        detail: String,
+    },
+    /// The scale to metres is not a finite positive number.
+    #[error(
+        "{mesh}: invalid scale to metres {scale}\n  hint: give a finite scale > 0 (e.g. 0.001 for a file in mm)"
+    )]
+    InvalidScale {
+        /// The mesh's file path or name.
+        mesh: String,
+        /// The scale given.
+        scale: f64,
+    },
+    /// The pose has a non-finite translation or rotation.
+    #[error("{mesh}: the pose is not finite\n  hint: give a finite position and rotation")]
+    InvalidPose {
+        /// The mesh's file path or name.
+        mesh: String,
+    },
+}

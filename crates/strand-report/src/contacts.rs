@@ -1,0 +1,95 @@
+//! Contacts and clearances of a solved case for `result.json`.
+
+use strand_contact::Obstacle;
+use strand_solve::Solution;
+use strand_solve::contact::Contact;
+use strand_system::Model;
+
+use crate::{ClearanceResult, ContactResult, ResultDoc};
+
+/// How far (surface to surface, m) clearances are searched: obstacles farther from a
+/// rod than this get no `clearance` entry.
+pub const CLEARANCE_SEARCH_M: f64 = 0.1;
+
+fn arr(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// Fills `doc.contacts` (every pair that carries a force, on the rod that is
+/// touched; a rod–rod contact is listed for both rods) and `doc.clearance` (per rod
+/// and obstacle, the smallest surface distance within [`CLEARANCE_SEARCH_M`]).
+pub fn collect_contacts(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+) -> Result<(), String> {
+    let rods = &model.system().rods;
+    let arc = |rod: usize, edge: usize, s: f64| {
+        let a = rods[rod].rod.arc_lengths();
+        a[edge] + s * (a[edge + 1] - a[edge])
+    };
+    doc.contacts.clear();
+    for force in contact.forces(model, &solution.state, &solution.constraints)? {
+        if force.force_n <= 0.0 {
+            continue;
+        }
+        let gap = &force.gap;
+        let normal = gap.normal.into_inner();
+        doc.contacts.push(ContactResult {
+            rod: rods[gap.rod].name.clone(),
+            s_m: arc(gap.rod, gap.edge, gap.s),
+            point_m: arr(&gap.point.coords),
+            normal: arr(&normal),
+            force_n: force.force_n,
+            with: contact.obstacle_name(model, &gap.with),
+        });
+        if let Obstacle::Rod { rod, edge, t } = gap.with {
+            doc.contacts.push(ContactResult {
+                rod: rods[rod].name.clone(),
+                s_m: arc(rod, edge, t),
+                point_m: arr(&gap.witness.coords),
+                normal: arr(&-normal),
+                force_n: force.force_n,
+                with: rods[gap.rod].name.clone(),
+            });
+        }
+    }
+    doc.clearance.clear();
+    let gaps = contact.gaps(model, &solution.state, CLEARANCE_SEARCH_M)?;
+    let mut record = |rod: usize, with: String, distance: f64, s: f64| {
+        let name = &rods[rod].name;
+        match doc
+            .clearance
+            .iter_mut()
+            .find(|c| &c.rod == name && c.with == with)
+        {
+            Some(entry) if entry.distance_m <= distance => {}
+            Some(entry) => {
+                entry.distance_m = distance;
+                entry.s_m = s;
+            }
+            None => doc.clearance.push(ClearanceResult {
+                rod: name.clone(),
+                with,
+                distance_m: distance,
+                s_m: s,
+            }),
+        }
+    };
+    for gap in &gaps {
+        let distance = gap.gap.max(0.0);
+        record(
+            gap.rod,
+            contact.obstacle_name(model, &gap.with),
+            distance,
+            arc(gap.rod, gap.edge, gap.s),
+        );
+        if let Obstacle::Rod { rod, edge, t } = gap.with {
+            record(rod, rods[gap.rod].name.clone(), distance, arc(rod, edge, t));
+        }
+    }
+    doc.clearance
+        .sort_by(|a, b| (&a.rod, &a.with).cmp(&(&b.rod, &b.with)));
+    Ok(())
+}

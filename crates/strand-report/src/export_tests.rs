@@ -1,0 +1,305 @@
+//! Tests of the exports: the `.vtp` read back with an XML parser against the document,
+//! and the tube OBJ's vertices and faces against the centreline geometry.
+
+use nalgebra::Vector3;
+
+use crate::study::tests::doc;
+use crate::*;
+
+/// A rod along a helix (radius 0.1 m, pitch 0.05 m per turn, 1.5 turns, 36 edges),
+/// with irregular sectional values that exercise the number formatting.
+fn helix_rod(name: &str, outer_radius: Option<f64>) -> RodResult {
+    let n = 36;
+    let mut rod = crate::tests::sample_rod();
+    rod.name = name.into();
+    rod.segments = n;
+    let phi = |j: usize| 3.0 * std::f64::consts::PI * j as f64 / n as f64;
+    rod.position_m = (0..=n)
+        .map(|j| {
+            [
+                0.1 * phi(j).cos(),
+                0.1 * phi(j).sin(),
+                0.05 * phi(j) / std::f64::consts::TAU,
+            ]
+        })
+        .collect();
+    let wiggle = |j: usize, k: f64| (k * (j as f64 + 1.0)).sin() * 10f64.powf(k - 3.0);
+    rod.s_m = (0..=n).map(|j| j as f64 / n as f64).collect();
+    rod.force_n = (0..=n)
+        .map(|j| [wiggle(j, 1.0), wiggle(j, 2.0), 1.0 / 3.0])
+        .collect();
+    rod.moment_nm = (0..=n)
+        .map(|j| [wiggle(j, 3.0), -1e-7, wiggle(j, 0.5)])
+        .collect();
+    rod.tangential_force_n = (0..=n).map(|j| wiggle(j, 1.7)).collect();
+    rod.shear_force_n = (0..=n).map(|j| wiggle(j, 2.3).abs()).collect();
+    rod.bending_moment_nm = (0..=n).map(|j| wiggle(j, 0.3).abs()).collect();
+    rod.torsion_nm = (0..=n).map(|j| -wiggle(j, 4.1)).collect();
+    rod.total_moment_nm = vec![[0.0; 3]; n + 1];
+    rod.hamiltonian_n = vec![0.0; n + 1];
+    rod.curvature_1pm = vec![[0.0; 3]; n + 1];
+    rod.edge_force_n = vec![[0.0; 3]; n];
+    rod.outer_radius_m = outer_radius;
+    rod
+}
+
+fn helix_doc() -> ResultDoc {
+    let mut d = doc(1.0);
+    d.rods = vec![helix_rod("hose_a", Some(0.012)), helix_rod("hose-b", None)];
+    d.rods[1].position_m.iter_mut().for_each(|p| p[2] += 0.3);
+    d
+}
+
+fn numbers(node: roxmltree::Node) -> Vec<f64> {
+    node.text()
+        .unwrap_or("")
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn vtp_point_data_reads_back_exactly() {
+    let d = helix_doc();
+    let text = rods_vtp(&d);
+    let xml = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let root = xml.root_element();
+    assert_eq!(
+        (root.tag_name().name(), root.attribute("type")),
+        ("VTKFile", Some("PolyData"))
+    );
+    let piece = xml.descendants().find(|n| n.has_tag_name("Piece")).unwrap();
+    assert_eq!(piece.attribute("NumberOfPoints"), Some("74"));
+    assert_eq!(piece.attribute("NumberOfLines"), Some("2"));
+    let array = |parent: &str, name: &str| {
+        xml.descendants()
+            .find(|n| n.has_tag_name(parent))
+            .unwrap()
+            .descendants()
+            .find(|n| n.has_tag_name("DataArray") && n.attribute("Name") == Some(name))
+            .unwrap_or_else(|| panic!("no {parent}/{name}"))
+    };
+    // Expected values, recomputed here per vertex of both rods.
+    let norm = |v: &[f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let per_vertex = |f: &dyn Fn(&RodResult, usize) -> Vec<f64>| -> Vec<f64> {
+        d.rods
+            .iter()
+            .flat_map(|r| (0..r.s_m.len()).flat_map(move |j| f(r, j)))
+            .collect()
+    };
+    let expected: [(&str, usize, Vec<f64>); 9] = [
+        ("s_m", 1, per_vertex(&|r, j| vec![r.s_m[j]])),
+        ("force_N", 3, per_vertex(&|r, j| r.force_n[j].to_vec())),
+        ("moment_Nm", 3, per_vertex(&|r, j| r.moment_nm[j].to_vec())),
+        (
+            "force_magnitude_N",
+            1,
+            per_vertex(&|r, j| vec![norm(&r.force_n[j])]),
+        ),
+        (
+            "moment_magnitude_Nm",
+            1,
+            per_vertex(&|r, j| vec![norm(&r.moment_nm[j])]),
+        ),
+        (
+            "tangential_force_N",
+            1,
+            per_vertex(&|r, j| vec![r.tangential_force_n[j]]),
+        ),
+        (
+            "shear_force_N",
+            1,
+            per_vertex(&|r, j| vec![r.shear_force_n[j]]),
+        ),
+        (
+            "bending_moment_Nm",
+            1,
+            per_vertex(&|r, j| vec![r.bending_moment_nm[j]]),
+        ),
+        ("torsion_Nm", 1, per_vertex(&|r, j| vec![r.torsion_nm[j]])),
+    ];
+    for (name, components, values) in &expected {
+        let node = array("PointData", name);
+        assert_eq!(
+            node.attribute("NumberOfComponents"),
+            Some(components.to_string().as_str())
+        );
+        assert_eq!(node.attribute("type"), Some("Float64"));
+        assert_eq!(&numbers(node), values, "{name} must round-trip exactly");
+    }
+    assert_eq!(
+        numbers(array("Points", "position_m")),
+        per_vertex(&|r, j| r.position_m[j].to_vec())
+    );
+    let ids = numbers(array("PointData", "rod_id"));
+    assert_eq!(ids, [vec![0.0; 37], vec![1.0; 37]].concat());
+    assert_eq!(numbers(array("CellData", "rod_id")), [0.0, 1.0]);
+    let connectivity = numbers(array("Lines", "connectivity"));
+    assert_eq!(connectivity, (0..74).map(f64::from).collect::<Vec<_>>());
+    assert_eq!(numbers(array("Lines", "offsets")), [37.0, 74.0]);
+    // Rod names: VTK's ASCII string encoding (bytes, each string ended by 0).
+    let bytes: Vec<u8> = numbers(array("FieldData", "rod_names"))
+        .iter()
+        .map(|b| *b as u8)
+        .collect();
+    let names: Vec<&str> = bytes
+        .split(|b| *b == 0)
+        .filter(|s| !s.is_empty())
+        .map(|s| std::str::from_utf8(s).unwrap())
+        .collect();
+    assert_eq!(names, ["hose_a", "hose-b"]);
+}
+
+/// Distance of `p` from the line through `a` and `b`, and the parameter of the foot.
+fn line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, f64) {
+    let d = b - a;
+    let t = (p - a).dot(&d) / d.norm_squared();
+    ((p - a - d * t).norm(), t)
+}
+
+#[test]
+fn tube_vertices_lie_at_the_radius_and_faces_point_outwards() {
+    let d = helix_doc();
+    let text = tubes_obj(&d);
+    // (name, vertices, faces with 1-based global vertex indices) per object.
+    type Object = (String, Vec<Vector3<f64>>, Vec<[usize; 3]>);
+    let mut objects: Vec<Object> = Vec::new();
+    let mut all: Vec<Vector3<f64>> = Vec::new();
+    for line in text.lines() {
+        let mut parts = line.split_whitespace();
+        match parts.next() {
+            Some("o") => objects.push((parts.next().unwrap().into(), Vec::new(), Vec::new())),
+            Some("v") => {
+                let v: Vec<f64> = parts.map(|t| t.parse().unwrap()).collect();
+                let v = Vector3::new(v[0], v[1], v[2]);
+                all.push(v);
+                objects.last_mut().unwrap().1.push(v);
+            }
+            Some("f") => {
+                let f: Vec<usize> = parts.map(|t| t.parse().unwrap()).collect();
+                objects.last_mut().unwrap().2.push([f[0], f[1], f[2]]);
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(objects.len(), 2);
+    assert!(
+        text.contains("hose-b: no outer radius"),
+        "the default radius is stated"
+    );
+    for ((name, vertices, faces), rod) in objects.iter().zip(&d.rods) {
+        assert_eq!(name, &rod.name);
+        let n = rod.segments;
+        assert_eq!(
+            vertices.len(),
+            (n + 1) * TUBE_SIDES + 2,
+            "{name}: rings and cap centres"
+        );
+        assert_eq!(
+            faces.len(),
+            2 * n * TUBE_SIDES + 2 * TUBE_SIDES,
+            "{name}: faces"
+        );
+        let radius = rod
+            .outer_radius_m
+            .unwrap_or(DEFAULT_RADIUS_FRACTION * rod.length_m);
+        let centre: Vec<Vector3<f64>> = rod.position_m.iter().map(|p| Vector3::from(*p)).collect();
+        for (i, v) in vertices[..(n + 1) * TUBE_SIDES].iter().enumerate() {
+            let j = i / TUBE_SIDES;
+            // At the radius from the line of every edge at the ring's vertex.
+            for e in [j.saturating_sub(1), j.min(n - 1)] {
+                let (distance, t) = line_distance(v, &centre[e], &centre[e + 1]);
+                assert!(
+                    (distance - radius).abs() < 1e-9 * radius,
+                    "{name} ring {j}: {distance}"
+                );
+                if j == 0 || j == n {
+                    let end = if j == 0 { 0.0 } else { 1.0 };
+                    assert!(
+                        (t - end).abs() < 1e-9,
+                        "end ring {j} square to its edge: {t}"
+                    );
+                }
+            }
+            // And nowhere closer to the centreline polyline.
+            let nearest = (0..n)
+                .map(|e| {
+                    let (distance, t) = line_distance(v, &centre[e], &centre[e + 1]);
+                    if (0.0..=1.0).contains(&t) {
+                        distance
+                    } else {
+                        (v - centre[e + t.clamp(0.0, 1.0) as usize]).norm()
+                    }
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                nearest > radius * (1.0 - 1e-9),
+                "{name}: vertex {i} at {nearest} < {radius}"
+            );
+        }
+        assert_eq!(vertices[vertices.len() - 2], centre[0]);
+        assert_eq!(vertices[vertices.len() - 1], centre[n]);
+        // Counter-clockwise seen from outside: the normal points away from the
+        // centreline (sides) or along the rod out of the tube (caps).
+        for (k, f) in faces.iter().enumerate() {
+            let [a, b, c] = f.map(|i| all[i - 1]);
+            let normal = (b - a).cross(&(c - a));
+            let middle = (a + b + c) / 3.0;
+            let outward = if k < 2 * n * TUBE_SIDES {
+                let e = k / (2 * TUBE_SIDES);
+                let (_, t) = line_distance(&middle, &centre[e], &centre[e + 1]);
+                middle - (centre[e] + (centre[e + 1] - centre[e]) * t)
+            } else if f[0] == all.iter().position(|v| *v == centre[0]).unwrap() + 1 {
+                centre[0] - centre[1]
+            } else {
+                centre[n] - centre[n - 1]
+            };
+            assert!(
+                normal.dot(&outward) > 0.0,
+                "{name}: face {k} points inwards"
+            );
+        }
+    }
+}
+
+#[test]
+fn write_results_adds_the_vtp_and_the_tubes() {
+    let d = helix_doc();
+    let tmp = tempfile::tempdir().unwrap();
+    let written = write_results(tmp.path(), &d).unwrap();
+    let names: Vec<String> = written
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "hose_a.csv",
+            "hose-b.csv",
+            "rods.vtp",
+            "tubes.obj",
+            "result.json"
+        ]
+    );
+    assert_eq!(
+        std::fs::read_to_string(tmp.path().join("rods.vtp")).unwrap(),
+        rods_vtp(&d)
+    );
+    assert_eq!(
+        std::fs::read_to_string(tmp.path().join("tubes.obj")).unwrap(),
+        tubes_obj(&d)
+    );
+}
+
+#[test]
+fn a_centreline_that_is_not_finite_gets_no_tube() {
+    let mut d = helix_doc();
+    d.rods[0].position_m[3][1] = f64::NAN;
+    let text = tubes_obj(&d);
+    assert!(text.contains("hose_a: centreline not finite"));
+    assert_eq!(text.matches("\no ").count(), 1, "only hose-b");
+    assert!(
+        tube_rings(&[[0.0; 3], [0.0; 3]], 0.1).is_none(),
+        "zero extent"
+    );
+}

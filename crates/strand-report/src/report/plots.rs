@@ -1,0 +1,184 @@
+//! Per-hose plots of the sectional quantities against arc length: a force panel
+//! (`|f|`, `f_t`, `f_s` in N) over a moment panel (`|m|`, `m_b`, `m_t` in N·m), one
+//! colour per quantity, the reference result solid and the others dashed (the study
+//! plot's dash patterns). Each curve is a `<path class="curve">` with `data-rod`,
+//! `data-result` and `data-quantity` attributes.
+
+use std::fmt::Write;
+
+use super::{ReportRun, arc_at};
+use crate::result::RodResult;
+use crate::study::{ArcOrigin, magnitude};
+use crate::svg::{Panel, dash, escape, path_data, tick_range, ticks};
+
+const WIDTH: f64 = 600.0;
+const LEFT: f64 = 72.0;
+const RIGHT: f64 = 440.0;
+const LEGEND_X: f64 = 458.0;
+const TOP: f64 = 52.0;
+const PANEL_HEIGHT: f64 = 170.0;
+const PANEL_GAP: f64 = 72.0;
+const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 52.0;
+
+/// Colours of the three quantities of a panel (magnitude, tangential/bending,
+/// shear/torsion).
+const QUANTITY_COLOURS: [&str; 3] = ["#1f3b73", "#d62728", "#2ca02c"];
+
+/// A plotted quantity: `data-quantity` key, legend label, values of one rod.
+type Quantity = (&'static str, &'static str, fn(&RodResult) -> Vec<f64>);
+
+/// The force panel's quantities, N.
+const FORCES: [Quantity; 3] = [
+    ("force", "|f|", |r| {
+        r.force_n.iter().map(magnitude).collect()
+    }),
+    ("tangential_force", "f_t", |r| r.tangential_force_n.clone()),
+    ("shear_force", "f_s", |r| r.shear_force_n.clone()),
+];
+
+/// The moment panel's quantities, N·m.
+const MOMENTS: [Quantity; 3] = [
+    ("moment", "|m|", |r| {
+        r.moment_nm.iter().map(magnitude).collect()
+    }),
+    ("bending_moment", "m_b", |r| r.bending_moment_nm.clone()),
+    ("torsion", "m_t", |r| r.torsion_nm.clone()),
+];
+
+fn legend_line(svg: &mut String, y: f64, colour: &str, dash_attr: &str, label: &str) {
+    let _ = writeln!(
+        svg,
+        "<line x1=\"{LEGEND_X:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"{dash_attr}/><text x=\"{:.1}\" y=\"{y:.1}\">{}</text>",
+        y - 4.0,
+        LEGEND_X + 26.0,
+        y - 4.0,
+        LEGEND_X + 32.0,
+        escape(label)
+    );
+}
+
+fn dash_attr(k: usize) -> String {
+    dash(k)
+        .map(|d| format!(" stroke-dasharray=\"{d}\""))
+        .unwrap_or_default()
+}
+
+/// A legend label of at most 18 characters.
+fn short(label: &str) -> String {
+    if label.chars().count() > 18 {
+        label.chars().take(17).chain(['…']).collect()
+    } else {
+        label.to_string()
+    }
+}
+
+/// The SVG (no XML declaration; for inlining) of rod `name` in every run that has it,
+/// arc length from `origin`, in mm.
+pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> String {
+    let rods: Vec<(usize, &RodResult)> = runs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, run)| run.doc.rods.iter().find(|r| r.name == name).map(|r| (k, r)))
+        .collect();
+    let finite = |v: &f64| v.is_finite();
+    let x_max = rods
+        .iter()
+        .map(|(_, r)| 1e3 * r.length_m)
+        .filter(finite)
+        .fold(0.0, f64::max);
+    let (x_step, x_top) = ticks(x_max);
+    let mut svg = String::with_capacity(16 * 1024);
+    let _ = writeln!(
+        svg,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" class=\"hose-plot\" data-rod=\"{}\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">",
+        escape(name)
+    );
+    let _ = writeln!(svg, "<title>{}</title>", escape(name));
+    let _ = writeln!(
+        svg,
+        "<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"22\" font-size=\"15\" font-weight=\"bold\">{}</text>",
+        escape(name)
+    );
+    let x_label = match origin {
+        ArcOrigin::Start => "arc length s [mm] from the start",
+        ArcOrigin::End => "arc length s [mm] from the junction",
+    };
+    let mut legend_y = TOP + 4.0;
+    for (p, (quantities, unit, title)) in
+        [(&FORCES, "[N]", "forces"), (&MOMENTS, "[N·m]", "moments")]
+            .into_iter()
+            .enumerate()
+    {
+        let top = TOP + p as f64 * (PANEL_HEIGHT + PANEL_GAP);
+        // series[q][i]: quantity q of rods[i].
+        let series: Vec<Vec<Vec<f64>>> = quantities
+            .iter()
+            .map(|(_, _, values)| rods.iter().map(|(_, r)| values(r)).collect())
+            .collect();
+        let all = series.iter().flatten().flatten().copied();
+        let (low, high) = all
+            .filter(|v| v.is_finite())
+            .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (y_step, y_min, y_max) = tick_range(low, high);
+        let panel = Panel {
+            left: LEFT,
+            right: RIGHT,
+            top,
+            height: PANEL_HEIGHT,
+            x_min: 0.0,
+            x_max: x_top,
+            y_min,
+            y_max,
+        };
+        let y_label = format!("{title} {unit}");
+        panel.draw_axes(&mut svg, x_step, y_step, x_label, &y_label, title);
+        if y_min < 0.0 {
+            let y0 = panel.y(0.0);
+            let _ = writeln!(
+                svg,
+                "<line x1=\"{LEFT}\" y1=\"{y0:.2}\" x2=\"{RIGHT}\" y2=\"{y0:.2}\" stroke=\"#888888\" stroke-width=\"1\"/>"
+            );
+        }
+        for (q, (key, label, _)) in quantities.iter().enumerate() {
+            for (values, (k, rod)) in series[q].iter().zip(&rods) {
+                let points = values
+                    .iter()
+                    .enumerate()
+                    .map(|(j, v)| (1e3 * arc_at(rod, origin, j), *v));
+                let _ = writeln!(
+                    svg,
+                    "<path class=\"curve\" data-rod=\"{}\" data-result=\"{}\" data-quantity=\"{key}\" d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"{}/>",
+                    escape(name),
+                    escape(runs[*k].label),
+                    path_data(&panel, points),
+                    QUANTITY_COLOURS[q],
+                    if q == 0 { 2.2 } else { 1.4 },
+                    dash_attr(*k)
+                );
+            }
+            legend_y = legend_y.max(top + 4.0);
+            legend_line(&mut svg, legend_y, QUANTITY_COLOURS[q], "", label);
+            legend_y += 18.0;
+        }
+        if p == 0 {
+            legend_y += 10.0;
+            let _ = writeln!(
+                svg,
+                "<text x=\"{LEGEND_X}\" y=\"{legend_y:.1}\" font-weight=\"bold\">results</text>"
+            );
+            for (k, run) in runs.iter().enumerate() {
+                legend_y += 18.0;
+                legend_line(
+                    &mut svg,
+                    legend_y,
+                    "#333333",
+                    &dash_attr(k),
+                    &short(run.label),
+                );
+            }
+            legend_y += 30.0;
+        }
+    }
+    svg.push_str("</svg>");
+    svg
+}

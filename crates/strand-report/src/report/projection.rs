@@ -1,0 +1,327 @@
+//! Side (x–z) and top (x–y) views of the hoses, as the paper's Fig. 6 b, c: every
+//! edge coloured by the mean internal force magnitude `|f|` of its two vertices
+//! (viridis, one scale for all results), the supports (connectors, junction bodies with
+//! lines to their ports, clips) and the environment outlines of
+//! [`crate::ResultDoc::environment`]. One scale for all results and both views (equal
+//! aspect, mm), so that results can be compared by eye; results after the first show
+//! the reference centrelines as grey dashed ghosts.
+
+use std::fmt::Write;
+
+use super::ReportRun;
+use super::format::sig;
+use crate::result::ResultDoc;
+use crate::study::magnitude;
+use crate::svg::{Panel, escape, ticks};
+
+const WIDTH: f64 = 600.0;
+const HEIGHT: f64 = 520.0;
+const LEFT: f64 = 70.0;
+const PLOT_WIDTH: f64 = 420.0;
+const TOP: f64 = 40.0;
+const PLOT_HEIGHT: f64 = 420.0;
+
+/// Viridis at five stops, interpolated linearly.
+const VIRIDIS: [[f64; 3]; 5] = [
+    [68.0, 1.0, 84.0],
+    [59.0, 82.0, 139.0],
+    [33.0, 145.0, 140.0],
+    [94.0, 201.0, 98.0],
+    [253.0, 231.0, 37.0],
+];
+
+/// The colour of `t` in [0, 1] (clamped; NaN is magenta) as `#rrggbb`.
+pub(crate) fn colour(t: f64) -> String {
+    if t.is_nan() {
+        return "#ff00ff".into();
+    }
+    let x = t.clamp(0.0, 1.0) * (VIRIDIS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = x - i as f64;
+    let c = [0, 1, 2].map(|k| (VIRIDIS[i][k] + f * (VIRIDIS[i + 1][k] - VIRIDIS[i][k])).round());
+    format!("#{:02x}{:02x}{:02x}", c[0] as u8, c[1] as u8, c[2] as u8)
+}
+
+/// Every point that should be in view in `doc`, m.
+fn points(doc: &ResultDoc) -> impl Iterator<Item = [f64; 3]> + '_ {
+    let rods = doc.rods.iter().flat_map(|r| r.position_m.iter().copied());
+    let supports = doc.reactions.iter().map(|r| r.position_m);
+    let bodies = doc.bodies.iter().map(|b| b.position_m);
+    let clips = doc.clips.iter().map(|c| c.position_m);
+    let environment = doc
+        .environment
+        .iter()
+        .flat_map(|e| e.segments_m.iter().flatten().copied());
+    rods.chain(supports)
+        .chain(bodies)
+        .chain(clips)
+        .chain(environment)
+}
+
+/// The panel of view axes `(a, b)` (0 = x, 1 = y, 2 = z) fitted to all runs at one
+/// scale, and its tick step; coordinates in mm.
+fn fit(runs: &[ReportRun], axes: [usize; 2], scale: f64) -> (Panel, f64) {
+    let (lo, hi) = bounds(runs, axes);
+    let step = ticks((hi[0] - lo[0]).max(hi[1] - lo[1])).0;
+    let low = lo.map(|v| (v / step - 1e-9).floor() * step);
+    let high = [0, 1].map(|i| ((hi[i] / step + 1e-9).ceil() * step).max(low[i] + step));
+    let (width, height) = ((high[0] - low[0]) * scale, (high[1] - low[1]) * scale);
+    let left = LEFT + 0.5 * (PLOT_WIDTH - width);
+    let panel = Panel {
+        left,
+        right: left + width,
+        top: TOP + 0.5 * (PLOT_HEIGHT - height),
+        height,
+        x_min: low[0],
+        x_max: high[0],
+        y_min: low[1],
+        y_max: high[1],
+    };
+    (panel, step)
+}
+
+/// Bounding box of all runs' points in view axes, mm, with a 4 % margin.
+fn bounds(runs: &[ReportRun], axes: [usize; 2]) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in runs.iter().flat_map(|r| points(r.doc)) {
+        for i in 0..2 {
+            let v = 1e3 * p[axes[i]];
+            if v.is_finite() {
+                lo[i] = lo[i].min(v);
+                hi[i] = hi[i].max(v);
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return ([0.0; 2], [1.0; 2]);
+    }
+    let margin = 0.04 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1.0);
+    (lo.map(|v| v - margin), hi.map(|v| v + margin))
+}
+
+/// Appends one figure per run and view (side, then top) to `html`.
+pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
+    let f_max = runs
+        .iter()
+        .flat_map(|r| {
+            r.doc
+                .rods
+                .iter()
+                .flat_map(|rod| rod.force_n.iter().map(magnitude))
+        })
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, f64::max);
+    let f_max = if f_max > 0.0 { f_max } else { 1.0 };
+    let views = [("side", [0, 2], "z [mm]"), ("top", [0, 1], "y [mm]")];
+    // One scale (px per mm) fitting every view of every run.
+    let scale = views
+        .iter()
+        .map(|(_, axes, _)| {
+            let (lo, hi) = bounds(runs, *axes);
+            let step = ticks((hi[0] - lo[0]).max(hi[1] - lo[1])).0;
+            let span = |i: usize| ((hi[i] / step).ceil() - (lo[i] / step).floor()).max(1.0) * step;
+            (PLOT_WIDTH / span(0)).min(PLOT_HEIGHT / span(1))
+        })
+        .fold(f64::INFINITY, f64::min);
+    for (k, run) in runs.iter().enumerate() {
+        for (view, axes, y_label) in &views {
+            let (panel, step) = fit(runs, *axes, scale);
+            let mut svg = String::with_capacity(32 * 1024);
+            let _ = writeln!(
+                svg,
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" class=\"projection\" data-view=\"{view}\" data-result=\"{}\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">",
+                escape(run.label)
+            );
+            let title = format!("{}: {view} view", run.label);
+            let _ = writeln!(
+                svg,
+                "<title>{0}</title>\n<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"20\" font-size=\"15\" font-weight=\"bold\">{0}</text>",
+                escape(&title)
+            );
+            panel.draw_axes(&mut svg, step, step, "x [mm]", y_label, "");
+            let at = |p: &[f64; 3]| (panel.x(1e3 * p[axes[0]]), panel.y(1e3 * p[axes[1]]));
+            draw_environment(&mut svg, run.doc, &at);
+            if k > 0 {
+                draw_ghost(&mut svg, runs[0], &at);
+            }
+            draw_rods(&mut svg, run, f_max, &at);
+            draw_supports(&mut svg, run.doc, &at);
+            draw_colour_bar(&mut svg, f_max, (panel.right + 34.0).min(WIDTH - 70.0));
+            svg.push_str("</svg>");
+            let _ = writeln!(
+                html,
+                "<figure data-view=\"{view}\" data-result=\"{}\">{svg}<figcaption>{}: {} view ({})</figcaption></figure>",
+                escape(run.label),
+                escape(run.label),
+                view,
+                if *view == "side" {
+                    "x right, z up"
+                } else {
+                    "x right, y up, seen from above"
+                }
+            );
+        }
+    }
+}
+
+fn draw_environment(svg: &mut String, doc: &ResultDoc, at: &dyn Fn(&[f64; 3]) -> (f64, f64)) {
+    for outline in &doc.environment {
+        let mut d = String::new();
+        for [a, b] in &outline.segments_m {
+            let ((x0, y0), (x1, y1)) = (at(a), at(b));
+            if [x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
+                let _ = write!(d, "M{x0:.2} {y0:.2} L{x1:.2} {y1:.2} ");
+            }
+        }
+        let _ = writeln!(
+            svg,
+            "<path class=\"environment\" data-name=\"{}\" d=\"{}\" fill=\"none\" stroke=\"#9a9a9a\" stroke-width=\"1\"/>",
+            escape(&outline.name),
+            d.trim_end()
+        );
+    }
+}
+
+fn draw_ghost(svg: &mut String, reference: ReportRun, at: &dyn Fn(&[f64; 3]) -> (f64, f64)) {
+    for rod in &reference.doc.rods {
+        let points: Vec<String> = rod
+            .position_m
+            .iter()
+            .map(at)
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|(x, y)| format!("{x:.2},{y:.2}"))
+            .collect();
+        let _ = writeln!(
+            svg,
+            "<polyline class=\"ghost\" data-rod=\"{}\" points=\"{}\" fill=\"none\" stroke=\"#b5b5b5\" stroke-width=\"1.5\" stroke-dasharray=\"5 4\"/>",
+            escape(&rod.name),
+            points.join(" ")
+        );
+    }
+}
+
+fn draw_rods(svg: &mut String, run: &ReportRun, f_max: f64, at: &dyn Fn(&[f64; 3]) -> (f64, f64)) {
+    for rod in &run.doc.rods {
+        let _ = writeln!(
+            svg,
+            "<g class=\"rod\" data-rod=\"{}\" data-result=\"{}\" stroke-width=\"3.5\" stroke-linecap=\"round\">",
+            escape(&rod.name),
+            escape(run.label)
+        );
+        for j in 1..rod.position_m.len() {
+            let ((x0, y0), (x1, y1)) = (at(&rod.position_m[j - 1]), at(&rod.position_m[j]));
+            if ![x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
+                continue;
+            }
+            let f = 0.5 * (magnitude(&rod.force_n[j - 1]) + magnitude(&rod.force_n[j]));
+            let _ = writeln!(
+                svg,
+                "<line x1=\"{x0:.2}\" y1=\"{y0:.2}\" x2=\"{x1:.2}\" y2=\"{y1:.2}\" stroke=\"{}\"/>",
+                colour(f / f_max)
+            );
+        }
+        svg.push_str("</g>\n");
+        if let Some(mid) = rod.position_m.get(rod.position_m.len() / 2) {
+            let (x, y) = at(mid);
+            if x.is_finite() && y.is_finite() {
+                let _ = writeln!(
+                    svg,
+                    "<text class=\"rod-label\" x=\"{:.2}\" y=\"{:.2}\" font-size=\"11\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">{}</text>",
+                    x + 7.0,
+                    y - 7.0,
+                    escape(&rod.name)
+                );
+            }
+        }
+    }
+}
+
+fn draw_supports(svg: &mut String, doc: &ResultDoc, at: &dyn Fn(&[f64; 3]) -> (f64, f64)) {
+    let finite = |(x, y): (f64, f64)| x.is_finite() && y.is_finite();
+    for body in &doc.bodies {
+        let (bx, by) = at(&body.position_m);
+        if !finite((bx, by)) {
+            continue;
+        }
+        let prefix = format!("{}.", body.name);
+        for port in doc
+            .reactions
+            .iter()
+            .filter(|r| r.kind == "port" && r.name.starts_with(&prefix))
+        {
+            let (px, py) = at(&port.position_m);
+            if finite((px, py)) {
+                let _ = writeln!(
+                    svg,
+                    "<line class=\"support\" data-kind=\"port\" x1=\"{bx:.2}\" y1=\"{by:.2}\" x2=\"{px:.2}\" y2=\"{py:.2}\" stroke=\"#555555\" stroke-width=\"4\"/>"
+                );
+            }
+        }
+        let _ = writeln!(
+            svg,
+            "<circle class=\"support\" data-kind=\"body\" data-name=\"{}\" cx=\"{bx:.2}\" cy=\"{by:.2}\" r=\"6\" fill=\"#555555\" stroke=\"#ffffff\"/>",
+            escape(&body.name)
+        );
+    }
+    for connector in doc.reactions.iter().filter(|r| r.kind == "connector") {
+        let (x, y) = at(&connector.position_m);
+        if finite((x, y)) {
+            let _ = writeln!(
+                svg,
+                "<rect class=\"support\" data-kind=\"connector\" data-name=\"{}\" x=\"{:.2}\" y=\"{:.2}\" width=\"9\" height=\"9\" fill=\"#222222\"/>",
+                escape(&connector.name),
+                x - 4.5,
+                y - 4.5
+            );
+        }
+    }
+    for clip in &doc.clips {
+        let (x, y) = at(&clip.position_m);
+        if finite((x, y)) {
+            let _ = writeln!(
+                svg,
+                "<path class=\"support\" data-kind=\"clip\" data-name=\"{}\" d=\"M{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} Z\" fill=\"#8c564b\" stroke=\"#ffffff\"/>",
+                escape(&clip.name),
+                x,
+                y - 6.0,
+                x + 5.5,
+                y + 4.0,
+                x - 5.5,
+                y + 4.0
+            );
+        }
+    }
+}
+
+/// The colour bar of `|f|` from 0 to `f_max` (N) at `bar_x` (px).
+fn draw_colour_bar(svg: &mut String, f_max: f64, bar_x: f64) {
+    const STEPS: usize = 24;
+    let h = PLOT_HEIGHT / STEPS as f64;
+    let _ = writeln!(svg, "<g class=\"colour-bar\">");
+    for i in 0..STEPS {
+        let t = (i as f64 + 0.5) / STEPS as f64;
+        let y = TOP + PLOT_HEIGHT - (i + 1) as f64 * h;
+        let _ = writeln!(
+            svg,
+            "<rect x=\"{bar_x:.1}\" y=\"{y:.2}\" width=\"14\" height=\"{:.2}\" fill=\"{}\"/>",
+            h + 0.3,
+            colour(t)
+        );
+    }
+    for (t, anchor) in [(0.0, 0.0), (0.5, 0.5), (1.0, 1.0)] {
+        let y = TOP + PLOT_HEIGHT * (1.0 - anchor);
+        let _ = writeln!(
+            svg,
+            "<text x=\"{:.1}\" y=\"{:.2}\">{}</text>",
+            bar_x + 18.0,
+            y + 4.0,
+            sig(t * f_max)
+        );
+    }
+    let _ = writeln!(
+        svg,
+        "<text x=\"{bar_x:.1}\" y=\"{:.1}\" font-weight=\"bold\">|f| [N]</text>\n</g>",
+        TOP - 8.0
+    );
+}

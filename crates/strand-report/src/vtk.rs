@@ -1,0 +1,187 @@
+//! The rod centrelines as VTK XML PolyData (`rods.vtp`, ASCII), for ParaView.
+//!
+//! One polyline (`<Lines>` cell) per rod through its vertices, in the order of
+//! [`ResultDoc::rods`]. Point data, per vertex (SI units, the unit in every name):
+//! `s_m`, `force_N` (3 components), `moment_Nm` (3), `force_magnitude_N`,
+//! `moment_magnitude_Nm`, `tangential_force_N`, `shear_force_N`,
+//! `bending_moment_Nm`, `torsion_Nm` and `rod_id` (the rod's index). Cell data:
+//! `rod_id`, one per polyline. Field data: `rod_names`, a VTK string array (one tuple per
+//! rod, index = `rod_id`; VTK writes ASCII strings as their byte values, each string
+//! followed by a 0), and the names are repeated in an XML comment for human readers.
+
+use std::fmt::Write;
+
+use crate::csv::push_number;
+use crate::result::{ResultDoc, RodResult};
+use crate::study::magnitude;
+use crate::svg::escape;
+
+/// A point-data array of the `.vtp`: its name, number of components, and how to get
+/// the values of one rod (flattened, `components` numbers per vertex).
+pub struct VtkPointArray {
+    /// Array name (with its unit suffix).
+    pub name: &'static str,
+    /// Components per point (1 for scalars, 3 for vectors).
+    pub components: usize,
+    /// The flattened values of one rod.
+    pub values: fn(&RodResult) -> Vec<f64>,
+}
+
+fn flat(values: &[[f64; 3]]) -> Vec<f64> {
+    values.iter().flatten().copied().collect()
+}
+
+/// The point-data arrays written to `rods.vtp`, in file order (`rod_id`, an integer
+/// array, is written after them).
+pub const VTK_POINT_ARRAYS: [VtkPointArray; 9] = [
+    VtkPointArray {
+        name: "s_m",
+        components: 1,
+        values: |r| r.s_m.clone(),
+    },
+    VtkPointArray {
+        name: "force_N",
+        components: 3,
+        values: |r| flat(&r.force_n),
+    },
+    VtkPointArray {
+        name: "moment_Nm",
+        components: 3,
+        values: |r| flat(&r.moment_nm),
+    },
+    VtkPointArray {
+        name: "force_magnitude_N",
+        components: 1,
+        values: |r| r.force_n.iter().map(magnitude).collect(),
+    },
+    VtkPointArray {
+        name: "moment_magnitude_Nm",
+        components: 1,
+        values: |r| r.moment_nm.iter().map(magnitude).collect(),
+    },
+    VtkPointArray {
+        name: "tangential_force_N",
+        components: 1,
+        values: |r| r.tangential_force_n.clone(),
+    },
+    VtkPointArray {
+        name: "shear_force_N",
+        components: 1,
+        values: |r| r.shear_force_n.clone(),
+    },
+    VtkPointArray {
+        name: "bending_moment_Nm",
+        components: 1,
+        values: |r| r.bending_moment_nm.clone(),
+    },
+    VtkPointArray {
+        name: "torsion_Nm",
+        components: 1,
+        values: |r| r.torsion_nm.clone(),
+    },
+];
+
+/// Writes `values` as the body of an ASCII `DataArray`, `per_line` numbers a line.
+fn push_values(out: &mut String, values: impl IntoIterator<Item = f64>, per_line: usize) {
+    for (i, v) in values.into_iter().enumerate() {
+        out.push(if i % per_line == 0 { '\n' } else { ' ' });
+        if v.is_finite() {
+            push_number(out, v);
+        } else {
+            // VTK's ASCII reader (strtod) reads these.
+            out.push_str(if v.is_nan() {
+                "nan"
+            } else if v > 0.0 {
+                "inf"
+            } else {
+                "-inf"
+            });
+        }
+    }
+    out.push('\n');
+}
+
+fn push_integers(out: &mut String, values: impl IntoIterator<Item = usize>) {
+    for (i, v) in values.into_iter().enumerate() {
+        out.push(if i % 16 == 0 { '\n' } else { ' ' });
+        let _ = write!(out, "{v}");
+    }
+    out.push('\n');
+}
+
+/// The text of `rods.vtp`: VTK XML PolyData (ASCII) of the centrelines of every rod in
+/// `doc` with their sectional quantities as point data (see the module docs).
+pub fn rods_vtp(doc: &ResultDoc) -> String {
+    let rods = &doc.rods;
+    let points: usize = rods.iter().map(|r| r.position_m.len()).sum();
+    let mut out = String::with_capacity(1024 + 400 * points);
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let names: Vec<String> = rods.iter().map(|r| r.name.replace("--", "- -")).collect();
+    let _ = writeln!(
+        out,
+        "<!-- strand: case {}; rods (rod_id order): {} -->",
+        doc.case.replace("--", "- -"),
+        names.join(", ")
+    );
+    out.push_str(
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PolyData>\n",
+    );
+    // Rod names as a string array; ASCII strings are byte values, each ended by 0.
+    let _ = write!(
+        out,
+        "<FieldData>\n<DataArray type=\"String\" Name=\"rod_names\" NumberOfTuples=\"{}\" format=\"ascii\">",
+        rods.len()
+    );
+    push_integers(
+        &mut out,
+        rods.iter()
+            .flat_map(|r| r.name.bytes().map(usize::from).chain([0])),
+    );
+    out.push_str("</DataArray>\n</FieldData>\n");
+    let _ = writeln!(
+        out,
+        "<Piece NumberOfPoints=\"{points}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">",
+        rods.len()
+    );
+    out.push_str("<PointData Scalars=\"force_magnitude_N\" Vectors=\"force_N\">\n");
+    for array in &VTK_POINT_ARRAYS {
+        let _ = write!(
+            out,
+            "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">",
+            escape(array.name),
+            array.components
+        );
+        push_values(
+            &mut out,
+            rods.iter().flat_map(|r| (array.values)(r)),
+            6 * array.components,
+        );
+        out.push_str("</DataArray>\n");
+    }
+    out.push_str("<DataArray type=\"Int32\" Name=\"rod_id\" format=\"ascii\">");
+    push_integers(
+        &mut out,
+        rods.iter()
+            .enumerate()
+            .flat_map(|(i, r)| std::iter::repeat_n(i, r.position_m.len())),
+    );
+    out.push_str("</DataArray>\n</PointData>\n");
+    out.push_str("<CellData Scalars=\"rod_id\">\n<DataArray type=\"Int32\" Name=\"rod_id\" format=\"ascii\">");
+    push_integers(&mut out, 0..rods.len());
+    out.push_str("</DataArray>\n</CellData>\n");
+    out.push_str("<Points>\n<DataArray type=\"Float64\" Name=\"position_m\" NumberOfComponents=\"3\" format=\"ascii\">");
+    push_values(&mut out, rods.iter().flat_map(|r| flat(&r.position_m)), 6);
+    out.push_str("</DataArray>\n</Points>\n");
+    out.push_str("<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    push_integers(&mut out, 0..points);
+    out.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    push_integers(
+        &mut out,
+        rods.iter().scan(0, |end, r| {
+            *end += r.position_m.len();
+            Some(*end)
+        }),
+    );
+    out.push_str("</DataArray>\n</Lines>\n</Piece>\n</PolyData>\n</VTKFile>\n");
+    out
+}

@@ -1,0 +1,304 @@
+//! The step of the inequality-constrained problem (SQP, DESIGN §3):
+//! `min ½ dᵀ H d + gᵀ d  s.t.  value_i + a_i · d ≥ 0` for the rows of joint limits and
+//! contact. clarabel identifies the active set; the step on that set is then computed
+//! exactly with the sparse Cholesky factor of `H` (a Schur complement on the few active
+//! rows), so the multipliers — the contact forces and the stops' reactions — are exact
+//! to round-off rather than to the interior-point tolerance.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
+use nalgebra::{DMatrix, DVector};
+use strand_system::HessianPattern;
+
+use crate::constraints::Row;
+use crate::{SolveError, SparseCholesky};
+
+/// A step and the multiplier of every row (≥ 0; in the row's force unit).
+pub(crate) struct ConstrainedStep {
+    /// The step.
+    pub step: Vec<f64>,
+    /// One multiplier per row, in the order of the rows.
+    pub multipliers: Vec<f64>,
+}
+
+/// Largest violation of a linearised row accepted for the exact step, in the row's unit.
+const FEASIBILITY: f64 = 1e-10;
+
+/// Solves the QP for the Hessian `values` (positive definite, already factorised in
+/// `cholesky`), the gradient and the rows; `newton` is the unconstrained step `−H⁻¹g`.
+/// `hint` (rows active at the previous iterate) is tried first: when the exact step
+/// on it is optimal, no interior-point QP is needed.
+pub(crate) fn constrained_step(
+    pattern: &HessianPattern,
+    values: &[f64],
+    cholesky: &mut SparseCholesky,
+    gradient: &[f64],
+    rows: &[Row],
+    newton: &[f64],
+    hint: &[usize],
+) -> Result<ConstrainedStep, SolveError> {
+    if hint.is_empty() && rows.iter().all(|r| r.linearised(newton) >= -FEASIBILITY) {
+        return Ok(ConstrainedStep {
+            step: newton.to_vec(),
+            multipliers: vec![0.0; rows.len()],
+        });
+    }
+    if !hint.is_empty()
+        && let Some(exact) = exact_step(cholesky, rows, hint, newton)
+    {
+        return Ok(exact);
+    }
+    if rows.iter().all(|r| r.linearised(newton) >= -FEASIBILITY) {
+        return Ok(ConstrainedStep {
+            step: newton.to_vec(),
+            multipliers: vec![0.0; rows.len()],
+        });
+    }
+    let (qp_step, qp_multipliers) = solve_qp(pattern, values, gradient, rows)?;
+    let largest = qp_multipliers.iter().fold(0.0f64, |m, &z| m.max(z));
+    // Active: a multiplier that counts and a row the QP step closes (interior-point
+    // multipliers of open rows are small but not zero).
+    let active: Vec<usize> = (0..rows.len())
+        .filter(|&i| {
+            qp_multipliers[i] > 1e-8 * largest.max(1e-12)
+                && rows[i].linearised(&qp_step) <= 1e-6 * (1.0 + rows[i].value.abs())
+        })
+        .collect();
+    if let Some(exact) = exact_step(cholesky, rows, &active, newton) {
+        return Ok(exact);
+    }
+    Ok(ConstrainedStep {
+        step: qp_step,
+        multipliers: qp_multipliers,
+    })
+}
+
+/// The step with the `active` rows held at zero: `d = d_N + Σ λ_j H⁻¹ a_j` with
+/// `(A H⁻¹ Aᵀ) λ = −value − A d_N`, refined as a primal–dual active set: a row with a
+/// negative multiplier leaves the set, the most violated other row joins it. `None` if
+/// the Schur complement is singular or the refinement does not settle.
+fn exact_step(
+    cholesky: &mut SparseCholesky,
+    rows: &[Row],
+    active: &[usize],
+    newton: &[f64],
+) -> Option<ConstrainedStep> {
+    let n = newton.len();
+    let mut active = active.to_vec();
+    let mut columns: Vec<(usize, Vec<f64>)> = Vec::new();
+    for _ in 0..2 * rows.len() + 4 {
+        // H⁻¹ a_i for the rows of the set (kept across refinements).
+        columns.retain(|(i, _)| active.contains(i));
+        for &i in &active {
+            if columns.iter().all(|(j, _)| *j != i) {
+                let mut w = vec![0.0; n];
+                for &(k, a) in &rows[i].gradient {
+                    w[k] += a;
+                }
+                cholesky.solve_in_place(&mut w);
+                columns.push((i, w));
+            }
+        }
+        columns.sort_by_key(|(i, _)| *i);
+        active.sort_unstable();
+        let m = active.len();
+        let dot =
+            |i: usize, w: &[f64]| rows[i].gradient.iter().map(|&(k, a)| a * w[k]).sum::<f64>();
+        let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
+        let rhs = DVector::from_fn(m, |r, _| -rows[active[r]].linearised(newton));
+        let multipliers = schur.cholesky()?.solve(&rhs);
+        if let Some((r, _)) = multipliers
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.is_nan() || **l < 0.0)
+            .min_by(|a, b| a.1.total_cmp(b.1))
+        {
+            active.remove(r);
+            continue;
+        }
+        let mut step = newton.to_vec();
+        for ((_, w), &l) in columns.iter().zip(multipliers.iter()) {
+            for (s, x) in step.iter_mut().zip(w) {
+                *s += l * x;
+            }
+        }
+        let violated = (0..rows.len())
+            .filter(|i| !active.contains(i))
+            .map(|i| (i, rows[i].linearised(&step)))
+            .filter(|(_, v)| *v < -FEASIBILITY)
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((i, _)) = violated {
+            active.push(i);
+            continue;
+        }
+        let mut all = vec![0.0; rows.len()];
+        for (&i, &l) in active.iter().zip(multipliers.iter()) {
+            all[i] = l;
+        }
+        return Some(ConstrainedStep {
+            step,
+            multipliers: all,
+        });
+    }
+    None
+}
+
+/// clarabel: `min ½ dᵀ P d + gᵀ d  s.t.  −A d + s = value, s ≥ 0`; returns the step and
+/// the multipliers.
+fn solve_qp(
+    pattern: &HessianPattern,
+    values: &[f64],
+    gradient: &[f64],
+    rows: &[Row],
+) -> Result<(Vec<f64>, Vec<f64>), SolveError> {
+    let n = pattern.dim();
+    let p = CscMatrix::new(
+        n,
+        n,
+        pattern.col_ptr.clone(),
+        pattern.row_idx.clone(),
+        values.to_vec(),
+    );
+    let mut entries: Vec<(usize, usize, f64)> = rows
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| r.gradient.iter().map(move |&(k, a)| (k, i, -a)))
+        .collect();
+    entries.sort_by_key(|&(k, i, _)| (k, i));
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::with_capacity(entries.len());
+    let mut a_values = Vec::with_capacity(entries.len());
+    let mut next = 0;
+    for column in 0..n {
+        col_ptr.push(row_idx.len());
+        while next < entries.len() && entries[next].0 == column {
+            let (_, i, a) = entries[next];
+            // Merge duplicates (a row touching one unknown twice).
+            if row_idx.len() > col_ptr[column] && row_idx.last() == Some(&i) {
+                *a_values.last_mut().expect("entry") += a;
+            } else {
+                row_idx.push(i);
+                a_values.push(a);
+            }
+            next += 1;
+        }
+    }
+    col_ptr.push(row_idx.len());
+    let a = CscMatrix::new(rows.len(), n, col_ptr, row_idx, a_values);
+    let b: Vec<f64> = rows.iter().map(|r| r.value).collect();
+    let cones = [NonnegativeConeT(rows.len())];
+    let settings = DefaultSettings::<f64> {
+        verbose: false,
+        ..Default::default()
+    };
+    let mut solver = DefaultSolver::new(&p, gradient, &a, &b, &cones, settings)
+        .map_err(|e| SolveError::Linear(format!("QP set-up failed: {e:?}")))?;
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {}
+        status => {
+            return Err(SolveError::Linear(format!(
+                "the constrained step QP ended with {status:?}"
+            )));
+        }
+    }
+    let multipliers = solver.solution.z.iter().map(|&z| z.max(0.0)).collect();
+    Ok((solver.solution.x.clone(), multipliers))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraints::RowKey;
+
+    /// One 3×3 block with `H = diag(2, 4, 1)`.
+    fn diagonal_problem() -> (HessianPattern, Vec<f64>, SparseCholesky) {
+        let structure: Vec<Vec<usize>> = vec![];
+        let pattern = HessianPattern::new(1, structure.iter().map(|b| b.as_slice()));
+        let mut values = vec![0.0; pattern.nnz()];
+        let diag = [2.0, 4.0, 1.0];
+        for c in 0..3 {
+            let rows = &pattern.row_idx[pattern.col_ptr[c]..pattern.col_ptr[c + 1]];
+            let at = rows.iter().position(|&r| r == c).unwrap();
+            values[pattern.col_ptr[c] + at] = diag[c];
+        }
+        let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
+        assert!(cholesky.factor(&values));
+        (pattern, values, cholesky)
+    }
+
+    fn row(key: u64, value: f64, gradient: Vec<(usize, f64)>) -> Row {
+        Row {
+            key: RowKey::Contact(key),
+            value,
+            gradient,
+        }
+    }
+
+    #[test]
+    fn active_rows_are_met_exactly_with_their_multipliers() {
+        // g = (−2, 8, −3): the free minimiser is (1, −2, 3). Rows: 0.5 + d1 ≥ 0 (active:
+        // 4 d1 + 8 = λ0 at d1 = −0.5, λ0 = 6), 1 − d0 − d2 ≥ 0 (active: 2 d0 − 2 = −λ1,
+        // d2 − 3 = −λ1, d0 + d2 = 1, so λ1 = 2, d0 = 0, d2 = 1) and 10 + d0 ≥ 0 (open).
+        let (pattern, values, mut cholesky) = diagonal_problem();
+        let gradient = [-2.0, 8.0, -3.0];
+        let newton = [1.0, -2.0, 3.0];
+        let rows = [
+            row(0, 0.5, vec![(1, 1.0)]),
+            row(1, 1.0, vec![(0, -1.0), (2, -1.0)]),
+            row(2, 10.0, vec![(0, 1.0)]),
+        ];
+        let result = constrained_step(
+            &pattern,
+            &values,
+            &mut cholesky,
+            &gradient,
+            &rows,
+            &newton,
+            &[],
+        )
+        .unwrap();
+        let lambda = 2.0;
+        let expected = [0.0, -0.5, 1.0];
+        for i in 0..3 {
+            assert!(
+                (result.step[i] - expected[i]).abs() < 1e-13,
+                "{:?}",
+                result.step
+            );
+        }
+        assert!((result.multipliers[0] - 6.0).abs() < 1e-12);
+        assert!((result.multipliers[1] - lambda).abs() < 1e-12);
+        assert_eq!(result.multipliers[2], 0.0);
+        // Stationarity of the QP: H d + g = Σ λ_i a_i.
+        let h = [2.0, 4.0, 1.0];
+        let mut r: Vec<f64> = (0..3)
+            .map(|i| h[i] * result.step[i] + gradient[i])
+            .collect();
+        for (row, l) in rows.iter().zip(&result.multipliers) {
+            for &(k, a) in &row.gradient {
+                r[k] -= l * a;
+            }
+        }
+        assert!(r.iter().all(|x| x.abs() < 1e-12), "{r:?}");
+    }
+
+    #[test]
+    fn a_feasible_newton_step_is_kept_without_multipliers() {
+        let (pattern, values, mut cholesky) = diagonal_problem();
+        let rows = [row(0, 5.0, vec![(1, 1.0)])];
+        let newton = [1.0, -2.0, 3.0];
+        let result = constrained_step(
+            &pattern,
+            &values,
+            &mut cholesky,
+            &[-2.0, 8.0, -3.0],
+            &rows,
+            &newton,
+            &[],
+        )
+        .unwrap();
+        assert_eq!(result.step, newton);
+        assert_eq!(result.multipliers, vec![0.0]);
+    }
+}

@@ -1,0 +1,459 @@
+//! Frictionless contact against meshes and between rods, checked against closed forms
+//! and balance laws:
+//! - a heavy rod clamped at both ends onto a flat floor lies straight on it and the
+//!   floor carries each vertex's weight;
+//! - a cantilever propped at its tip by a small cylinder: the prop reaction converges
+//!   to Euler–Bernoulli's 3wL/8 at order 2;
+//! - a hose pulled over a cylinder: equal tension on both free spans and a contact
+//!   load that integrates to `T φ` (line load `T/ρ` over the wrap angle `φ`);
+//! - two hoses pressed across each other touch at one point with opposite forces that
+//!   balance each rod's clamp reactions.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use strand_assets::{TriangleMesh, cylinder, plane};
+use strand_contact::{Obstacle, ObstacleMesh};
+use strand_rod::sectional::sectional;
+use strand_rod::{Rod, Section};
+use strand_solve::contact::{Contact, ContactForce};
+use strand_solve::{Solution, SolverSettings, solve_constrained};
+use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+
+fn obstacle(name: &str, mesh: TriangleMesh) -> Arc<ObstacleMesh> {
+    Arc::new(ObstacleMesh::try_from_triangles(name, mesh.vertices, &mesh.triangles).unwrap())
+}
+
+/// A cylinder of `radius` along the world y axis through `centre` (a ridge of the
+/// inscribed polygon on top).
+fn cylinder_along_y(radius: f64, centre: Vector3<f64>) -> TriangleMesh {
+    let pose = Isometry3::from_parts(
+        Translation3::from(centre),
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -FRAC_PI_2),
+    );
+    cylinder(radius, 0.4, 512, true).transformed(&pose)
+}
+
+fn along_x() -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(&Vector3::y_axis(), FRAC_PI_2)
+}
+
+fn solved(model: &Model, contact: &Contact, initial: SystemState) -> (Solution, Vec<ContactForce>) {
+    let settings = SolverSettings::default();
+    let solution = solve_constrained(model, contact, initial, &settings).unwrap();
+    let report = &solution.report;
+    assert!(report.converged, "not converged: {report:?}");
+    assert!(report.residual.combined_n <= settings.tolerance_n);
+    assert!(report.stable, "not stable");
+    let forces = contact
+        .forces(model, &solution.state, &solution.constraints)
+        .unwrap();
+    for f in &forces {
+        assert!(f.gap.gap >= -1e-9, "penetration {} m", -f.gap.gap);
+        assert!(f.force_n >= 0.0);
+        assert!(f.force_n == 0.0 || f.gap.gap.abs() <= 1e-9, "{f:?}");
+    }
+    (solution, forces)
+}
+
+fn total_contact_force(forces: &[ContactForce], rod: usize) -> Vector3<f64> {
+    let mut total = Vector3::zeros();
+    for f in forces {
+        let push = f.force_n * f.gap.normal.into_inner();
+        if f.gap.rod == rod {
+            total += push;
+        }
+        if let Obstacle::Rod { rod: other, .. } = f.gap.with
+            && other == rod
+        {
+            total -= push;
+        }
+    }
+    total
+}
+
+#[test]
+fn a_heavy_rod_lies_straight_on_a_floor_that_carries_its_weight() {
+    let radius = 0.01;
+    let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, radius).unwrap();
+    let system = System {
+        rods: vec![RodSpec {
+            name: "rod".into(),
+            rod: Rod::try_straight(section, 1.0, 20).unwrap(),
+            start: End::clamped(Vector3::new(0.0, 0.0, radius), along_x()),
+            end: End::clamped(Vector3::new(1.0, 0.0, radius), along_x()),
+            route: None,
+        }],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    };
+    let model = Model::try_new(system).unwrap();
+    let floor = plane(3.0, 1.0, 200).translated(&Vector3::new(0.5, 0.0, 0.0));
+    let contact = Contact::new(vec![obstacle("floor", floor)], 0.02);
+    // Start 1 mm above the floor.
+    let mut start = initial_state(model.system());
+    for j in 1..20 {
+        let mut p = start.rods[0].positions[j];
+        p.z += 1e-3;
+        start.rods[0].set_position(j, p);
+    }
+    let (solution, forces) = solved(&model, &contact, start);
+    let rod = &model.system().rods[0].rod;
+    for (j, p) in solution.state.rods[0].positions.iter().enumerate() {
+        assert!((p.z - radius).abs() <= 1e-9, "vertex {j} at z = {}", p.z);
+        assert!(p.y.abs() <= 1e-12, "vertex {j} off the line: {}", p.y);
+    }
+    // The floor carries each interior vertex's weight, straight up.
+    let weight = rod.mass() * 9.81;
+    let on_floor = total_contact_force(&forces, 0);
+    let expected = (rod.mass() - rod.vertex_mass(0) - rod.vertex_mass(20)) * 9.81;
+    assert!((on_floor - Vector3::new(0.0, 0.0, expected)).norm() <= 1e-9 * weight);
+    let reactions: Vector3<f64> = model
+        .reactions(&solution.state)
+        .iter()
+        .map(|r| r.force)
+        .sum();
+    let balance = on_floor + reactions - Vector3::new(0.0, 0.0, weight);
+    assert!(balance.norm() <= 1e-9 * weight, "imbalance {balance:?}");
+}
+
+/// The relative error of the prop reaction of a clamped cantilever (length 0.3 m,
+/// EI = 0.5 N·m², 1 kg/m) resting with its tip on a thin rod (a 0.5 mm cylinder), for
+/// `segments` edges. EA = GA = 1e5 N: shear
+/// changes the reaction by a relative EI/(GA L²) ≈ 6e-5.
+fn prop_reaction_error(segments: usize) -> f64 {
+    let radius = 0.005;
+    let section = Section::try_explicit(1e5, 1e5, 0.5, 0.4, 1.0, radius).unwrap();
+    let length = 0.3;
+    let system = System {
+        rods: vec![RodSpec {
+            name: "cantilever".into(),
+            rod: Rod::try_straight(section, length, segments).unwrap(),
+            start: End::clamped(Vector3::zeros(), along_x()),
+            end: End::free(),
+            route: None,
+        }],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    };
+    let model = Model::try_new(system).unwrap();
+    let prop_radius = 0.5e-3;
+    let prop = cylinder_along_y(
+        prop_radius,
+        Vector3::new(length, 0.0, -radius - prop_radius - 1e-12),
+    );
+    let contact = Contact::new(vec![obstacle("prop", prop)], 0.01);
+    let (_, forces) = solved(&model, &contact, initial_state(model.system()));
+    let active: Vec<_> = forces.iter().filter(|f| f.force_n > 0.0).collect();
+    assert_eq!(active.len(), 1, "one contact point: {active:?}");
+    let total = total_contact_force(&forces, 0);
+    // Frictionless: the force is normal to the tube, which meets the prop at the
+    // Euler–Bernoulli slope wL³/(48 EI) of a propped cantilever.
+    let slope = 9.81 * length.powi(3) / (48.0 * 0.5);
+    assert!(
+        (total.x / total.z + slope).abs() <= 0.05 * slope,
+        "prop force {total:?}, slope {slope}"
+    );
+    // Euler–Bernoulli with the prop where the force acts (a little before the tip: the
+    // tube rolls on the prop): R = w (6L² − 4La + a²) / (8a).
+    let a = active[0].gap.point.x;
+    let w = 9.81;
+    let reference = w * (6.0 * length * length - 4.0 * length * a + a * a) / (8.0 * a);
+    (total.z - reference) / reference
+}
+
+#[test]
+fn a_propped_cantilever_matches_euler_bernoulli() {
+    let errors: Vec<f64> = [10, 20, 40]
+        .iter()
+        .map(|&n| prop_reaction_error(n).abs())
+        .collect();
+    println!("propped cantilever: relative errors {errors:?}");
+    assert!(errors[2] < 1e-3, "{errors:?}");
+    for pair in errors.windows(2) {
+        assert!(
+            pair[1] < pair[0] / 3.0,
+            "not converging at order 2: {errors:?}"
+        );
+    }
+}
+
+#[test]
+fn a_hose_pulled_over_a_cylinder_has_equal_tension_and_load_t_over_rho() {
+    // The spans' tensions differ by a discretisation error (vertex contacts on the
+    // faceted drum): 9.4e-4 relative at 160 edges.
+    let difference = hose_over_drum(160);
+    assert!(
+        difference <= 1e-3,
+        "tension differs by {difference:.2e} relative"
+    );
+}
+
+/// Solves the hose over the drum with `segments` edges, checks the contact load and
+/// returns the relative difference of the two spans' tensions.
+fn hose_over_drum(segments: usize) -> f64 {
+    let radius = 0.005;
+    let (ea, ei) = (1e4, 1e-4);
+    let section = Section::try_explicit(ea, ea, ei, ei, 0.0, radius).unwrap();
+    let cylinder_radius = 0.05;
+    let rho = cylinder_radius + radius;
+    let (a, b) = (
+        Vector3::new(-0.15, 0.0, -0.1),
+        Vector3::new(0.12, 0.0, -0.05),
+    );
+    // The taut path: tangent from each pin to the circle of radius ρ, and the arc over
+    // the top between the tangent points.
+    let tangent_angle = |p: &Vector3<f64>, side: f64| {
+        let d = (p.x * p.x + p.z * p.z).sqrt();
+        (
+            p.z.atan2(p.x) + side * (rho / d).acos(),
+            (d * d - rho * rho).sqrt(),
+        )
+    };
+    let (angle_a, tangent_a) = tangent_angle(&a, -1.0);
+    let (angle_b, tangent_b) = tangent_angle(&b, 1.0);
+    let angle_a = angle_a + 2.0 * PI;
+    let wrap = angle_a - angle_b;
+    assert!(wrap > 1.5 && wrap < 1.9, "wrap {wrap}");
+    let path = tangent_a + tangent_b + rho * wrap;
+    let length = path / (1.0 + 20.0 / ea);
+    // Route over the top on a circle of 62 mm.
+    let mut route = vec![a];
+    for k in 0..=24 {
+        let t = angle_a + (angle_b - angle_a) * k as f64 / 24.0;
+        route.push(0.062 * Vector3::new(t.cos(), 0.0, t.sin()));
+    }
+    route.push(b);
+    // Clamped along the free spans (pins would leave the twist about the hose free).
+    let point_on = |angle: f64| rho * Vector3::new(angle.cos(), 0.0, angle.sin());
+    let frame = |d: Vector3<f64>| UnitQuaternion::rotation_between(&Vector3::z(), &d).unwrap();
+    let system = System {
+        rods: vec![RodSpec {
+            name: "hose".into(),
+            rod: Rod::try_straight(section, length, segments).unwrap(),
+            start: End::clamped(a, frame(point_on(angle_a) - a)),
+            end: End::clamped(b, frame(b - point_on(angle_b))),
+            route: Some(route),
+        }],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::zeros(),
+    };
+    let model = Model::try_new(system).unwrap();
+    let contact = Contact::new(
+        vec![obstacle(
+            "drum",
+            cylinder_along_y(cylinder_radius, Vector3::zeros()),
+        )],
+        0.01,
+    );
+    let (solution, forces) = solved(&model, &contact, initial_state(model.system()));
+    let state = &solution.state.rods[0];
+    let spec = &model.system().rods[0];
+    let cut = sectional(&spec.rod, state, &model.boundary_frames(0, &solution.state));
+    // Mid-spans: the vertices nearest to the middle of each free span.
+    let s = spec.rod.arc_lengths();
+    let nearest = |target: f64| {
+        (0..=segments)
+            .min_by(|&i, &j| (s[i] - target).abs().total_cmp(&(s[j] - target).abs()))
+            .unwrap()
+    };
+    let left = cut.forces[nearest(0.5 * tangent_a)].norm();
+    let right = cut.forces[nearest(length - 0.5 * tangent_b)].norm();
+    println!("hose over a drum ({segments} edges): tension {left} N and {right} N");
+    let total: f64 = forces.iter().map(|f| f.force_n).sum();
+    let expected = left * wrap;
+    println!(
+        "contact load {total} N, T φ = {expected} N (line load T/ρ = {} N/m)",
+        left / rho
+    );
+    assert!(
+        (total - expected).abs() <= 0.01 * expected,
+        "{total} vs {expected}"
+    );
+    (left - right).abs() / left
+}
+
+#[test]
+fn two_hoses_pressed_across_each_other_touch_once_with_balancing_forces() {
+    let radius = 0.008;
+    let section = Section::try_explicit(2e4, 1e4, 0.05, 0.04, 0.0, radius).unwrap();
+    let along_y = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -FRAC_PI_2);
+    // `lower` runs along x at z = 0; `upper` along y, clamped 6 mm lower than it would
+    // need to pass clear, and routed over it at the start.
+    let z = 2.0 * radius - 0.006;
+    let route = vec![
+        Vector3::new(0.0, -0.2, z),
+        Vector3::new(0.0, -0.05, 0.03),
+        Vector3::new(0.0, 0.05, 0.03),
+        Vector3::new(0.0, 0.2, z),
+    ];
+    let system = System {
+        rods: vec![
+            RodSpec {
+                name: "lower".into(),
+                rod: Rod::try_straight(section, 0.4, 11).unwrap(),
+                start: End::clamped(Vector3::new(-0.2, 0.0, 0.0), along_x()),
+                end: End::clamped(Vector3::new(0.2, 0.0, 0.0), along_x()),
+                route: None,
+            },
+            RodSpec {
+                name: "upper".into(),
+                rod: Rod::try_straight(section, 0.4, 11).unwrap(),
+                start: End::clamped(Vector3::new(0.0, -0.2, z), along_y),
+                end: End::clamped(Vector3::new(0.0, 0.2, z), along_y),
+                route: Some(route),
+            },
+        ],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::zeros(),
+    };
+    let model = Model::try_new(system).unwrap();
+    let contact = Contact::new(vec![], 0.02);
+    let (solution, forces) = solved(&model, &contact, initial_state(model.system()));
+    let active: Vec<_> = forces.iter().filter(|f| f.force_n > 0.0).collect();
+    assert_eq!(active.len(), 1, "{active:?}");
+    let on_lower = total_contact_force(&forces, 0);
+    let on_upper = total_contact_force(&forces, 1);
+    assert!(on_lower.norm() > 0.1, "pressed together: {on_lower:?}");
+    assert!((on_lower + on_upper).norm() <= 1e-12 * on_lower.norm());
+    // Each rod's clamps balance its contact force.
+    let reactions = model.reactions(&solution.state);
+    for (rod, on_rod) in [(0, on_lower), (1, on_upper)] {
+        let held: Vector3<f64> = reactions
+            .iter()
+            .filter(|r| r.rod == rod)
+            .map(|r| r.force)
+            .sum();
+        assert!(
+            (held + on_rod).norm() <= 1e-9 * on_rod.norm(),
+            "rod {rod}: {held:?} + {on_rod:?}"
+        );
+    }
+}
+
+#[test]
+fn a_hose_starting_inside_an_obstacle_is_reported_with_its_location() {
+    let radius = 0.01;
+    let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, radius).unwrap();
+    let system = System {
+        rods: vec![RodSpec {
+            name: "rod".into(),
+            rod: Rod::try_straight(section, 1.0, 20).unwrap(),
+            start: End::clamped(Vector3::new(0.0, 0.0, radius), along_x()),
+            end: End::clamped(Vector3::new(1.0, 0.0, radius), along_x()),
+            route: None,
+        }],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    };
+    let model = Model::try_new(system).unwrap();
+    let floor = plane(3.0, 1.0, 200).translated(&Vector3::new(0.5, 0.0, 0.0));
+    let contact = Contact::new(vec![obstacle("floor", floor)], 0.02);
+    let mut start = initial_state(model.system());
+    let mut p = start.rods[0].positions[10];
+    p.z -= 0.002;
+    start.rods[0].set_position(10, p);
+    let error = solve_constrained(&model, &contact, start, &SolverSettings::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("rod 'rod' starts inside mesh 'floor'")
+            && error.contains("overlaps it by 2.000 mm")
+            && error.contains("s = 500.0 mm"),
+        "{error}"
+    );
+}
+
+#[test]
+fn the_cooler_hoses_rest_on_their_bracket_in_balance_and_report_clearances() {
+    let built =
+        strand_case::Case::from_path(crate::common::cases_dir().join("cooler_hose_contact.ron"))
+            .unwrap()
+            .build(None)
+            .unwrap();
+    let contact = built.contact().expect("the case has an environment");
+    let (solution, forces) = solved(&built.model, &contact, built.initial.clone());
+    let system = built.model.system();
+    let active: Vec<_> = forces.iter().filter(|f| f.force_n > 0.0).collect();
+    assert!(!active.is_empty(), "hose 3 rests on the bracket");
+    assert!(
+        active
+            .iter()
+            .all(|f| contact.obstacle_name(&built.model, &f.gap.with) == "brackets"),
+        "{active:?}"
+    );
+    // Connectors and contacts carry the hoses and the T, in force and moment.
+    let weight_of = |mass: f64| mass * system.gravity;
+    let reactions = built.model.reactions(&solution.state);
+    let connectors: Vec<_> = reactions
+        .iter()
+        .filter(|r| r.kind == strand_system::ReactionKind::Connector)
+        .collect();
+    let mut force = connectors.iter().map(|r| r.force).sum::<Vector3<f64>>();
+    let mut moment = connectors
+        .iter()
+        .map(|r| r.moment + r.position.cross(&r.force))
+        .sum::<Vector3<f64>>();
+    for f in &forces {
+        let push = f.force_n * f.gap.normal.into_inner();
+        force += push;
+        moment += f.gap.point.coords.cross(&push);
+    }
+    let mut weight = Vector3::zeros();
+    for (r, spec) in system.rods.iter().enumerate() {
+        for (j, p) in solution.state.rods[r].positions.iter().enumerate() {
+            let w = weight_of(spec.rod.vertex_mass(j));
+            weight += w;
+            moment += p.cross(&w);
+        }
+    }
+    for (b, body) in system.bodies.iter().enumerate() {
+        let w = weight_of(body.mass);
+        weight += w;
+        moment += solution.state.bodies[b]
+            .transform_point(&body.center_of_mass)
+            .cross(&w);
+    }
+    force += weight;
+    assert!(
+        force.norm() <= 1e-9 * weight.norm(),
+        "force imbalance {force:?}"
+    );
+    assert!(
+        moment.norm() <= 1e-9 * weight.norm(),
+        "moment imbalance {moment:?}"
+    );
+    // result.json: the contacts and a clearance for every hose.
+    let mut doc = strand_report::collect(
+        &built.name,
+        &built.model,
+        &solution,
+        strand_report::Timing::default(),
+    );
+    strand_report::collect_contacts(&mut doc, &built.model, &solution, &contact).unwrap();
+    assert_eq!(doc.contacts.len(), active.len());
+    let total: f64 = doc.contacts.iter().map(|c| c.force_n).sum();
+    let expected: f64 = active.iter().map(|f| f.force_n).sum();
+    assert!((total - expected).abs() <= 1e-12 * expected);
+    for hose in ["hose1", "hose2", "hose3"] {
+        assert!(
+            doc.clearance
+                .iter()
+                .any(|c| c.rod == hose && c.with != hose),
+            "{hose} has a clearance"
+        );
+    }
+    let resting = doc
+        .clearance
+        .iter()
+        .find(|c| c.rod == "hose3" && c.with == "brackets")
+        .unwrap();
+    assert!(resting.distance_m <= 1e-9, "{resting:?}");
+    assert!(doc.clearance.iter().all(|c| c.distance_m >= 0.0));
+}
