@@ -457,3 +457,14 @@ fn the_cooler_hoses_rest_on_their_bracket_in_balance_and_report_clearances() {
     assert!(resting.distance_m <= 1e-9, "{resting:?}");
     assert!(doc.clearance.iter().all(|c| c.distance_m >= 0.0));
 }
+
+#[test]
+fn the_longer_hose_variant_of_the_contact_case_converges_without_penetration() {
+    let case =
+        strand_case::Case::from_path(crate::common::cases_dir().join("cooler_hose_contact.ron"))
+            .unwrap();
+    let built = case.build_variant("hose2_plus50", None).unwrap();
+    let contact = built.contact().expect("the case has an environment");
+    let (_, forces) = solved(&built.model, &contact, built.initial.clone());
+    assert!(forces.iter().any(|f| f.force_n > 0.0), "hose 3 still rests");
+}

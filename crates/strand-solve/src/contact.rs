@@ -5,20 +5,32 @@
 //! linearised in the positions of the vertices involved (through bodies and clips
 //! where those vertices are held). The multipliers of the rows are the contact forces.
 
+use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use nalgebra::{Point3, Vector3};
-use strand_contact::{Gap, Obstacle, ObstacleMesh, RodGeometry};
+use strand_contact::{
+    Gap, Obstacle, ObstacleMesh, Proximity, RodGeometry, closest_segment_triangle,
+};
 use strand_system::{Model, Support, SystemState};
 
 use crate::constraints::{Constraints, Row, RowKey};
 
 /// Contact of a model's rods with meshes and with each other.
-#[derive(Clone)]
 pub struct Contact {
     meshes: Vec<Arc<ObstacleMesh>>,
     margin_m: f64,
+    /// The nearest triangle found last time per (mesh, rod, feature): its distance
+    /// bounds the next BVH search, which then visits far fewer nodes (the iterates of
+    /// a solve, and its line-search trials, move little).
+    hints: Mutex<HashMap<(usize, usize, usize), usize>>,
+}
+
+impl Clone for Contact {
+    fn clone(&self) -> Self {
+        Self::new(self.meshes.clone(), self.margin_m)
+    }
 }
 
 /// One contact pair at a state, with its force.
@@ -35,7 +47,11 @@ impl Contact {
     /// m) entering as constraints. Steps are limited to half the margin, so nothing
     /// beyond it can be reached within one step.
     pub fn new(meshes: Vec<Arc<ObstacleMesh>>, margin_m: f64) -> Self {
-        Self { meshes, margin_m }
+        Self {
+            meshes,
+            margin_m,
+            hints: Mutex::new(HashMap::new()),
+        }
     }
 
     /// A margin suited to `model`: twice its largest outer radius, at least 5 mm.
@@ -68,6 +84,21 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, String> {
+        Ok(self
+            .tagged_gaps(model, state, margin_m)?
+            .into_iter()
+            .map(|(gap, _)| gap)
+            .collect())
+    }
+
+    /// [`Contact::gaps`] with a tag that tells the two ends of a stretch of nearest
+    /// points on one edge apart (for the row keys).
+    fn tagged_gaps(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        margin_m: f64,
+    ) -> Result<Vec<(Gap, u8)>, String> {
         let centrelines: Vec<Vec<Point3<f64>>> = state
             .rods
             .iter()
@@ -94,7 +125,7 @@ impl Contact {
         };
         let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
             .map_err(|e| describe_error(model, &e))?;
-        gaps.extend(between_rods);
+        gaps.extend(between_rods.into_iter().map(|gap| (gap, 0)));
         // The positions' low-order parts (compensated summation), to first order: a gap
         // then resolves the vertex positions beyond double precision, as the elastic
         // forces do, and stiff rods in contact converge to the force tolerance.
@@ -102,7 +133,7 @@ impl Contact {
             let r = &state.rods[rod];
             (1.0 - s) * r.compensation(edge) + s * r.compensation(edge + 1)
         };
-        for gap in &mut gaps {
+        for (gap, _) in &mut gaps {
             let mut shift = low(gap.rod, gap.edge, gap.s);
             if let Obstacle::Rod { rod, edge, t } = gap.with {
                 shift -= low(rod, edge, t);
@@ -122,7 +153,7 @@ impl Contact {
         index: usize,
         mesh: &ObstacleMesh,
         margin_m: f64,
-        out: &mut Vec<Gap>,
+        out: &mut Vec<(Gap, u8)>,
     ) -> Result<(), String> {
         let reach = geometry.radius + margin_m;
         let vertices = geometry.vertices;
@@ -139,7 +170,7 @@ impl Contact {
         };
         let mut vertex_distance = vec![f64::INFINITY; vertices.len()];
         for (j, p) in vertices.iter().enumerate() {
-            let Some(near) = mesh.point_proximity(p, reach) else {
+            let Some(near) = self.nearest((index, rod, 2 * j), mesh, p, p, reach) else {
                 continue;
             };
             let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
@@ -149,7 +180,7 @@ impl Contact {
             } else {
                 (last_edge, 1.0)
             };
-            out.push(Gap {
+            let gap = Gap {
                 rod,
                 edge,
                 s,
@@ -158,31 +189,50 @@ impl Contact {
                 witness: near.point_on_mesh,
                 normal,
                 gap: near.distance - geometry.radius,
-            });
+            };
+            out.push((gap, 0));
         }
         for edge in 0..=last_edge {
             let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-            let Some(near) = mesh.segment_proximity(a, b, reach) else {
+            let Some(near) = self.nearest((index, rod, 2 * edge + 1), mesh, a, b, reach) else {
                 continue;
             };
+            // Where the edge runs along the mesh over a stretch (lying on a face and
+            // overhanging its ridge), the stretch's inner ends hold it; otherwise an
+            // interior point nearer than both vertices (the edge crosses a ridge).
+            let [low, high] = near.tie;
             let band = EDGE_BAND * (1.0 + (b - a).norm());
             let interior = near.s > 0.0 && near.s < 1.0;
             let nearer =
                 near.distance + band < vertex_distance[edge].min(vertex_distance[edge + 1]);
-            if !(interior && nearer) {
-                continue;
+            let points: Vec<(f64, u8)> = if high - low > 1e-9 {
+                [(low, 1), (high, 2)]
+                    .into_iter()
+                    .filter(|(s, _)| *s > 0.0 && *s < 1.0)
+                    .collect()
+            } else if interior && nearer {
+                vec![(near.s, 0)]
+            } else {
+                vec![]
+            };
+            for (s, tag) in points {
+                let point = a + (b - a) * s;
+                let Some(at) = mesh.point_proximity(&point, reach) else {
+                    continue;
+                };
+                let normal = at.normal.ok_or_else(|| touches(&at.point_on_mesh))?;
+                let gap = Gap {
+                    rod,
+                    edge,
+                    s,
+                    with: Obstacle::Mesh(index),
+                    point,
+                    witness: at.point_on_mesh,
+                    normal,
+                    gap: at.distance - geometry.radius,
+                };
+                out.push((gap, tag));
             }
-            let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
-            out.push(Gap {
-                rod,
-                edge,
-                s: near.s,
-                with: Obstacle::Mesh(index),
-                point: near.point_on_segment,
-                witness: near.point_on_mesh,
-                normal,
-                gap: near.distance - geometry.radius,
-            });
         }
         Ok(())
     }
@@ -195,11 +245,11 @@ impl Contact {
         state: &SystemState,
         constraints: &[(Row, f64)],
     ) -> Result<Vec<ContactForce>, String> {
-        let gaps = self.gaps(model, state, self.margin_m)?;
+        let gaps = self.tagged_gaps(model, state, self.margin_m)?;
         Ok(gaps
             .into_iter()
-            .map(|gap| {
-                let key = key_of(&gap);
+            .map(|(gap, tag)| {
+                let key = key_of(&gap, tag);
                 let force_n = constraints
                     .iter()
                     .find(|(row, _)| row.key == key)
@@ -207,6 +257,51 @@ impl Contact {
                 ContactForce { gap, force_n }
             })
             .collect())
+    }
+
+    /// The nearest point of `mesh` to segment `[a, b]` within `reach` (m), the search
+    /// bounded by the distance to the triangle found last time for `key`.
+    fn nearest(
+        &self,
+        key: (usize, usize, usize),
+        mesh: &ObstacleMesh,
+        a: &Point3<f64>,
+        b: &Point3<f64>,
+        reach: f64,
+    ) -> Option<Proximity> {
+        // Most features are far from most meshes: the mesh's bounding box rules them out
+        // without a BVH search.
+        let [low, high] = mesh.bounding_box();
+        let outside = (0..3)
+            .map(|k| {
+                (low[k] - a[k].max(b[k]))
+                    .max(a[k].min(b[k]) - high[k])
+                    .max(0.0)
+            })
+            .fold(0.0, |sum: f64, d| sum + d * d);
+        if outside > reach * reach {
+            return None;
+        }
+        let mut hints = self.hints.lock().unwrap_or_else(|e| e.into_inner());
+        let bound = hints.get(&key).map(|&t| {
+            let [p, q, r] = mesh.triangle(t);
+            closest_segment_triangle(a, b, &p, &q, &r).distance
+        });
+        let near = match bound {
+            Some(d) if d < reach => mesh
+                .segment_proximity(a, b, d * (1.0 + 1e-9) + 1e-12)
+                .or_else(|| mesh.segment_proximity(a, b, reach)),
+            _ => mesh.segment_proximity(a, b, reach),
+        };
+        match &near {
+            Some(found) => {
+                hints.insert(key, found.triangle);
+            }
+            None => {
+                hints.remove(&key);
+            }
+        }
+        near
     }
 
     /// A readable name of what a gap touches: the mesh's name or `rod '<name>'`.
@@ -281,20 +376,25 @@ fn excluded(model: &Model, rod_a: usize, edge_a: usize, rod_b: usize, edge_b: us
     false
 }
 
+/// Largest overlap (m) of a starting configuration with an obstacle that is not
+/// reported as starting inside it: a warm start from a neighbouring solution that rests
+/// on an obstacle may overlap it by round-off; the solve closes that.
+pub const START_OVERLAP_M: f64 = 1e-6;
+
 /// How much nearer than both its vertices (relative to `1 + edge length`, m) an edge's
 /// interior point must be to give a gap of its own.
-const EDGE_BAND: f64 = 1e-9;
+const EDGE_BAND: f64 = 1e-12;
 
 /// The row key of a contact pair: the rod's vertex (`s` = 0 or 1) or edge and what it
 /// touches (a mesh, or the other rod's edge), hashed.
-fn key_of(gap: &Gap) -> RowKey {
+fn key_of(gap: &Gap, tag: u8) -> RowKey {
     let mut hasher = std::hash::DefaultHasher::new();
     let at = if gap.s == 0.0 {
         (0u8, gap.edge)
     } else if gap.s == 1.0 {
         (0u8, gap.edge + 1)
     } else {
-        (1u8, gap.edge)
+        (1u8 + tag, gap.edge)
     };
     (gap.rod, at).hash(&mut hasher);
     match gap.with {
@@ -306,7 +406,7 @@ fn key_of(gap: &Gap) -> RowKey {
 
 impl Constraints for Contact {
     fn rows(&self, model: &Model, state: &SystemState, out: &mut Vec<Row>) -> Result<(), String> {
-        for gap in self.gaps(model, state, self.margin_m)? {
+        for (gap, tag) in self.tagged_gaps(model, state, self.margin_m)? {
             let normal: Vector3<f64> = gap.normal.into_inner();
             let mut gradient = Vec::new();
             let mut add = |rod: usize, vertex: usize, weight: f64| {
@@ -336,7 +436,7 @@ impl Constraints for Contact {
                 continue;
             }
             out.push(Row {
-                key: key_of(&gap),
+                key: key_of(&gap, tag),
                 value: gap.gap,
                 gradient,
             });
@@ -348,7 +448,7 @@ impl Constraints for Contact {
         let gaps = self.gaps(model, state, self.margin_m)?;
         let deepest = gaps
             .iter()
-            .filter(|g| g.gap < 0.0)
+            .filter(|g| g.gap < -START_OVERLAP_M)
             .min_by(|a, b| a.gap.total_cmp(&b.gap));
         match deepest {
             None => Ok(()),

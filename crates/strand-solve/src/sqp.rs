@@ -26,8 +26,8 @@ const FEASIBILITY: f64 = 1e-10;
 
 /// Solves the QP for the Hessian `values` (positive definite, already factorised in
 /// `cholesky`), the gradient and the rows; `newton` is the unconstrained step `−H⁻¹g`.
-/// `hint` (rows active at the previous iterate) is tried first: when the exact step
-/// on it is optimal, no interior-point QP is needed.
+/// A primal–dual active set started from `hint` (rows active at the previous iterate)
+/// is tried first; clarabel's interior-point QP only when it does not settle.
 pub(crate) fn constrained_step(
     pattern: &HessianPattern,
     values: &[f64],
@@ -43,16 +43,10 @@ pub(crate) fn constrained_step(
             multipliers: vec![0.0; rows.len()],
         });
     }
-    if !hint.is_empty()
-        && let Some(exact) = exact_step(cholesky, rows, hint, newton)
-    {
+    // The primal–dual active set from the previous iterate's set usually settles in a
+    // few Schur solves; the interior-point QP is the fallback.
+    if let Some(exact) = exact_step(cholesky, rows, hint, newton) {
         return Ok(exact);
-    }
-    if rows.iter().all(|r| r.linearised(newton) >= -FEASIBILITY) {
-        return Ok(ConstrainedStep {
-            step: newton.to_vec(),
-            multipliers: vec![0.0; rows.len()],
-        });
     }
     let (qp_step, qp_multipliers) = solve_qp(pattern, values, gradient, rows)?;
     let largest = qp_multipliers.iter().fold(0.0f64, |m, &z| m.max(z));
@@ -106,7 +100,11 @@ fn exact_step(
             |i: usize, w: &[f64]| rows[i].gradient.iter().map(|&(k, a)| a * w[k]).sum::<f64>();
         let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
         let rhs = DVector::from_fn(m, |r, _| -rows[active[r]].linearised(newton));
-        let multipliers = schur.cholesky()?.solve(&rhs);
+        let multipliers = if m == 0 {
+            DVector::zeros(0)
+        } else {
+            schur.cholesky()?.solve(&rhs)
+        };
         if let Some((r, _)) = multipliers
             .iter()
             .enumerate()

@@ -32,6 +32,10 @@ pub struct Proximity {
     /// direction is defined: the caller reports "inside/touching the obstacle at
     /// `point_on_mesh`".
     pub normal: Option<Unit<Vector3<f64>>>,
+    /// The interval `[low, high]` of segment parameters whose points are all nearest
+    /// (to within rounding): `low == high == s` unless the segment runs parallel to
+    /// the mesh over a stretch (an edge lying on a face, or along a ridge).
+    pub tie: [f64; 2],
 }
 
 impl ObstacleMesh {
@@ -53,6 +57,8 @@ impl ObstacleMesh {
         let tolerance = TIE_TOLERANCE * ((p1 - p0).norm() + (max - min).norm());
         let (triangle, best) = self.nearest(p0, p1, max_distance)?;
         let mut result = self.proximity(p0, p1, triangle, best.value, tolerance);
+        let half = 0.5 * best.interval;
+        result.tie = [(result.s - half).max(0.0), (result.s + half).min(1.0)];
         let on_boundary = best.value.1.contains(&0.0);
         if best.interval > 0.0 || on_boundary {
             let limit = result.distance + tolerance;
@@ -63,6 +69,7 @@ impl ObstacleMesh {
                 if let Some((triangle, at_mid)) = self.nearest(&point, &point, limit) {
                     let mut mid = self.proximity(&point, &point, triangle, at_mid.value, tolerance);
                     mid.s = s;
+                    mid.tie = [low.max(0.0), high.min(1.0)];
                     result = mid;
                 }
             }
@@ -116,6 +123,7 @@ impl ObstacleMesh {
             point_on_mesh: closest.point_on_triangle,
             distance: closest.distance,
             normal,
+            tie: [closest.s, closest.s],
         }
     }
 
