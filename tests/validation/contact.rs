@@ -73,8 +73,9 @@ fn total_contact_force(forces: &[ContactForce], rod: usize) -> Vector3<f64> {
     total
 }
 
-#[test]
-fn a_heavy_rod_lies_straight_on_a_floor_that_carries_its_weight() {
+/// A heavy 1 m rod (20 edges, radius 10 mm, 2 kg/m) clamped at both ends on a floor
+/// mesh at z = 0 (its centreline at z = r), and the contact with the floor.
+fn rod_on_a_floor() -> (Model, Contact, f64) {
     let radius = 0.01;
     let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, radius).unwrap();
     let system = System {
@@ -91,7 +92,12 @@ fn a_heavy_rod_lies_straight_on_a_floor_that_carries_its_weight() {
     };
     let model = Model::try_new(system).unwrap();
     let floor = plane(3.0, 1.0, 200).translated(&Vector3::new(0.5, 0.0, 0.0));
-    let contact = Contact::new(vec![obstacle("floor", floor)], 0.02);
+    (model, Contact::new(vec![obstacle("floor", floor)], 0.02), radius)
+}
+
+#[test]
+fn a_heavy_rod_lies_straight_on_a_floor_that_carries_its_weight() {
+    let (model, contact, radius) = rod_on_a_floor();
     // Start 1 mm above the floor.
     let mut start = initial_state(model.system());
     for j in 1..20 {
@@ -338,23 +344,7 @@ fn two_hoses_pressed_across_each_other_touch_once_with_balancing_forces() {
 
 #[test]
 fn a_hose_starting_inside_an_obstacle_is_reported_with_its_location() {
-    let radius = 0.01;
-    let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, radius).unwrap();
-    let system = System {
-        rods: vec![RodSpec {
-            name: "rod".into(),
-            rod: Rod::try_straight(section, 1.0, 20).unwrap(),
-            start: End::clamped(Vector3::new(0.0, 0.0, radius), along_x()),
-            end: End::clamped(Vector3::new(1.0, 0.0, radius), along_x()),
-            route: None,
-        }],
-        bodies: vec![],
-        clips: vec![],
-        gravity: Vector3::new(0.0, 0.0, -9.81),
-    };
-    let model = Model::try_new(system).unwrap();
-    let floor = plane(3.0, 1.0, 200).translated(&Vector3::new(0.5, 0.0, 0.0));
-    let contact = Contact::new(vec![obstacle("floor", floor)], 0.02);
+    let (model, contact, _) = rod_on_a_floor();
     let mut start = initial_state(model.system());
     let mut p = start.rods[0].positions[10];
     p.z -= 0.002;
