@@ -92,7 +92,11 @@ fn rod_on_a_floor() -> (Model, Contact, f64) {
     };
     let model = Model::try_new(system).unwrap();
     let floor = plane(3.0, 1.0, 200).translated(&Vector3::new(0.5, 0.0, 0.0));
-    (model, Contact::new(vec![obstacle("floor", floor)], 0.02), radius)
+    (
+        model,
+        Contact::new(vec![obstacle("floor", floor)], 0.02),
+        radius,
+    )
 }
 
 #[test]
