@@ -28,6 +28,7 @@ fn clipped_hose(joint: Joint, limits: Option<(f64, f64)>) -> System {
         }],
         bodies: vec![],
         clips: vec![ClipSpec {
+            parent: None,
             body: None,
             name: "clip".into(),
             base,
@@ -112,6 +113,7 @@ fn a_fixed_clip_at_mid_length_splits_a_rod_into_two_clamped_rods() {
         }],
         bodies: vec![],
         clips: vec![ClipSpec {
+            parent: None,
             body: None,
             name: "clip".into(),
             base: clip_pose,

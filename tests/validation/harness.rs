@@ -44,7 +44,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
             kinds(ReactionKind::Port),
             kinds(ReactionKind::Clip)
         ),
-        (3, 3, 8)
+        (3, 3, 9)
     );
 
     // Global balance: connectors and the clips fixed in space carry the cables, the
@@ -52,12 +52,10 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
     let mass: f64 = system.rods.iter().map(|r| r.rod.mass()).sum::<f64>()
         + system.bodies.iter().map(|b| b.mass).sum::<f64>();
     let weight = mass * system.gravity;
+    // The body a clip's chain is mounted on (`None`: the chain starts in the world).
     let on_body = |name: &str| {
-        system
-            .clips
-            .iter()
-            .find(|c| c.name == name)
-            .and_then(|c| c.body)
+        let c = system.clips.iter().position(|c| c.name == name)?;
+        system.clips[system.chain_root(c)].body
     };
     let external: Vec<_> = reactions
         .iter()
@@ -121,19 +119,40 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
         );
     }
 
-    // What each joint transmits.
+    // What each joint transmits: everything its clip and the clips mounted on it (its
+    // chain's downstream part) exert on the cables, about the joint's base origin.
+    let clip_reaction = |name: &str| {
+        reactions
+            .iter()
+            .find(|r| r.kind == ReactionKind::Clip && r.name == name)
+            .unwrap()
+    };
+    let downstream = |c: usize| {
+        (0..system.clips.len()).filter(move |&k| {
+            let mut link = Some(k);
+            while let Some(l) = link {
+                if l == c {
+                    return true;
+                }
+                link = system.clips[l].parent;
+            }
+            false
+        })
+    };
     let mut seen = Vec::new();
     for (c, clip) in system.clips.iter().enumerate() {
-        let reaction = reactions
-            .iter()
-            .find(|r| r.kind == ReactionKind::Clip && r.name == clip.name)
-            .unwrap();
-        let (force, moment) = (reaction.force, reaction.moment);
         assert!(
-            force.norm() > 1e-3,
+            clip_reaction(&clip.name).force.norm() > 1e-3,
             "clip '{}' carries the cable",
             clip.name
         );
+        let origin = system.clip_base(c, &state.clips, &state.bodies).position;
+        let (mut force, mut moment) = (Vector3::zeros(), Vector3::zeros());
+        for k in downstream(c) {
+            let r = clip_reaction(&system.clips[k].name);
+            force += r.force;
+            moment += r.moment + (r.position - origin).cross(&r.force);
+        }
         let value = state.clips[c].value;
         match clip.joint {
             Joint::Fixed => seen.push("fixed"),
@@ -142,7 +161,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
                 seen.push("spherical");
             }
             Joint::Prismatic { axis } => {
-                let base = clip.base_in_world(&state.bodies).orientation;
+                let base = system.clip_base(c, &state.clips, &state.bodies).orientation;
                 let along = force.dot(&(base * axis));
                 assert!(
                     along.abs() <= 1e-9 * force.norm().max(1.0),
@@ -153,7 +172,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
                 seen.push("prismatic");
             }
             Joint::Revolute { axis } => {
-                let base = clip.base_in_world(&state.bodies).orientation;
+                let base = system.clip_base(c, &state.clips, &state.bodies).orientation;
                 let about = moment.dot(&(base * axis));
                 let tolerance = 1e-9 * moment.norm().max(1.0);
                 match clip.limits {
@@ -197,11 +216,11 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
             }
         }
         // The clipped vertex sits at the clip's output origin.
-        let output = clip.output(&state.clips[c], &state.bodies);
+        let output = system.clip_output(c, &state.clips, &state.bodies);
         assert!((state.rods[clip.rod.0].positions[clip.vertex] - output.position).norm() < 1e-12);
     }
     seen.sort_unstable();
-    assert_eq!(seen.len(), 8);
+    assert_eq!(seen.len(), 9);
     for kind in ["fixed", "prismatic", "revolute", "spherical"] {
         assert!(seen.contains(&kind), "{kind} missing: {seen:?}");
     }
@@ -209,7 +228,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
 
     // result.json: the clips section agrees with the model.
     let doc = collect(&built.name, &built.model, &solution, Timing::default());
-    assert_eq!(doc.clips.len(), 8);
+    assert_eq!(doc.clips.len(), 9);
     let json = serde_json::to_value(&doc).unwrap();
     for (c, (clip, result)) in system.clips.iter().zip(&doc.clips).enumerate() {
         assert_eq!(result.name, clip.name);
@@ -253,6 +272,7 @@ fn the_clipped_harness_is_in_equilibrium_and_its_joints_transmit_what_they_shoul
         ("hinge", 0.2),
         ("ball", 0.45),
         ("rail", 0.3),
+        ("sleeve", 0.34),
         ("strain_relief", 0.7),
         ("twin_left", 0.04),
         ("twin_right", 0.04),

@@ -75,10 +75,11 @@ pub struct ClipDef {
     pub rod: String,
     /// Arc length along the rod (from its start) where the clip holds it, length unit.
     pub at: f64,
-    /// The junction that carries the clip's base, if any: the base (and with it the
-    /// joint axes) is then given in that junction's body frame and moves with it: a
-    /// clip mounted on a T-piece, or, on a light junction without ports, one half of a
-    /// hose-to-hose clip. Default: the base is fixed in space.
+    /// The junction or the earlier clip that carries this clip's base, if any: the base
+    /// (and with it the joint axes) is then given in that junction's body frame, or in
+    /// that clip's output frame, and moves with it: a clip mounted on a T-piece; on a
+    /// light junction without ports, one half of a hose-to-hose clip; on another clip,
+    /// a chain of joints. Default: the base is fixed in space.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub on: Option<String>,
     /// The base frame: in the world, or in the body frame of the junction `on`.
@@ -183,27 +184,42 @@ pub(crate) fn resolve_clips(
                 "name one of the case's rods",
             ));
         };
-        let body = match &def.on {
-            None => None,
-            Some(junction) => match file.junctions.iter().position(|(j, _)| j == junction) {
-                Some(b) => Some(BodyHandle(b)),
-                None => {
-                    let defined: Vec<&str> =
-                        file.junctions.iter().map(|(j, _)| j.as_str()).collect();
-                    return Err(report.invalid(
-                        format!("{item}.on"),
-                        format!(
-                            "junction '{junction}' is not defined (defined: {})",
-                            if defined.is_empty() {
+        let (body, parent) = match &def.on {
+            None => (None, None),
+            Some(carrier) => {
+                let junction = file.junctions.iter().position(|(j, _)| j == carrier);
+                let earlier = file.clips.iter().position(|(c, _)| c == carrier);
+                match (junction, earlier) {
+                    (Some(b), _) => (Some(BodyHandle(b)), None),
+                    (None, Some(c)) if c < out.len() => (None, Some(c)),
+                    _ => {
+                        let junctions: Vec<&str> =
+                            file.junctions.iter().map(|(j, _)| j.as_str()).collect();
+                        let clips: Vec<&str> = file.clips[..out.len()]
+                            .iter()
+                            .map(|(c, _)| c.as_str())
+                            .collect();
+                        let list = |names: Vec<&str>| {
+                            if names.is_empty() {
                                 "none".to_string()
                             } else {
-                                defined.join(", ")
+                                names.join(", ")
                             }
-                        ),
-                        "name one of the case's junctions, or remove `on` for a base fixed in space",
-                    ));
+                        };
+                        return Err(report.invalid(
+                            format!("{item}.on"),
+                            format!(
+                                "'{carrier}' is neither a junction (defined: {}) nor a clip \
+                                 defined before this one ({})",
+                                list(junctions),
+                                list(clips)
+                            ),
+                            "name a junction, or a clip listed earlier in `clips` (a chain \
+                             of joints), or remove `on` for a base fixed in space",
+                        ));
+                    }
                 }
-            },
+            }
         };
         let at_file = report.finite(&format!("{item}.at"), def.at, &format!(" {unit}"))?;
         let base = pose(report, &format!("{item}.base"), unit, &def.base)?;
@@ -262,6 +278,7 @@ pub(crate) fn resolve_clips(
         };
         out.push(PendingClip {
             spec: ClipSpec {
+                parent,
                 body,
                 name: name.clone(),
                 base,
@@ -576,7 +593,20 @@ mod tests {
 
     #[test]
     fn clip_errors_name_the_item_and_hint() {
-        let cases: [(String, &[&str]); 11] = [
+        let cases: [(String, &[&str]); 12] = [
+            (
+                // A chain must be built from earlier clips.
+                [
+                    clip("a", "hose", 250.0, "Fixed", ", on: \"b\""),
+                    clip("b", "hose", 500.0, "Spherical", ""),
+                ]
+                .concat(),
+                &[
+                    "clips 'a'.on",
+                    "'b' is neither a junction (defined: none) nor a clip defined before this one (none)",
+                    "hint: name a junction, or a clip listed earlier",
+                ],
+            ),
             (
                 clip("a", "hoes", 250.0, "Fixed", ""),
                 &[

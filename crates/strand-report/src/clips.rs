@@ -60,7 +60,8 @@ pub fn collect_clips(
         .clips
         .iter()
         .zip(&solution.state.clips)
-        .map(|(clip, state)| {
+        .enumerate()
+        .map(|(c, (clip, state))| {
             let reaction = clip_reactions.next().filter(|r| r.name == clip.name);
             let (joint, axis, value, rotation) = match clip.joint {
                 Joint::Fixed => ("fixed", None, None, None),
@@ -87,8 +88,12 @@ pub fn collect_clips(
                 s_m: rod.rod.arc_lengths()[clip.vertex],
                 position_m: arr(&position),
                 joint: joint.to_string(),
-                axis_world: axis
-                    .map(|a| arr(&(clip.base_in_world(&solution.state.bodies).orientation * a))),
+                axis_world: axis.map(|a| {
+                    arr(&(system
+                        .clip_base(c, &solution.state.clips, &solution.state.bodies)
+                        .orientation
+                        * a))
+                }),
                 value,
                 rotation_wxyz: rotation,
                 limits: clip.limits.map(|(l, u)| [l, u]),

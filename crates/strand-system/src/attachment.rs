@@ -11,8 +11,9 @@
 use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
 use strand_rod::so3::skew;
 
+use crate::chain::{ChainColumn, chain_blocks, chain_columns};
 use crate::dofs::Dofs;
-use crate::system::{ClipSpec, Joint, JointState, System, SystemState};
+use crate::system::{System, SystemState};
 
 /// How one local 3-block of an element depends on the unknowns.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,21 +51,8 @@ impl LocalBlock {
                 vec![t, r]
             }
             LocalBlock::BodyFrame { body, .. } => vec![dofs.body(body).expect("free body").1],
-            LocalBlock::ClipPoint { clip } => {
-                let mut blocks = vec![];
-                if let Some((t, r)) = system.clips[clip].body.and_then(|b| dofs.body(b.0)) {
-                    blocks.extend([t, r]);
-                }
-                blocks.extend(dofs.clip(clip));
-                blocks
-            }
-            LocalBlock::ClipFrame { clip } => {
-                let mut blocks = vec![];
-                if let Some((_, r)) = system.clips[clip].body.and_then(|b| dofs.body(b.0)) {
-                    blocks.push(r);
-                }
-                blocks.extend(dofs.clip(clip));
-                blocks
+            LocalBlock::ClipPoint { clip } | LocalBlock::ClipFrame { clip } => {
+                chain_blocks(system, dofs, clip)
             }
         }
     }
@@ -139,81 +127,62 @@ pub(crate) fn chain_rule(
                     .copy_from(&offset_matrix.transpose());
             }
             LocalBlock::ClipPoint { clip } => {
+                // r moved by each chain coordinate: ∂r/∂q_i = v_i or ω_i × (r − p_i);
+                // ∂²r/∂q_i∂q_j = ω_i × ∂r/∂q_j for q_i upstream of q_j (symmetrised
+                // within one exponential block).
+                let (columns, output) = chain_columns(system, dofs, state, clip);
+                let r = output.position;
                 let g = gradient_of(a);
-                let map = ClipMap::new(system, dofs, state, clip);
-                let joint_columns = point_columns(&system.clips[clip], &state.clips[clip]);
-                if let Some((t, r)) = map.body_blocks {
-                    // r = x + R_b exp(θ) ρ(φ) with ρ the output origin in body coordinates.
-                    let rho = system.clips[clip].output_in_carrier(&state.clips[clip]);
-                    let (t, r) = (column(t), column(r));
-                    jacobian
-                        .fixed_view_mut::<3, 3>(row, t)
-                        .copy_from(&Matrix3::identity());
-                    jacobian
-                        .fixed_view_mut::<3, 3>(row, r)
-                        .copy_from(&(-map.carrier * skew(&rho)));
-                    if with_curvature {
-                        let body_force = map.carrier.transpose() * g;
-                        let mut view = curvature.fixed_view_mut::<3, 3>(r, r);
-                        view += lever_curvature(&body_force, &rho);
-                        if let Some(j) = map.joint_block {
-                            // ∂²/∂θ∂φ_m of gᵀ R_b exp(θ) ρ(φ) is ∂ρ/∂φ_m × R_bᵀ g.
-                            let j = column(j);
-                            for (m, rho_m) in joint_columns.iter().enumerate() {
-                                let mixed = rho_m.cross(&body_force);
-                                add_symmetric(&mut curvature, r, j + m, &mixed);
-                            }
-                        }
-                    }
+                let velocities: Vec<Vector3<f64>> =
+                    columns.iter().map(|c| c.point_velocity(&r)).collect();
+                let index = |c: &ChainColumn| column(c.block) + c.component;
+                for (c, v) in columns.iter().zip(&velocities) {
+                    jacobian.fixed_view_mut::<3, 1>(row, index(c)).copy_from(v);
                 }
-                if let Some(j) = map.joint_block {
-                    let c = column(j);
-                    for (m, rho_m) in joint_columns.iter().enumerate() {
-                        jacobian
-                            .fixed_view_mut::<3, 1>(row, c + m)
-                            .copy_from(&(map.carrier * rho_m));
-                    }
-                    if with_curvature {
-                        add_joint_point_curvature(
-                            &system.clips[clip],
-                            &state.clips[clip],
-                            &(map.carrier.transpose() * g),
-                            c,
-                            &mut curvature,
-                        );
+                if with_curvature {
+                    for i in 0..columns.len() {
+                        for j in i..columns.len() {
+                            let (ci, cj) = (&columns[i], &columns[j]);
+                            let value = if ci.group == cj.group {
+                                0.5 * (g.dot(&ci.angular().cross(&velocities[j]))
+                                    + g.dot(&cj.angular().cross(&velocities[i])))
+                            } else {
+                                g.dot(&ci.angular().cross(&velocities[j]))
+                            };
+                            add_pair(&mut curvature, index(ci), index(cj), value);
+                        }
                     }
                 }
             }
             LocalBlock::ClipFrame { clip } => {
-                let map = ClipMap::new(system, dofs, state, clip);
-                let spec = &system.clips[clip];
-                let offset = spec.offset.orientation.to_rotation_matrix().into_inner();
-                let joint_columns = frame_columns(spec, &offset);
-                if let Some((_, r)) = map.body_blocks {
-                    // Q = q_b exp(θ) q_B J q_o = Q exp(Aθ) with A = (R_B R_J R_o)ᵀ.
-                    let (_, joint_rotation) = spec.joint_motion(&state.clips[clip]);
-                    let to_output = (spec.base.orientation * joint_rotation)
-                        .to_rotation_matrix()
-                        .into_inner()
-                        * offset;
-                    let r = column(r);
-                    jacobian
-                        .fixed_view_mut::<3, 3>(row, r)
-                        .copy_from(&to_output.transpose());
-                    if with_curvature && let Some(j) = map.joint_block {
-                        // exp(Aθ) exp(b δ) = exp(Aθ + bδ + ½ Aθ × bδ + …) (BCH).
-                        let g = gradient_of(a);
-                        let j = column(j);
-                        for (m, b) in joint_columns.iter().enumerate() {
-                            let mixed = 0.5 * to_output * b.cross(&g);
-                            add_symmetric(&mut curvature, r, j + m, &mixed);
-                        }
-                    }
+                // Q = Q₀ Π exp(u_i q_i), root first, with u_i = R_Qᵀ ω_i (exact at the
+                // state); BCH gives ½ g·(u_i × u_j) for q_i upstream of q_j.
+                let (columns, output) = chain_columns(system, dofs, state, clip);
+                let to_output = output
+                    .orientation
+                    .to_rotation_matrix()
+                    .into_inner()
+                    .transpose();
+                let g = gradient_of(a);
+                let increments: Vec<Vector3<f64>> =
+                    columns.iter().map(|c| to_output * c.angular()).collect();
+                let index = |c: &ChainColumn| column(c.block) + c.component;
+                for (c, u) in columns.iter().zip(&increments) {
+                    jacobian.fixed_view_mut::<3, 1>(row, index(c)).copy_from(u);
                 }
-                if let Some(j) = map.joint_block {
-                    let c = column(j);
-                    for (m, b) in joint_columns.iter().enumerate() {
-                        jacobian.fixed_view_mut::<3, 1>(row, c + m).copy_from(b);
+                if with_curvature {
+                    for i in 0..columns.len() {
+                        for j in i + 1..columns.len() {
+                            if columns[i].group != columns[j].group {
+                                let value = 0.5 * g.dot(&increments[i].cross(&increments[j]));
+                                add_pair(
+                                    &mut curvature,
+                                    index(&columns[i]),
+                                    index(&columns[j]),
+                                    value,
+                                );
+                            }
+                        }
                     }
                 }
             }
@@ -222,99 +191,10 @@ pub(crate) fn chain_rule(
     (jacobian, curvature)
 }
 
-/// Adds `v` to the rows `r..r+3` of column `c` and to the columns `r..r+3` of row `c`.
-fn add_symmetric(matrix: &mut DMatrix<f64>, r: usize, c: usize, v: &Vector3<f64>) {
-    for k in 0..3 {
-        matrix[(r + k, c)] += v[k];
-        matrix[(c, r + k)] += v[k];
-    }
-}
-
-/// Right-increment directions of a clip's output frame per joint coordinate.
-fn frame_columns(spec: &ClipSpec, offset: &Matrix3<f64>) -> Vec<Vector3<f64>> {
-    match spec.joint {
-        Joint::Fixed | Joint::Prismatic { .. } => vec![],
-        // Q = q_B Rot(a, φ) q_o: a right increment R_oᵀ a δφ of Q.
-        Joint::Revolute { axis } => vec![offset.transpose() * axis],
-        Joint::Spherical => {
-            let t = offset.transpose();
-            vec![t.column(0).into(), t.column(1).into(), t.column(2).into()]
-        }
-    }
-}
-
-/// How a clip's output depends on its carrier body and its joint.
-struct ClipMap {
-    /// Rotation of the carrier (the body, or the identity for the world).
-    carrier: Matrix3<f64>,
-    /// Translation and rotation blocks of a free carrier body.
-    body_blocks: Option<(usize, usize)>,
-    /// The joint's block.
-    joint_block: Option<usize>,
-}
-
-impl ClipMap {
-    fn new(system: &System, dofs: &Dofs, state: &SystemState, clip: usize) -> Self {
-        let spec = &system.clips[clip];
-        let (carrier, body_blocks) = match spec.body {
-            Some(body) => (
-                state.bodies[body.0]
-                    .orientation
-                    .to_rotation_matrix()
-                    .into_inner(),
-                dofs.body(body.0),
-            ),
-            None => (Matrix3::identity(), None),
-        };
-        Self {
-            carrier,
-            body_blocks,
-            joint_block: dofs.clip(clip),
-        }
-    }
-}
-
-/// `∂ρ/∂φ_m`: how the output origin moves per joint coordinate, in the coordinates of
-/// the clip's carrier (world or body).
-fn point_columns(spec: &ClipSpec, joint: &JointState) -> Vec<Vector3<f64>> {
-    let base = spec.base.orientation.to_rotation_matrix().into_inner();
-    let lever = spec.offset.position;
-    match spec.joint {
-        Joint::Fixed => vec![],
-        // ρ = p_B + R_B Rot(a, φ) o: ∂ρ/∂φ = R_B Rot (a × o).
-        Joint::Revolute { axis } => {
-            let turn = UnitQuaternion::from_scaled_axis(axis * joint.value);
-            vec![base * (turn * axis.cross(&lever))]
-        }
-        Joint::Prismatic { axis } => vec![base * axis],
-        // ρ = p_B + R_B R_s exp(ψ) o: ∂ρ/∂ψ = −R_B R_s [o]×.
-        Joint::Spherical => {
-            let m = -base * joint.rotation.to_rotation_matrix().into_inner() * skew(&lever);
-            vec![m.column(0).into(), m.column(1).into(), m.column(2).into()]
-        }
-    }
-}
-
-/// Adds `Σ gᵢ ∂²ρᵢ/∂φ∂φ` for the carrier-frame force `force` at joint column `c`.
-fn add_joint_point_curvature(
-    spec: &ClipSpec,
-    joint: &JointState,
-    force: &Vector3<f64>,
-    c: usize,
-    curvature: &mut DMatrix<f64>,
-) {
-    let base = spec.base.orientation.to_rotation_matrix().into_inner();
-    let lever = spec.offset.position;
-    match spec.joint {
-        Joint::Fixed | Joint::Prismatic { .. } => {}
-        Joint::Revolute { axis } => {
-            let turn = UnitQuaternion::from_scaled_axis(axis * joint.value);
-            curvature[(c, c)] += force.dot(&(base * (turn * axis.cross(&axis.cross(&lever)))));
-        }
-        Joint::Spherical => {
-            let rotation = base * joint.rotation.to_rotation_matrix().into_inner();
-            let mut view = curvature.fixed_view_mut::<3, 3>(c, c);
-            view += lever_curvature(&(rotation.transpose() * force), &lever);
-        }
+/// Adds `value` at `(i, j)` and, off the diagonal, at `(j, i)`.
+fn add_pair(matrix: &mut DMatrix<f64>, i: usize, j: usize, value: f64) {
+    matrix[(i, j)] += value;
+    if i != j {
+        matrix[(j, i)] += value;
     }
 }

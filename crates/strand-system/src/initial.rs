@@ -94,14 +94,14 @@ fn held_stations(
             tangent: tangent_of(start.frame()),
         });
     }
-    let mut clips: Vec<_> = system
-        .clips
-        .iter()
-        .filter(|c| c.rod.0 == rod_index)
+    let mut clips: Vec<usize> = (0..system.clips.len())
+        .filter(|&c| system.clips[c].rod.0 == rod_index)
         .collect();
-    clips.sort_by_key(|c| c.vertex);
-    for clip in clips {
-        let output = clip.output(&Default::default(), &system.body_poses());
+    clips.sort_by_key(|&c| system.clips[c].vertex);
+    let joints = vec![Default::default(); system.clips.len()];
+    for c in clips {
+        let clip = &system.clips[c];
+        let output = system.clip_output(c, &joints, &system.body_poses());
         stations.push(Station {
             s: arc[clip.vertex],
             position: output.position,

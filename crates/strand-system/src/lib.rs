@@ -11,6 +11,7 @@
 //! coordinates.
 
 mod attachment;
+mod chain;
 mod dofs;
 mod initial;
 mod model;

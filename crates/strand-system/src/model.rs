@@ -131,7 +131,7 @@ impl Model {
                     },
                     j => match system.clip_at(r, j) {
                         Some(clip) => {
-                            let frame = clip_frame_local(&system, clip);
+                            let frame = clip_frame_local(&system, &dofs, clip);
                             let before = [
                                 LocalBlock::Free(dofs.edge(r, j - 1)),
                                 frame,
@@ -297,9 +297,12 @@ impl Model {
                 .system
                 .clips
                 .iter()
-                .zip(&state.clips)
-                .filter(|(clip, _)| clip.rod.0 == rod)
-                .map(|(clip, joint)| (clip.vertex, clip.output(joint, &state.bodies).orientation))
+                .enumerate()
+                .filter(|(_, clip)| clip.rod.0 == rod)
+                .map(|(c, clip)| {
+                    let output = self.system.clip_output(c, &state.clips, &state.bodies);
+                    (clip.vertex, output.orientation)
+                })
                 .collect(),
         }
     }
@@ -447,8 +450,9 @@ impl Model {
         after: bool,
     ) -> ClipHalfElement {
         let spec = &self.system.rods[rod];
-        let output = self.system.clips[clip]
-            .output(&state.clips[clip], &state.bodies)
+        let output = self
+            .system
+            .clip_output(clip, &state.clips, &state.bodies)
             .orientation;
         let frames = &state.rods[rod].frames;
         let (frame_a, frame_b, edge) = if after {
@@ -654,7 +658,10 @@ impl Model {
     /// Puts every clipped vertex at its clip's output origin.
     fn place_clipped_vertices(&self, state: &mut SystemState) {
         for (c, clip) in self.system.clips.iter().enumerate() {
-            let position = clip.output(&state.clips[c], &state.bodies).position;
+            let position = self
+                .system
+                .clip_output(c, &state.clips, &state.bodies)
+                .position;
             state.rods[clip.rod.0].set_position(clip.vertex, position);
         }
     }
@@ -809,7 +816,7 @@ fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock 
     }
     if let Some(clip) = system.clip_at(r, j) {
         return match system.clips[clip].joint {
-            Joint::Fixed if !on_free_body(system, clip) => LocalBlock::Fixed,
+            Joint::Fixed if !on_free_body(system, dofs, clip) => LocalBlock::Fixed,
             _ => LocalBlock::ClipPoint { clip },
         };
     }
@@ -848,18 +855,19 @@ fn boundary_local(system: &System, r: usize, at_end: bool) -> Option<LocalBlock>
 }
 
 /// How a clip's output frame enters a half-cell element.
-fn clip_frame_local(system: &System, clip: usize) -> LocalBlock {
+fn clip_frame_local(system: &System, dofs: &Dofs, clip: usize) -> LocalBlock {
     match system.clips[clip].joint {
-        Joint::Fixed | Joint::Prismatic { .. } if !on_free_body(system, clip) => LocalBlock::Fixed,
+        Joint::Fixed | Joint::Prismatic { .. } if !on_free_body(system, dofs, clip) => {
+            LocalBlock::Fixed
+        }
         _ => LocalBlock::ClipFrame { clip },
     }
 }
 
-/// Whether clip `clip` is carried by a free body.
-fn on_free_body(system: &System, clip: usize) -> bool {
-    system.clips[clip]
-        .body
-        .is_some_and(|b| !system.bodies[b.0].fixed)
+/// Whether clip `clip`'s output moves with an unknown (a free carrier body or a joint
+/// anywhere in its chain).
+fn on_free_body(system: &System, dofs: &Dofs, clip: usize) -> bool {
+    !crate::chain::chain_blocks(system, dofs, clip).is_empty()
 }
 
 /// Owned inputs of a clip half-cell (the output frame is computed, not stored).

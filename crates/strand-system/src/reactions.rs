@@ -120,7 +120,9 @@ impl Model {
                 - spec.rod.vertex_mass(j) * system.gravity;
             let half_before = bend_twist(&self.clip_half(state, r, j, c, false).element());
             let half_after = bend_twist(&self.clip_half(state, r, j, c, true).element());
-            let output = clip.output(&state.clips[c], &state.bodies).orientation;
+            let output = system
+                .clip_output(c, &state.clips, &state.bodies)
+                .orientation;
             let moment = output
                 * (half_before.gradient.fixed_rows::<3>(3).into_owned()
                     + half_after.gradient.fixed_rows::<3>(0).into_owned());

@@ -61,7 +61,11 @@ pub struct ClipSpec {
     pub name: String,
     /// The body carrying the base frame, or `None` for a base fixed in the world.
     pub body: Option<BodyHandle>,
-    /// Base frame (m): in the world, or in body coordinates when `body` is set.
+    /// The clip (index into [`System::clips`], an earlier one) whose output frame
+    /// carries this clip's base: a chain of joints. Excludes `body`.
+    pub parent: Option<usize>,
+    /// Base frame (m): in the world, or in the coordinates of the body or the parent
+    /// clip's output frame.
     pub base: Pose,
     /// The joint.
     pub joint: Joint,
@@ -534,6 +538,41 @@ impl System {
         self.check_held_groups()
     }
 
+    /// The first clip of `clip`'s chain (the one whose base is on the world or a body).
+    pub fn chain_root(&self, mut clip: usize) -> usize {
+        while let Some(parent) = self.clips[clip].parent {
+            clip = parent;
+        }
+        clip
+    }
+
+    /// The base frame of clip `clip` in the world, for joint coordinates `joints` and
+    /// body poses `bodies` (through its chain of parent clips).
+    pub fn clip_base(&self, clip: usize, joints: &[JointState], bodies: &[Pose]) -> Pose {
+        let spec = &self.clips[clip];
+        match spec.parent {
+            None => spec.base_in_world(bodies),
+            Some(parent) => {
+                let carrier = self.clip_output(parent, joints, bodies);
+                Pose {
+                    position: carrier.transform_point(&spec.base.position),
+                    orientation: carrier.orientation * spec.base.orientation,
+                }
+            }
+        }
+    }
+
+    /// The output frame of clip `clip` in the world (through its chain of parents).
+    pub fn clip_output(&self, clip: usize, joints: &[JointState], bodies: &[Pose]) -> Pose {
+        let base = self.clip_base(clip, joints, bodies);
+        let spec = &self.clips[clip];
+        let (translation, rotation) = spec.joint_motion(&joints[clip]);
+        Pose {
+            position: base.transform_point(&(translation + rotation * spec.offset.position)),
+            orientation: base.orientation * rotation * spec.offset.orientation,
+        }
+    }
+
     /// The clip holding vertex `vertex` of rod `rod`, if any.
     pub fn clip_at(&self, rod: usize, vertex: usize) -> Option<usize> {
         self.clips
@@ -600,6 +639,18 @@ impl System {
             {
                 return Err(invalid(format!("body #{} does not exist", body.0)));
             }
+            if let Some(parent) = clip.parent {
+                if parent >= i {
+                    return Err(invalid(format!(
+                        "its parent must be an earlier clip (got clip #{parent})"
+                    )));
+                }
+                if clip.body.is_some() {
+                    return Err(invalid(
+                        "a clip is carried by a body or by a clip, not both".into(),
+                    ));
+                }
+            }
             let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
             if !finite(&clip.base.position) || !finite(&clip.offset.position) {
                 return Err(invalid("base and offset positions must be finite".into()));
@@ -630,8 +681,9 @@ impl System {
                 union(&mut parent, rods + b, ground);
             }
         }
-        for clip in &self.clips {
-            let carrier = clip.body.map_or(ground, |b| rods + b.0);
+        for (c, clip) in self.clips.iter().enumerate() {
+            let root = &self.clips[self.chain_root(c)];
+            let carrier = root.body.map_or(ground, |b| rods + b.0);
             union(&mut parent, clip.rod.0, carrier);
         }
         for (r, spec) in self.rods.iter().enumerate() {

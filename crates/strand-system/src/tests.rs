@@ -127,6 +127,7 @@ fn clipped_system() -> System {
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
     let clip = |name: &str, x: f64, joint, vertex| ClipSpec {
+        parent: None,
         body: None,
         name: name.into(),
         base: Pose {
@@ -184,6 +185,7 @@ fn body_clip_system() -> System {
         UnitQuaternion::rotation_between(&Vector3::z(), &d).expect("not antiparallel")
     };
     let clip = |name: &str, body, position, joint, rod, vertex, direction| ClipSpec {
+        parent: None,
         name: String::from(name),
         body: Some(BodyHandle(body)),
         base: Pose {
@@ -272,6 +274,63 @@ fn body_clip_system() -> System {
     system
 }
 
+/// Chains of clips: on the world-based clips of [`clipped_system`], a revolute
+/// "elbow" on the hinge, a spherical "wrist" on the elbow and a prismatic "slide" on
+/// the rail; on the free T of [`body_clip_system`], a revolute "forearm" on its hinge.
+fn chained_systems() -> [System; 2] {
+    let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
+    let link = |name: &str, parent, joint, vertex, rod| ClipSpec {
+        name: name.into(),
+        body: None,
+        parent: Some(parent),
+        base: Pose {
+            position: Vector3::new(0.004, 0.003, 0.15),
+            orientation: tilt(0.1),
+        },
+        joint,
+        offset: Pose {
+            position: Vector3::new(-0.002, 0.005, 0.01),
+            orientation: tilt(-0.1),
+        },
+        rod: RodHandle(rod),
+        vertex,
+        limits: None,
+    };
+    let mut world = clipped_system();
+    world.clips.extend([
+        link(
+            "elbow",
+            0,
+            Joint::Revolute {
+                axis: Vector3::new(0.6, 0.0, 0.8),
+            },
+            3,
+            0,
+        ),
+        link("wrist", 3, Joint::Spherical, 5, 0),
+        link(
+            "slide",
+            1,
+            Joint::Prismatic {
+                axis: Vector3::new(0.0, 1.0, 0.0),
+            },
+            7,
+            0,
+        ),
+    ]);
+    let mut on_body = body_clip_system();
+    on_body.clips.push(link(
+        "forearm",
+        0,
+        Joint::Revolute {
+            axis: Vector3::new(0.0, 0.8, 0.6),
+        },
+        3,
+        0,
+    ));
+    [world, on_body]
+}
+
 fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
     let state = initial_state(model.system());
     let step: Vec<f64> = (0..model.dofs().len())
@@ -330,6 +389,13 @@ fn clip_coupling_matches_finite_differences() {
 #[test]
 fn clips_on_free_bodies_match_finite_differences() {
     check_assembly(body_clip_system());
+}
+
+#[test]
+fn chains_of_clips_match_finite_differences() {
+    for system in chained_systems() {
+        check_assembly(system);
+    }
 }
 
 /// Scalar joints occupy the first component of a 3-block; the two spare components
