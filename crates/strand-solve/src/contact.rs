@@ -5,32 +5,20 @@
 //! linearised in the positions of the vertices involved (through bodies and clips
 //! where those vertices are held). The multipliers of the rows are the contact forces.
 
-use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use nalgebra::{Point3, Vector3};
-use strand_contact::{
-    Gap, Obstacle, ObstacleMesh, Proximity, RodGeometry, closest_segment_triangle,
-};
+use strand_contact::{Gap, Obstacle, ObstacleMesh, Proximity, RodGeometry};
 use strand_system::{Model, Support, SystemState};
 
 use crate::constraints::{Constraints, Row, RowKey};
 
 /// Contact of a model's rods with meshes and with each other.
+#[derive(Clone)]
 pub struct Contact {
     meshes: Vec<Arc<ObstacleMesh>>,
     margin_m: f64,
-    /// The nearest triangle found last time per (mesh, rod, feature): its distance
-    /// bounds the next BVH search, which then visits far fewer nodes (the iterates of
-    /// a solve, and its line-search trials, move little).
-    hints: Mutex<HashMap<(usize, usize, usize), usize>>,
-}
-
-impl Clone for Contact {
-    fn clone(&self) -> Self {
-        Self::new(self.meshes.clone(), self.margin_m)
-    }
 }
 
 /// One contact pair at a state, with its force.
@@ -47,11 +35,7 @@ impl Contact {
     /// m) entering as constraints. Steps are limited to half the margin, so nothing
     /// beyond it can be reached within one step.
     pub fn new(meshes: Vec<Arc<ObstacleMesh>>, margin_m: f64) -> Self {
-        Self {
-            meshes,
-            margin_m,
-            hints: Mutex::new(HashMap::new()),
-        }
+        Self { meshes, margin_m }
     }
 
     /// A margin suited to `model`: twice its largest outer radius, at least 5 mm.
@@ -170,7 +154,7 @@ impl Contact {
         };
         let mut vertex_distance = vec![f64::INFINITY; vertices.len()];
         for (j, p) in vertices.iter().enumerate() {
-            let Some(near) = self.nearest((index, rod, 2 * j), mesh, p, p, reach) else {
+            let Some(near) = Self::nearest(mesh, p, p, reach) else {
                 continue;
             };
             let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
@@ -194,7 +178,7 @@ impl Contact {
         }
         for edge in 0..=last_edge {
             let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-            let Some(near) = self.nearest((index, rod, 2 * edge + 1), mesh, a, b, reach) else {
+            let Some(near) = Self::nearest(mesh, a, b, reach) else {
                 continue;
             };
             // Where the edge runs along the mesh over a stretch (lying on a face and
@@ -259,11 +243,8 @@ impl Contact {
             .collect())
     }
 
-    /// The nearest point of `mesh` to segment `[a, b]` within `reach` (m), the search
-    /// bounded by the distance to the triangle found last time for `key`.
+    /// The nearest point of `mesh` to segment `[a, b]` within `reach` (m).
     fn nearest(
-        &self,
-        key: (usize, usize, usize),
         mesh: &ObstacleMesh,
         a: &Point3<f64>,
         b: &Point3<f64>,
@@ -282,26 +263,7 @@ impl Contact {
         if outside > reach * reach {
             return None;
         }
-        let mut hints = self.hints.lock().unwrap_or_else(|e| e.into_inner());
-        let bound = hints.get(&key).map(|&t| {
-            let [p, q, r] = mesh.triangle(t);
-            closest_segment_triangle(a, b, &p, &q, &r).distance
-        });
-        let near = match bound {
-            Some(d) if d < reach => mesh
-                .segment_proximity(a, b, d * (1.0 + 1e-9) + 1e-12)
-                .or_else(|| mesh.segment_proximity(a, b, reach)),
-            _ => mesh.segment_proximity(a, b, reach),
-        };
-        match &near {
-            Some(found) => {
-                hints.insert(key, found.triangle);
-            }
-            None => {
-                hints.remove(&key);
-            }
-        }
-        near
+        mesh.segment_proximity(a, b, reach)
     }
 
     /// A readable name of what a gap touches: the mesh's name or `rod '<name>'`.

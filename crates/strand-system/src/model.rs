@@ -626,35 +626,6 @@ impl Model {
         }
     }
 
-    /// Bounds on the step from joint limits: `(unknown index, lower, upper)` with
-    /// `lower ≤ step[index] ≤ upper` (the joint limits minus the current values).
-    pub fn step_bounds(&self, state: &SystemState) -> Vec<(usize, f64, f64)> {
-        self.system
-            .clips
-            .iter()
-            .enumerate()
-            .filter_map(|(c, clip)| {
-                let (lower, upper) = clip.limits?;
-                let block = self.dofs.clip(c)?;
-                let value = state.clips[c].value;
-                Some((3 * block, lower - value, upper - value))
-            })
-            .collect()
-    }
-
-    /// Removes from `gradient` what joint limits hold: the component of a joint at its
-    /// lower limit that pushes it further down (positive gradient), or at its upper
-    /// limit further up. What remains is the KKT residual of the bound-constrained
-    /// problem; the removed part is the stop's reaction.
-    pub fn project_onto_limits(&self, state: &SystemState, gradient: &mut [f64]) {
-        for (index, lower, upper) in self.step_bounds(state) {
-            let g = gradient[index];
-            if (lower >= -1e-12 && g > 0.0) || (upper <= 1e-12 && g < 0.0) {
-                gradient[index] = 0.0;
-            }
-        }
-    }
-
     /// Puts every clipped vertex at its clip's output origin.
     fn place_clipped_vertices(&self, state: &mut SystemState) {
         for (c, clip) in self.system.clips.iter().enumerate() {

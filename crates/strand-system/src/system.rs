@@ -111,38 +111,6 @@ impl ClipSpec {
             Joint::Spherical => (Vector3::zeros(), state.rotation),
         }
     }
-
-    /// The base frame in the world, for the body poses `bodies` (indexed by body).
-    pub fn base_in_world(&self, bodies: &[Pose]) -> Pose {
-        match self.body {
-            None => self.base,
-            Some(body) => {
-                let carrier = &bodies[body.0];
-                Pose {
-                    position: carrier.transform_point(&self.base.position),
-                    orientation: carrier.orientation * self.base.orientation,
-                }
-            }
-        }
-    }
-
-    /// The output frame in the world for the given joint coordinates and body poses.
-    pub fn output(&self, state: &JointState, bodies: &[Pose]) -> Pose {
-        let base = self.base_in_world(bodies);
-        let (translation, rotation) = self.joint_motion(state);
-        Pose {
-            position: base.transform_point(&(translation + rotation * self.offset.position)),
-            orientation: base.orientation * rotation * self.offset.orientation,
-        }
-    }
-
-    /// The output origin in the coordinates of the base's carrier (the world or the
-    /// body), m: `ρ = p_B + R_B (t + J o)` for the joint motion `(t, J)`.
-    pub fn output_in_carrier(&self, state: &JointState) -> Vector3<f64> {
-        let (translation, rotation) = self.joint_motion(state);
-        self.base
-            .transform_point(&(translation + rotation * self.offset.position))
-    }
 }
 
 /// A port of a body: a frame in body coordinates where a rod end attaches. Its `a3`
@@ -550,15 +518,14 @@ impl System {
     /// body poses `bodies` (through its chain of parent clips).
     pub fn clip_base(&self, clip: usize, joints: &[JointState], bodies: &[Pose]) -> Pose {
         let spec = &self.clips[clip];
-        match spec.parent {
-            None => spec.base_in_world(bodies),
-            Some(parent) => {
-                let carrier = self.clip_output(parent, joints, bodies);
-                Pose {
-                    position: carrier.transform_point(&spec.base.position),
-                    orientation: carrier.orientation * spec.base.orientation,
-                }
-            }
+        let carrier = match (spec.parent, spec.body) {
+            (Some(parent), _) => self.clip_output(parent, joints, bodies),
+            (None, Some(body)) => bodies[body.0],
+            (None, None) => return spec.base,
+        };
+        Pose {
+            position: carrier.transform_point(&spec.base.position),
+            orientation: carrier.orientation * spec.base.orientation,
         }
     }
 
