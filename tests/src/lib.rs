@@ -16,7 +16,17 @@
 //!   cantilevers.
 //! * [`reference::kirchhoff_helix`] — exact helical equilibria of an
 //!   isotropic Kirchhoff rod (Love, Art. 270), with optional extra twist.
+//! * [`reference::catenary`] — the elastic catenary (Irvine's closed form,
+//!   `H` and `V` by Newton).
+//! * [`reference::heavy_cantilever`] — a planar Reissner cantilever under its
+//!   own weight (shooting on the clamp moment).
+//! * [`reference::buckling`] — clamped–clamped post-buckling (elliptic
+//!   integrals, and shooting for an extensible, shearable rod) and Greenhill's
+//!   twist-buckling threshold of a clamped rod.
 //! * [`reference::ode`] — the fixed-step Gragg–Bulirsch–Stoer integrator
 //!   shared by the references.
+//!
+//! [`grid`] is the parameter grid of the solver's convergence map (plain data).
 
+pub mod grid;
 pub mod reference;

@@ -177,10 +177,10 @@ fn nested_iteration_reaches_the_same_equilibrium_in_fewer_fine_iterations() {
         "the coarse model was used"
     );
     assert!(
-        nested.report.iterations < direct.report.iterations,
+        nested.report.fine_iterations < direct.report.fine_iterations,
         "{} vs {}",
-        nested.report.iterations,
-        direct.report.iterations
+        nested.report.fine_iterations,
+        direct.report.fine_iterations
     );
     for (a, b) in direct.state.rods[0]
         .positions

@@ -17,6 +17,7 @@ fn port_end(port: usize, clamped: bool) -> End {
             clamped,
         },
         load: EndLoad::default(),
+        twist_turns: 0,
     }
 }
 

@@ -5,16 +5,26 @@
 
 mod balance;
 mod batch;
+mod buckling;
 mod cantilever;
+mod catenary;
 mod cli;
 mod clips;
 mod common;
 mod contact;
+mod convergence_map;
 mod cooler;
 mod elastica;
+mod end_forces;
+mod groove;
+mod guess;
 mod harness;
+mod heavy_cantilever;
 mod helix;
 mod junction;
 mod predeformed;
 mod report;
+mod start_checks;
 mod study;
+mod translation;
+mod twist;

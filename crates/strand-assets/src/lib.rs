@@ -6,7 +6,8 @@
 //!
 //! - primitives with sizes in metres: [`axis_box`], [`chamfered_box`], [`cylinder`]
 //!   (open or capped, axis `+z`, centred), [`tube`] (a ring such as a fan shroud),
-//!   [`plane`] (a flat tessellated floor) and [`wavy_surface`] (exactly `N` triangles,
+//!   [`plane`] (a flat tessellated floor), [`parallelogram`] (flanks of grooves, faces
+//!   of corners) and [`wavy_surface`] (exactly `N` triangles,
 //!   for benchmark meshes of 1M–4M triangles);
 //! - placement and assembly: [`TriangleMesh::transform`], [`TriangleMesh::translated`],
 //!   [`TriangleMesh::rotated`], [`merge`];
@@ -47,6 +48,7 @@ pub use obj::write::{ObjOptions, write_obj};
 pub use primitives::axis_box::axis_box;
 pub use primitives::chamfered_box::chamfered_box;
 pub use primitives::cylinder::cylinder;
+pub use primitives::parallelogram::parallelogram;
 pub use primitives::plane::plane;
 pub use primitives::tube::tube;
 pub use primitives::wavy_surface::wavy_surface;

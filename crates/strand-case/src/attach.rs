@@ -221,6 +221,7 @@ impl Attachments {
         Ok(Some(End {
             support,
             load: EndLoad::default(),
+            twist_turns: 0,
         }))
     }
 

@@ -200,10 +200,27 @@ fn build_rod(
         Some(end) => end,
         None => build_end(report, &start_item, unit, &def.start, at_nominal_end(false))?,
     };
-    let end = match attachments.end(report, &end_item, &def.end, true)? {
+    let mut end = match attachments.end(report, &end_item, &def.end, true)? {
         Some(end) => end,
         None => build_end(report, &end_item, unit, &def.end, at_nominal_end(true))?,
     };
+    if def.twist_turns != 0 {
+        if let Some(label) = [("start", &start), ("end", &end)]
+            .iter()
+            .find(|(_, e)| !e.has_frame())
+            .map(|(label, _)| *label)
+        {
+            return Err(report.invalid(
+                format!("{item}.twist_turns"),
+                format!(
+                    "{} extra twist turn(s) need both ends clamped, but the {label} does not hold the section's rotation",
+                    def.twist_turns
+                ),
+                "clamp both ends (Clamp, NominalClamp, Connector or Port) or remove `twist_turns`",
+            ));
+        }
+        end.twist_turns = def.twist_turns;
+    }
     let route = match &def.route {
         None => None,
         Some(points) => Some(build_route(

@@ -111,6 +111,7 @@ pub(crate) fn build_end(
             moment,
             moment_reference: UnitQuaternion::identity(),
         },
+        twist_turns: 0,
     })
 }
 

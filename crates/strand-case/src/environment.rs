@@ -113,18 +113,18 @@ impl std::fmt::Debug for EnvironmentCache {
 }
 
 impl BuiltCase {
-    /// Warnings about the environment meshes for the user, e.g. degenerate triangles
-    /// that were skipped: `environment 'engine': 12 degenerate triangles skipped`.
+    /// Warnings about the environment meshes for the user, from their
+    /// [`strand_contact::MeshDiagnostics`]: degenerate triangles skipped, slivers,
+    /// duplicate vertices, non-manifold or inconsistently wound edges, e.g.
+    /// `environment 'engine': 12 degenerate (zero-area) triangle(s) skipped`.
     pub fn environment_warnings(&self) -> Vec<String> {
         self.environment
             .iter()
-            .filter(|m| m.skipped_degenerate() > 0)
-            .map(|m| {
-                format!(
-                    "environment '{}': {} degenerate (zero-area) triangle(s) skipped",
-                    m.name(),
-                    m.skipped_degenerate()
-                )
+            .flat_map(|m| {
+                m.diagnostics()
+                    .warnings()
+                    .into_iter()
+                    .map(move |w| format!("environment '{}': {w}", m.name()))
             })
             .collect()
     }

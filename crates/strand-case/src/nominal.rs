@@ -185,6 +185,22 @@ pub(crate) fn initial_guess(nominal: &NominalRod, start: &End, end: &End) -> Rod
     let mut state = nominal.state.clone();
     let s = nominal.rod.arc_lengths();
     let length = nominal.rod.length();
+    // Extra whole turns of twist (`twist_turns`), spread along the rod as in
+    // `strand_system::initial_state`: the last edge takes them all (a whole number of
+    // turns leaves its frame unchanged), edge e the share of its mid arc length.
+    let turns = i64::from(end.twist_turns) - i64::from(start.twist_turns);
+    if turns != 0 {
+        let n = state.frames.len();
+        let twist = std::f64::consts::TAU * turns as f64;
+        for (e, frame) in state.frames.iter_mut().enumerate() {
+            let share = if e + 1 == n {
+                1.0
+            } else {
+                0.5 * (s[e] + s[e + 1]) / length
+            };
+            *frame *= nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), twist * share);
+        }
+    }
     let offset = |end: &End, nominal_position: Vector3<f64>| {
         end.support.position().map(|p| p - nominal_position)
     };

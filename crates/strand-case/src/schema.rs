@@ -173,6 +173,19 @@ pub struct RodDef {
     /// reference strains and curvatures are those of this centreline.
     #[serde(default)]
     pub nominal: Option<NominalDef>,
+    /// Whole turns of twist (360° each, right-handed about the rod's tangent) the rod
+    /// is installed with beyond the shortest twist between its end frames (default 0).
+    /// The end frames fix the twist only modulo one turn: a hose wound by 190° has the
+    /// same end frames as one wound by −170°; `twist_turns: 1` with end normals 190°
+    /// apart (the shortest twist −170°) selects +190°, `twist_turns: 2` with equal end
+    /// normals two full turns. Both ends must be clamped (`Clamp`, `NominalClamp`,
+    /// `Connector`, `Port`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub twist_turns: i32,
+}
+
+fn is_zero(turns: &i32) -> bool {
+    *turns == 0
 }
 
 /// The nominal shape of a pre-deformed (moulded) rod, e.g. its CAD centreline:

@@ -1,7 +1,7 @@
 //! Solving a built case: with contact against its environment when it has one.
 
 use strand_solve::contact::Contact;
-use strand_solve::{Solution, SolveError, SolverSettings, solve, solve_constrained};
+use strand_solve::{Constraints, Solution, SolveError, SolverSettings, solve, solve_constrained};
 use strand_system::SystemState;
 
 use crate::BuiltCase;
@@ -30,5 +30,21 @@ impl BuiltCase {
             Some(contact) => solve_constrained(&self.model, &contact, initial, settings),
             None => solve(&self.model, initial, settings),
         }
+    }
+
+    /// Checks the case's initial configuration as a solve does before its first step
+    /// (with the supports enforced): `Err(SolveError::StartsInside)` naming where a hose
+    /// starts inside an obstacle, inside a closed part, or overlapping itself or another
+    /// hose. `strand check` and `strand solve` agree through this one check. A case
+    /// without an environment has nothing to check.
+    pub fn check_start(&self) -> Result<(), SolveError> {
+        let Some(contact) = self.contact() else {
+            return Ok(());
+        };
+        let mut start = self.initial.clone();
+        self.model.enforce_supports(&mut start);
+        contact
+            .check_start(&self.model, &start)
+            .map_err(SolveError::StartsInside)
     }
 }

@@ -325,3 +325,41 @@ fn reads_from_disk() {
     assert_eq!(case.name, "disk_case");
     assert!(case.build(None).is_ok());
 }
+
+/// `twist_turns` reaches the end of a rod clamped at both ends.
+#[test]
+fn twist_turns_reach_the_clamped_end() {
+    let text = with(
+        "            end: Free(force: (2, 1, 0)),\n",
+        "            end: Clamp(position: (1000, 0, 0), tangent: (1, 0, 0), normal: (0, 0, 1)),\n            twist_turns: -2,\n",
+    );
+    let built = Case::from_str(&text, ORIGIN).unwrap().build(None).unwrap();
+    let spec = &built.model.system().rods[0];
+    assert_eq!(spec.end.twist_turns, -2);
+    assert_eq!(spec.start.twist_turns, 0);
+}
+
+/// Extra turns at a free end, a fractional number of turns and too many turns for the
+/// segments are errors that say what to do.
+#[test]
+fn nonsense_twist_turns_are_rejected() {
+    let m = message(&with(
+        "            segments: 19,\n",
+        "            segments: 19,\n            twist_turns: 1,\n",
+    ));
+    assert!(
+        m.contains("twist_turns") && m.contains("both ends clamped"),
+        "{m}"
+    );
+    let (_, _, m) = syntax(&with(
+        "            segments: 19,\n",
+        "            segments: 19,\n            twist_turns: 1.5,\n",
+    ));
+    assert!(!m.is_empty());
+    let text = with(
+        "            end: Free(force: (2, 1, 0)),\n",
+        "            end: Clamp(position: (1000, 0, 0), tangent: (1, 0, 0), normal: (0, 0, 1)),\n            twist_turns: 5,\n",
+    );
+    let e = build_err(&text).to_string();
+    assert!(e.contains("at least 22 segments"), "{e}");
+}

@@ -142,10 +142,18 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
     let case = Case::from_path(path)?;
     let built = case.build(segments)?;
-    // Every variant must build too.
+    // Every hose must start clear of the environment and of each other, as `solve`
+    // requires.
+    built
+        .check_start()
+        .map_err(|e| solver_failure(&built.origin, e))?;
+    // Every variant must build and start clear too.
     let variants = case.variant_names();
     for name in &variants {
-        case.build_variant(name, segments)?;
+        let variant = case.build_variant(name, segments)?;
+        variant
+            .check_start()
+            .map_err(|e| solver_failure(&format!("{} (variant '{name}')", built.origin), e))?;
     }
     let system = built.model.system();
     let segments: usize = system.rods.iter().map(|r| r.rod.segments()).sum();
@@ -161,15 +169,30 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
         system.rods.len(),
         built.model.dofs().len()
     );
+    let diagnostics: Vec<_> = built
+        .environment
+        .iter()
+        .map(|m| {
+            (
+                m.name().to_string(),
+                strand_report::MeshDiagnosticsResult::of(m),
+            )
+        })
+        .collect();
+    let mut text = String::new();
+    crate::summary::environment_lines(&mut text, &diagnostics, built.length_unit);
+    let _ = write!(out, "{text}");
     Ok(Exit::Success)
 }
 
-/// Contacts and clearances of `solution` into `doc`, for a case with an environment.
+/// Contacts, clearances and the environment meshes' diagnostics of `solution` into
+/// `doc`, for a case with an environment.
 pub(crate) fn add_contacts(
     doc: &mut strand_report::ResultDoc,
     built: &BuiltCase,
     solution: &strand_solve::Solution,
 ) -> Result<(), Failure> {
+    strand_report::collect_environment(doc, &built.environment);
     if let Some(contact) = built.contact() {
         strand_report::collect_contacts(doc, &built.model, solution, &contact).map_err(|e| {
             Failure {

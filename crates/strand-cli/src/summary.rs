@@ -179,6 +179,12 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
     }
     clip_lines(&mut s, doc, unit);
     contact_lines(&mut s, built, doc, unit);
+    let diagnostics: Vec<_> = doc
+        .environment
+        .iter()
+        .filter_map(|e| e.diagnostics.clone().map(|d| (e.name.clone(), d)))
+        .collect();
+    environment_lines(&mut s, &diagnostics, unit);
     let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(s, "written     {}", files.join(", "));
     s
@@ -279,6 +285,59 @@ fn contact_lines(s: &mut String, built: &BuiltCase, doc: &ResultDoc, unit: Lengt
                 );
             }
         }
+    }
+}
+
+/// The environment meshes' diagnostics: one line of counts and one of the bounding
+/// box (in the case's unit: a part in m read as mm is 1000 times too small) per mesh.
+pub(crate) fn environment_lines(
+    s: &mut String,
+    meshes: &[(String, strand_report::MeshDiagnosticsResult)],
+    unit: LengthUnit,
+) {
+    if meshes.is_empty() {
+        return;
+    }
+    let u = unit.symbol();
+    let _ = writeln!(
+        s,
+        "environment (meshes as loaded; duplicate vertices welded for the edge checks)"
+    );
+    for (name, d) in meshes {
+        let shape = if d.closed {
+            "closed (has an inside)".to_string()
+        } else {
+            format!(
+                "open ({} boundary edges{}): no inside",
+                d.boundary_edges,
+                if d.misoriented_edges > 0 {
+                    format!(", {} misoriented edges", d.misoriented_edges)
+                } else {
+                    String::new()
+                }
+            )
+        };
+        let _ = writeln!(
+            s,
+            "  {name}  {} triangles ({} degenerate skipped, {} slivers), {} vertices ({} duplicates), \
+             {} non-manifold edges, {shape}",
+            d.triangles,
+            d.degenerate_skipped,
+            d.slivers,
+            d.vertices,
+            d.duplicate_vertices,
+            d.non_manifold_edges,
+        );
+        let scale = 1.0 / unit.metres();
+        let _ = writeln!(
+            s,
+            "  {name}  box {} .. {} {u}, size {} x {} x {} {u}",
+            vector(&d.bounding_box_min_m, scale, 0.0),
+            vector(&d.bounding_box_max_m, scale, 0.0),
+            number(d.size_m[0] * scale),
+            number(d.size_m[1] * scale),
+            number(d.size_m[2] * scale),
+        );
     }
 }
 

@@ -20,7 +20,9 @@ pub use closest::{
 };
 pub mod mesh;
 
-pub use mesh::{MeshError, ObstacleMesh, Proximity};
+pub use mesh::{
+    LocalContact, MeshDiagnostics, MeshError, ObstacleMesh, Proximity, SMOOTH_PATCH_ANGLE_RAD,
+};
 pub mod gaps;
 
 pub use gaps::{

@@ -25,8 +25,10 @@ pub fn collect_contacts(
     contact: &Contact,
 ) -> Result<(), String> {
     let rods = &model.system().rods;
+    // Reference arc lengths once per rod, not once per contact or clearance pair.
+    let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();
     let arc = |rod: usize, edge: usize, s: f64| {
-        let a = rods[rod].rod.arc_lengths();
+        let a = &lengths[rod];
         a[edge] + s * (a[edge + 1] - a[edge])
     };
     doc.contacts.clear();

@@ -38,6 +38,7 @@
 mod clips;
 mod contacts;
 mod csv;
+mod environment;
 mod report;
 mod result;
 mod study;
@@ -54,6 +55,7 @@ mod tests;
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
+pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,

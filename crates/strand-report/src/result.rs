@@ -41,7 +41,7 @@ pub struct ResultDoc {
     pub base_iterations: Option<usize>,
     /// Whether the residual reached the tolerance.
     pub converged: bool,
-    /// Why the solver stopped: `converged`, `max_iterations`, `line_search_failed`, `not_finite`.
+    /// Why the solver stopped: `converged`, `max_iterations`, `line_search_failed`, `stagnated`, `not_finite`, `subproblem_failed`.
     pub termination: String,
     /// Convergence measure (force residual, edge moments per edge length), N.
     #[serde(rename = "residual_N")]
@@ -55,12 +55,41 @@ pub struct ResultDoc {
     /// Tolerance on `residual_N`, N.
     #[serde(rename = "tolerance_N")]
     pub tolerance_n: f64,
-    /// Newton iterations.
+    /// Every Newton iteration: final solve, coarse level and continuation steps.
     pub iterations: usize,
     /// Iterations whose Hessian needed a shift to become positive definite.
     pub shifted_iterations: usize,
-    /// Whether the equilibrium is stable (Hessian positive definite).
+    /// Whether the equilibrium is stable: converged, and no admissible direction (under
+    /// the supports, active contacts and joint stops) of negative curvature.
     pub stable: bool,
+    /// Directions of negative curvature of the reduced Hessian (0 for a stable state).
+    #[serde(default)]
+    pub negative_directions: usize,
+    /// Neutral (zero-curvature) directions of the reduced Hessian: a symmetry, such as
+    /// a buckled round rod free to turn its buckling plane about the chord.
+    #[serde(default)]
+    pub neutral_directions: usize,
+    /// Gauge freedoms removed by construction (round rods free to turn about their own
+    /// axis between pins).
+    #[serde(default)]
+    pub gauge_freedoms: usize,
+    /// Round-off floor of the residual at this model's stiffnesses, N (the tolerance
+    /// applied is the larger of this and `tolerance_N`).
+    #[serde(default, rename = "residual_floor_N")]
+    pub residual_floor_n: f64,
+    /// Newton iterations of the final solve on the full model at full load (part of
+    /// `iterations`).
+    #[serde(default)]
+    pub fine_iterations: usize,
+    /// Newton iterations of the coarse level of nested iteration (part of `iterations`).
+    #[serde(default)]
+    pub coarse_iterations: usize,
+    /// Load steps of the continuation (0: direct solve).
+    #[serde(default)]
+    pub continuation_steps: usize,
+    /// Newton iterations of the continuation's load steps (part of `iterations`).
+    #[serde(default)]
+    pub continuation_iterations: usize,
     /// Total potential energy, J.
     #[serde(rename = "energy_J")]
     pub energy_j: f64,
@@ -86,20 +115,26 @@ pub struct ResultDoc {
     /// other rod) within the contact search margin.
     #[serde(default)]
     pub clearance: Vec<ClearanceResult>,
-    /// Outlines of the environment (mesh silhouettes) for drawings such as the HTML
-    /// report's projections; empty when the case has no environment or nobody has
-    /// computed them.
+    /// The environment meshes: their diagnostics (see [`crate::collect_environment`])
+    /// and outlines (mesh silhouettes) for drawings such as the HTML report's
+    /// projections; empty when the case has no environment.
     #[serde(default)]
     pub environment: Vec<EnvironmentOutline>,
 }
 
-/// The outline of one environment part as line segments in space, for drawings.
+/// One environment part: its outline as line segments in space, for drawings, and
+/// its mesh diagnostics.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EnvironmentOutline {
     /// Name of the part (environment mesh).
     pub name: String,
-    /// Line segments `[start, end]` of the outline, m, world frame.
+    /// Line segments `[start, end]` of the outline, m, world frame (empty until
+    /// silhouettes are computed).
+    #[serde(default)]
     pub segments_m: Vec<[[f64; 3]; 2]>,
+    /// Counts, defects, closedness and bounding box of the mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diagnostics: Option<crate::MeshDiagnosticsResult>,
 }
 
 /// One contact: where a rod touches an obstacle and how hard.
@@ -325,6 +360,14 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         iterations: report.iterations,
         shifted_iterations: report.shifted_iterations,
         stable: report.stable,
+        negative_directions: report.negative_directions,
+        neutral_directions: report.neutral_directions,
+        gauge_freedoms: report.gauge_freedoms,
+        residual_floor_n: report.residual_floor_n,
+        fine_iterations: report.fine_iterations,
+        coarse_iterations: report.coarse_iterations,
+        continuation_steps: report.continuation_steps,
+        continuation_iterations: report.continuation_iterations,
         energy_j: report.energy_j,
         unknowns: report.unknowns,
         timing_s: timing,

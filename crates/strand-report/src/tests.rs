@@ -218,6 +218,7 @@ fn junction_model() -> (Model, strand_solve::Solution) {
             clamped: true,
         },
         load: EndLoad::default(),
+        twist_turns: 0,
     };
     let rod = |length| Rod::try_straight(section, length, 6).unwrap();
     let system = System {

@@ -82,6 +82,7 @@ impl NominalRod {
             start: Some(self.start_frame),
             end: Some(self.end_frame),
             clips: Vec::new(),
+            end_loads: Default::default(),
         }
     }
 
@@ -224,6 +225,7 @@ impl Rod {
             start: Some(start_frame),
             end: Some(end_frame),
             clips: Vec::new(),
+            end_loads: Default::default(),
         };
         let rest_curvatures = (0..=n)
             .map(|j| {

@@ -12,6 +12,9 @@ pub struct Rod {
     edge_lengths: Vec<f64>,
     rest_strains: Vec<Vector3<f64>>,
     rest_curvatures: Vec<Vector3<f64>>,
+    /// Sum of the edge lengths in m, computed once ([`Rod::length`] is called per
+    /// edge in places; summing there made model building quadratic).
+    length: f64,
 }
 
 /// A configuration of one rod: `N+1` vertices and `N` edge frames.
@@ -140,11 +143,13 @@ impl Rod {
         {
             return Err(RodError::NotFinite("rest curvatures"));
         }
+        let length = edge_lengths.iter().sum();
         Ok(Self {
             section,
             edge_lengths,
             rest_strains,
             rest_curvatures,
+            length,
         })
     }
 
@@ -163,9 +168,9 @@ impl Rod {
         self.edge_lengths.len() + 1
     }
 
-    /// Reference length `L` in m.
+    /// Reference length `L` in m (the sum of the edge lengths, stored: O(1)).
     pub fn length(&self) -> f64 {
-        self.edge_lengths.iter().sum()
+        self.length
     }
 
     /// Reference edge length `h_{e+1/2}` of edge `e` (0-based) in m.

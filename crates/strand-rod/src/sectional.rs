@@ -8,8 +8,10 @@
 //!   isotropic sections) and differs by `O(h̄²|K|²)` otherwise; with it the discrete
 //!   balance `m_{j+1} − m_j + (r_{j+1} − r_j) × f_{j+1/2} + h μ = 0` of eq. (16) holds
 //!   exactly at an equilibrium;
-//! - vertex-averaged forces `f̄_j = (h_{j-1/2} f_{j-1/2} + h_{j+1/2} f_{j+1/2}) / (2 h̄_j)`,
-//!   their tangential and shear parts, bending and torsional moments;
+//! - vertex-averaged forces `f̄_j = (h_{j-1/2} f_{j-1/2} + h_{j+1/2} f_{j+1/2}) / (2 h̄_j)`
+//!   (at the end vertices the adjacent edge force corrected by the end's lumped load,
+//!   [`BoundaryFrames::end_loads`]), their tangential and shear parts, bending and
+//!   torsional moments;
 //! - the first integrals `M̄_j = m_j + r_j × f̄_j` and `H̄_j`.
 
 use nalgebra::{UnitQuaternion, Vector3};
@@ -28,6 +30,14 @@ pub struct BoundaryFrames {
     /// Frames of clips at interior vertices `(vertex, frame)`: the curvature term there
     /// is split into two half-cells around the clip frame.
     pub clips: Vec<(usize, UnitQuaternion<f64>)>,
+    /// External forces in N (world frame) lumped at vertex 0 and vertex N that the
+    /// sectional force at the end includes: the half cell's weight `h̄ ρ_L g`, plus the
+    /// dead end load where a support holds the end. The vertex-averaged force at an end
+    /// is then the continuum force at the end section, `f̄_0 = f_{1/2} + p_0` and
+    /// `f̄_N = f_{N−1/2} − p_N`: the support's reaction at a held end (second-order
+    /// accurate, where the adjacent edge force alone is off by `w h/2`), the applied
+    /// end load at a free end. Zero (the default) gives the adjacent edge forces.
+    pub end_loads: [Vector3<f64>; 2],
 }
 
 /// The frames adjacent to vertex `j`: `(q_a, q_b)` when the vertex carries a curvature
@@ -108,14 +118,17 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
         out.edge_forces.push(state.frames[e] * force_material);
         out.strains.push(gamma);
     }
+    // Clips sorted by vertex (stable: the first clip of a vertex wins, as a scan would).
+    let mut clips = boundary.clips.clone();
+    clips.sort_by_key(|(vertex, _)| *vertex);
     for j in 0..=n {
         let weight = rod.vertex_weight(j);
         // At a clip, the half-cell after the clip frame: the moment the rod carries just
         // beyond the clip (the clip's own moment is its reaction).
-        let clip = boundary
-            .clips
-            .iter()
-            .find(|(vertex, _)| *vertex == j)
+        let first = clips.partition_point(|(vertex, _)| *vertex < j);
+        let clip = clips
+            .get(first)
+            .filter(|(vertex, _)| *vertex == j)
             .map(|(_, q)| *q);
         let (frames, cell_weight) = match &clip {
             Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
@@ -161,6 +174,12 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
                 force += share * out.edge_forces[e];
                 edge_h += share * edge_hamiltonian[e];
             }
+        }
+        if j == 0 {
+            force += boundary.end_loads[0];
+        }
+        if j == n {
+            force -= boundary.end_loads[1];
         }
         let f_t = force.dot(&tangent);
         let m_t = moment.dot(&tangent);

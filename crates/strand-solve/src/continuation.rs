@@ -1,15 +1,25 @@
-//! Load continuation: when a direct solve fails, the loads (gravity, dead end loads)
-//! are ramped up in steps, each solve warm-started from the previous equilibrium, and
-//! the full model is finally solved from the last step (DESIGN §3, robustness).
+//! Load continuation: when a direct solve fails, gravity and the dead end loads are
+//! ramped up from zero with an adaptive step, each step warm-started from the previous
+//! equilibrium, and the full model is finally solved from the last step (DESIGN §3,
+//! robustness). A step that does not converge is retried at a quarter of its size; a
+//! step that converges quickly doubles the next one.
 
 use strand_system::{Model, System, SystemState};
 
 use crate::constraints::Constraints;
-use crate::newton::{Solution, Solver};
+use crate::newton::Solver;
+use crate::report::Solution;
 use crate::{SolveError, SolverSettings};
 
-/// Load factors of the ramp before the full load.
-pub const LOAD_STEPS: [f64; 4] = [0.125, 0.25, 0.5, 0.75];
+/// First load increment of the ramp (fraction of the full load).
+pub const FIRST_STEP: f64 = 0.125;
+/// Smallest load increment before the ramp gives up.
+pub const SMALLEST_STEP: f64 = 1.0 / 4096.0;
+/// A load step that converged in at most this many iterations doubles the next one.
+pub const EASY_STEP_ITERATIONS: usize = 12;
+
+/// Iteration budget of one load step.
+pub const STEP_MAX_ITERATIONS: usize = 40;
 
 /// The system with gravity and every dead end load scaled by `factor`.
 pub fn scaled_loads(system: &System, factor: f64) -> System {
@@ -24,43 +34,85 @@ pub fn scaled_loads(system: &System, factor: f64) -> System {
     scaled
 }
 
-/// Ramps the loads from `initial` and solves `model` from the last ramp step. Returns
-/// the final solution with the number of ramp steps taken, or `None` if a ramp step did
-/// not converge.
+/// What a ramp produced.
+pub(crate) struct Ramp {
+    /// The solution of the full model from the last load step, `None` if the ramp
+    /// stalled.
+    pub solution: Option<Solution>,
+    /// Load steps taken (accepted and rejected).
+    pub steps: usize,
+    /// Newton iterations of the load steps (not counting the final full-load solve).
+    pub iterations: usize,
+}
+
+/// Ramps the loads from `initial` and solves `model` from the last ramp step.
 pub(crate) fn ramp(
     model: &Model,
     constraints: Option<&dyn Constraints>,
     initial: SystemState,
     settings: &SolverSettings,
-) -> Result<Option<(Solution, usize)>, SolveError> {
+) -> Result<Ramp, SolveError> {
+    // A load step that needs many iterations is better split: each gets a bounded
+    // budget, so a failing step costs little before it is retried at a quarter size.
     let step_settings = SolverSettings {
         nested_iteration: false,
         load_continuation: false,
+        max_iterations: settings.max_iterations.min(STEP_MAX_ITERATIONS),
         ..settings.clone()
     };
     let mut state = initial;
-    let mut iterations = 0;
-    for &factor in &LOAD_STEPS {
-        let scaled = Model::try_new(scaled_loads(model.system(), factor))
-            .map_err(|e| SolveError::InitialState(e.to_string()))?;
-        let mut solver = Solver::try_new(&scaled)?;
-        if let Some(c) = constraints {
-            solver = solver.with_constraints(c);
+    let (mut factor, mut increment) = (0.0f64, FIRST_STEP);
+    let (mut steps, mut iterations) = (0, 0);
+    while factor < 1.0 && steps < settings.max_continuation_steps {
+        let target = (factor + increment).min(1.0);
+        steps += 1;
+        let solution = if target >= 1.0 {
+            solve_at(model, constraints, state.clone(), &step_settings)?
+        } else {
+            let scaled = Model::try_new(scaled_loads(model.system(), target))
+                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+            solve_at(&scaled, constraints, state.clone(), &step_settings)?
+        };
+        if solution.report.converged {
+            if target >= 1.0 {
+                return Ok(Ramp {
+                    solution: Some(solution),
+                    steps,
+                    iterations,
+                });
+            }
+            iterations += solution.report.iterations;
+            if solution.report.iterations <= EASY_STEP_ITERATIONS {
+                increment *= 2.0;
+            }
+            factor = target;
+            state = solution.state;
+        } else {
+            iterations += solution.report.iterations;
+            increment *= 0.25;
+            if increment < SMALLEST_STEP {
+                break;
+            }
         }
-        let solution = solver.solve(state, &step_settings)?;
-        iterations += solution.report.iterations;
-        if !solution.report.converged {
-            return Ok(None);
-        }
-        state = solution.state;
     }
+    Ok(Ramp {
+        solution: None,
+        steps,
+        iterations,
+    })
+}
+
+fn solve_at(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    state: SystemState,
+    settings: &SolverSettings,
+) -> Result<Solution, SolveError> {
     let mut solver = Solver::try_new(model)?;
     if let Some(c) = constraints {
         solver = solver.with_constraints(c);
     }
-    let mut solution = solver.solve(state, &step_settings)?;
-    solution.report.continuation_iterations = iterations;
-    Ok(Some((solution, LOAD_STEPS.len())))
+    solver.solve(state, settings)
 }
 
 #[cfg(test)]

@@ -3,24 +3,32 @@
 //! Newton's method on the rod manifold for the equilibrium of a
 //! [`strand_system::Model`]: unknowns are position increments and right rotation
 //! increments (no unit-norm constraints), the sparse Hessian is factorised with faer
-//! (symbolic analysis once per model, [`SparseCholesky`]), indefinite Hessians are
-//! shifted until positive definite (inertia correction), and steps are globalised by an
-//! Armijo line search on the energy. Convergence is declared on the force residual in
-//! newtons ([`strand_system::Residual`]); every [`Solution`] says whether it converged
-//! and whether the equilibrium is stable.
+//! (symbolic analysis once per model, [`SparseCholesky`]), gauge freedoms are held
+//! ([`gauge`]), indefinite or untrustworthy models are damped per unknown
+//! (Levenberg–Marquardt scaled by the Hessian's own diagonal) inside a trust region in
+//! physical units, and inequalities (contact, joint limits) enter as SQP rows. When a
+//! direct solve fails, the loads are ramped by adaptive continuation. Convergence is
+//! declared on the force residual in newtons ([`strand_system::Residual`]); every
+//! [`Solution`] says whether it converged and classifies its stability from the inertia
+//! of the reduced Hessian ([`stability`]).
 
 mod constraints;
 pub mod contact;
 pub mod continuation;
+pub mod gauge;
+mod iteration;
 mod linear;
 mod nested;
 mod newton;
+mod report;
 mod settings;
 mod sqp;
+pub mod stability;
 
 pub use constraints::{Constraints, Row, RowKey, limit_rows};
 pub use linear::SparseCholesky;
-pub use newton::{Solution, SolveReport, Solver, Termination, solve, solve_constrained};
+pub use newton::{Solver, solve, solve_constrained};
+pub use report::{Solution, SolveReport, Termination};
 pub use settings::{SettingsError, SolverSettings};
 
 /// A failure that prevents solving at all (not a mere lack of convergence, which is

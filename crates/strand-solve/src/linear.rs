@@ -145,3 +145,23 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
     }
     Ok((forward, inverse))
 }
+
+/// `out = A x` for the symmetric matrix `A` given by its upper triangle (`values` in
+/// `pattern`).
+pub(crate) fn symmetric_product(
+    pattern: &HessianPattern,
+    values: &[f64],
+    x: &[f64],
+    out: &mut [f64],
+) {
+    out.iter_mut().for_each(|o| *o = 0.0);
+    for col in 0..pattern.dim() {
+        for k in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
+            let row = pattern.row_idx[k];
+            out[row] += values[k] * x[col];
+            if row != col {
+                out[col] += values[k] * x[row];
+            }
+        }
+    }
+}

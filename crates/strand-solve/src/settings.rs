@@ -1,33 +1,82 @@
 //! Solver settings: one plain struct with serde defaults and `validate()`, so the same
-//! struct loads from a case file and builds in code.
+//! struct loads from a case file and builds in code (as Clarabel.rs does).
+//!
+//! Every tuning value of the iteration lives here with its meaning and unit; the
+//! iteration itself ([`crate::Solver`]) has no magic constants.
 
 use serde::{Deserialize, Serialize};
 
-/// Settings of the Newton solver.
+/// Settings of the Newton/SQP solver.
+///
+/// ```
+/// use strand_solve::SolverSettings;
+/// let settings = SolverSettings { tolerance_n: 1e-8, ..SolverSettings::default() };
+/// assert!(settings.validate().is_ok());
+/// let bad = SolverSettings { damping_increase: 0.5, ..SolverSettings::default() };
+/// assert_eq!(bad.validate().unwrap_err().field, "damping_increase");
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SolverSettings {
     /// Convergence threshold on the residual (largest out-of-balance vertex force, and
-    /// edge moment per edge length) in N.
+    /// edge moment per rod length) in N. The round-off floor of the model (see
+    /// [`crate::SolveReport::residual_floor_n`]) is used instead when it is larger.
     pub tolerance_n: f64,
-    /// Maximum number of Newton iterations.
+    /// Maximum number of Newton iterations of one solve (per level of nested
+    /// iteration and per continuation step).
     pub max_iterations: usize,
-    /// Largest rotation increment of any edge in one step, rad.
+    /// Trust radius for rotations: largest rotation increment of any edge in one step,
+    /// rad.
     pub max_rotation_step_rad: f64,
-    /// Largest translation of any vertex in one step, as a fraction of the longest rod.
+    /// Trust radius for translations: largest translation of any vertex in one step,
+    /// as a fraction of the longest rod.
     pub max_translation_step: f64,
-    /// Maximum number of step halvings in the line search.
+    /// Maximum number of rejected trial steps within one iteration (each rejection
+    /// raises the damping and shrinks the trust radius).
     pub max_line_search_steps: usize,
+    /// Smallest non-zero Levenberg–Marquardt damping, relative to each unknown's own
+    /// Hessian diagonal (per-unknown scaling: positions, rotations and joints each keep
+    /// their own stiffness scale).
+    pub min_damping: f64,
+    /// Largest damping before the iteration gives up (the step would be a vanishing
+    /// scaled-gradient step).
+    pub max_damping: f64,
+    /// Factor by which the damping grows after a rejected step or a failed
+    /// factorisation.
+    pub damping_increase: f64,
+    /// Factor by which the damping shrinks after a very successful step (down to 0,
+    /// the pure Newton step).
+    pub damping_decrease: f64,
+    /// A trial step is accepted when the achieved decrease of the merit function is at
+    /// least this fraction of the decrease predicted by the quadratic model.
+    pub acceptance_ratio: f64,
+    /// Above this ratio of achieved to predicted decrease the model is trusted: the
+    /// damping shrinks and the trust radius grows back.
+    pub trust_ratio: f64,
+    /// Number of iterations without a reduction of the best residual by
+    /// [`SolverSettings::stagnation_reduction`] after which the solve stops as
+    /// stagnated (reported, never as converged).
+    pub stagnation_iterations: usize,
+    /// Required reduction factor of the best residual within
+    /// [`SolverSettings::stagnation_iterations`].
+    pub stagnation_reduction: f64,
     /// Start rods of more than 64 segments from the solution of a coarsened copy of the
     /// system (nested iteration). Turn off when warm-starting from a nearby solution.
     pub nested_iteration: bool,
-    /// When a solve does not converge, ramp gravity and dead loads up in steps
-    /// (1/8, 1/4, 1/2, 3/4, 1), each warm-started, and report that result instead.
+    /// When a direct solve does not converge, ramp gravity, dead loads and prescribed
+    /// end positions from the start state with an adaptive step, each step
+    /// warm-started, and report that result instead.
     pub load_continuation: bool,
+    /// Largest number of continuation steps (accepted and rejected together).
+    pub max_continuation_steps: usize,
     /// Inequality constraints (contact gaps in m, joint limits in rad or m): a converged
     /// state violates none by more than this, and every constraint that carries a force
     /// is closed to within it.
     pub constraint_tolerance: f64,
+    /// Stability classification: a generalised eigenvalue of the reduced Hessian
+    /// relative to its diagonal, `|λ| ≤ neutral_tolerance`, is a neutral (zero)
+    /// direction; below `−neutral_tolerance` the equilibrium is unstable.
+    pub neutral_tolerance: f64,
 }
 
 impl Default for SolverSettings {
@@ -38,9 +87,19 @@ impl Default for SolverSettings {
             max_rotation_step_rad: 0.5,
             max_translation_step: 0.25,
             max_line_search_steps: 40,
+            min_damping: 1e-12,
+            max_damping: 1e12,
+            damping_increase: 8.0,
+            damping_decrease: 8.0,
+            acceptance_ratio: 1e-4,
+            trust_ratio: 0.5,
+            stagnation_iterations: 12,
+            stagnation_reduction: 0.5,
             nested_iteration: true,
             load_continuation: true,
+            max_continuation_steps: 64,
             constraint_tolerance: 1e-9,
+            neutral_tolerance: 1e-11,
         }
     }
 }
@@ -60,28 +119,128 @@ pub struct SettingsError {
 impl SolverSettings {
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let positive = |field, value: f64| {
-            if value.is_finite() && value > 0.0 {
+        let check = |field, value: f64, ok: bool, requirement| {
+            if value.is_finite() && ok {
                 Ok(())
             } else {
                 Err(SettingsError {
                     field,
                     value,
-                    requirement: "must be a finite number > 0",
+                    requirement,
                 })
             }
         };
+        let positive = |field, value: f64| check(field, value, value > 0.0, "must be > 0");
         positive("tolerance_n", self.tolerance_n)?;
         positive("max_rotation_step_rad", self.max_rotation_step_rad)?;
         positive("max_translation_step", self.max_translation_step)?;
         positive("constraint_tolerance", self.constraint_tolerance)?;
-        if self.max_iterations == 0 {
-            return Err(SettingsError {
-                field: "max_iterations",
-                value: 0.0,
-                requirement: "must be ≥ 1",
-            });
+        positive("min_damping", self.min_damping)?;
+        positive("neutral_tolerance", self.neutral_tolerance)?;
+        check(
+            "max_damping",
+            self.max_damping,
+            self.max_damping > self.min_damping,
+            "must be > min_damping",
+        )?;
+        for (field, value) in [
+            ("damping_increase", self.damping_increase),
+            ("damping_decrease", self.damping_decrease),
+        ] {
+            check(field, value, value > 1.0, "must be > 1")?;
+        }
+        check(
+            "acceptance_ratio",
+            self.acceptance_ratio,
+            self.acceptance_ratio > 0.0 && self.acceptance_ratio < self.trust_ratio,
+            "must be > 0 and < trust_ratio",
+        )?;
+        check(
+            "trust_ratio",
+            self.trust_ratio,
+            self.trust_ratio < 1.0,
+            "must be < 1",
+        )?;
+        check(
+            "stagnation_reduction",
+            self.stagnation_reduction,
+            self.stagnation_reduction > 0.0 && self.stagnation_reduction < 1.0,
+            "must be in (0, 1)",
+        )?;
+        // Counts: at least one, and bounded so that a typo cannot make a solve run
+        // for hours.
+        for (field, value, max) in [
+            ("max_iterations", self.max_iterations, 100_000),
+            ("max_line_search_steps", self.max_line_search_steps, 200),
+            ("stagnation_iterations", self.stagnation_iterations, 100_000),
+            (
+                "max_continuation_steps",
+                self.max_continuation_steps,
+                10_000,
+            ),
+        ] {
+            if value == 0 || value > max {
+                return Err(SettingsError {
+                    field,
+                    value: value as f64,
+                    requirement: match max {
+                        200 => "must be in 1..=200",
+                        10_000 => "must be in 1..=10000",
+                        _ => "must be in 1..=100000",
+                    },
+                });
+            }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_every_bad_value_names_its_field() {
+        assert!(SolverSettings::default().validate().is_ok());
+        let cases: Vec<(SolverSettings, &str)> = vec![
+            (
+                SolverSettings {
+                    tolerance_n: f64::NAN,
+                    ..Default::default()
+                },
+                "tolerance_n",
+            ),
+            (
+                SolverSettings {
+                    max_line_search_steps: 1_000_000_000,
+                    ..Default::default()
+                },
+                "max_line_search_steps",
+            ),
+            (
+                SolverSettings {
+                    max_damping: 1e-13,
+                    ..Default::default()
+                },
+                "max_damping",
+            ),
+            (
+                SolverSettings {
+                    acceptance_ratio: 0.9,
+                    ..Default::default()
+                },
+                "acceptance_ratio",
+            ),
+            (
+                SolverSettings {
+                    max_iterations: 0,
+                    ..Default::default()
+                },
+                "max_iterations",
+            ),
+        ];
+        for (settings, field) in cases {
+            assert_eq!(settings.validate().unwrap_err().field, field);
+        }
     }
 }

@@ -1,13 +1,34 @@
-//! Initial guesses: a route polyline when the case gives one, otherwise a cubic Hermite
-//! curve between the held ends whose length matches the rod, or a straight rod hanging
-//! from its only held end. Frames follow the curve by parallel transport from the
-//! start's boundary frame.
+//! Initial guesses: a route polyline when the case gives one, otherwise a curve through
+//! the held ends and clips whose length matches the rod, shaped by the rod's weight:
+//!
+//! - between two held points, a catenary through both with the rod's length (in the
+//!   vertical plane of the chord) when the weight dominates the bending stiffness or no
+//!   end is clamped; otherwise (no gravity, a vertical or taut chord, a stiff hose
+//!   between clamps) a cubic Hermite curve leaving along the clamp directions;
+//! - beyond the last (before the first) held point, a free tail that turns from the
+//!   clamp direction towards gravity over a bending length and hangs.
+//!
+//! Clamped ends start along their clamp direction (the catenary is blended into it over
+//! the first and last few percent). Frames follow the curve by parallel transport from
+//! the start's boundary frame; the twist to the end's boundary frame, including whole
+//! extra turns ([`crate::End::twist_turns`]), is spread linearly along the rod.
+
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::RodState;
 use strand_rod::so3::frame_with_tangent;
 
 use crate::system::{Pose, System, SystemState};
+
+/// Ratio `w L³ / EI` (weight per length `w` in N/m, length `L` in m, bending stiffness
+/// `EI` in N·m²) above which the weight rather than the bending stiffness shapes a rod
+/// between two clamps: the guess is then a catenary blended into the clamp directions,
+/// below it a Hermite curve along them.
+pub const SAG_RATIO: f64 = 100.0;
+
+/// Points per piece of a guide curve.
+const SAMPLES: usize = 400;
 
 /// The initial configuration of every rod.
 pub fn initial_state(system: &System) -> SystemState {
@@ -37,6 +58,31 @@ impl Placement {
     }
 }
 
+/// What shapes the guess of one rod besides its supports.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Loading {
+    /// Gravitational acceleration in m/s².
+    pub gravity: Vector3<f64>,
+    /// Weight per length `ρ_L |g|` in N/m.
+    pub weight: f64,
+    /// Smaller bending stiffness `EI` in N·m².
+    pub bending: f64,
+}
+
+impl Loading {
+    /// The unit direction of gravity, if the rod has weight.
+    fn down(&self) -> Option<Vector3<f64>> {
+        let g = self.gravity.norm();
+        (g > 0.0 && self.weight > 0.0 && g.is_finite() && self.weight.is_finite())
+            .then(|| self.gravity / g)
+    }
+
+    /// `w ℓ³ / EI` for a piece of length `ℓ` (m): large for a limp cable.
+    fn sag_ratio(&self, length: f64) -> f64 {
+        self.weight * length.powi(3) / self.bending.max(f64::MIN_POSITIVE)
+    }
+}
+
 fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
     let spec = &system.rods[rod];
     let length = spec.rod.length();
@@ -45,11 +91,23 @@ fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
         Placement { position, frame }
     };
     let (start, end) = (place(&spec.start, false), place(&spec.end, true));
+    let arc = spec.rod.arc_lengths();
+    let section = spec.rod.section();
+    let stiffness = section.curvature_stiffness();
+    let loading = Loading {
+        gravity: system.gravity,
+        weight: section.mass_per_length * system.gravity.norm(),
+        bending: stiffness.x.min(stiffness.y),
+    };
     let polyline: Vec<Vector3<f64>> = match spec.route.as_ref().filter(|r| r.len() >= 2) {
         Some(route) => route.clone(),
-        None => guide_curve(&held_stations(system, rod, &start, &end), length),
+        None => guide_curve(
+            &held_stations(system, rod, &start, &end, &arc, poses),
+            length,
+            &loading,
+        ),
     };
-    let positions = resample(&polyline, &spec.rod.arc_lengths(), length);
+    let positions = resample(&polyline, &arc, length);
     let first_frame = start.frame().unwrap_or_else(|| {
         let t = positions[1] - positions[0];
         frame_with_tangent(&t, &UnitQuaternion::identity())
@@ -64,16 +122,17 @@ fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
         frames.push(frame);
     }
     if let Some(end_frame) = end.frame() {
-        distribute_twist(&mut frames, &end_frame, &spec.rod.arc_lengths());
+        let turns = i64::from(spec.end.twist_turns) - i64::from(spec.start.twist_turns);
+        distribute_twist(&mut frames, &end_frame, &arc, turns);
     }
     RodState::new(positions, frames)
 }
 
 /// A point the rod must pass: arc length (m), position (m), tangent if known.
-struct Station {
-    s: f64,
-    position: Vector3<f64>,
-    tangent: Option<Vector3<f64>>,
+pub(crate) struct Station {
+    pub s: f64,
+    pub position: Vector3<f64>,
+    pub tangent: Option<Vector3<f64>>,
 }
 
 /// The held ends and clips of a rod at their initial placement, in arc-length order.
@@ -82,10 +141,10 @@ fn held_stations(
     rod_index: usize,
     start: &Placement,
     end: &Placement,
+    arc: &[f64],
+    poses: &[Pose],
 ) -> Vec<Station> {
-    let spec = &system.rods[rod_index];
     let tangent_of = |frame: Option<UnitQuaternion<f64>>| frame.map(|q| q * Vector3::z());
-    let arc = spec.rod.arc_lengths();
     let mut stations = Vec::new();
     if let Some(position) = start.position() {
         stations.push(Station {
@@ -101,7 +160,7 @@ fn held_stations(
     let joints = vec![Default::default(); system.clips.len()];
     for c in clips {
         let clip = &system.clips[c];
-        let output = system.clip_output(c, &joints, &system.body_poses());
+        let output = system.clip_output(c, &joints, poses);
         stations.push(Station {
             s: arc[clip.vertex],
             position: output.position,
@@ -110,7 +169,7 @@ fn held_stations(
     }
     if let Some(position) = end.position() {
         stations.push(Station {
-            s: spec.rod.length(),
+            s: *arc.last().expect("vertices"),
             position,
             tangent: tangent_of(end.frame()),
         });
@@ -119,9 +178,14 @@ fn held_stations(
 }
 
 /// A polyline through the stations whose pieces have the reference lengths between
-/// them: cubic Hermite pieces between stations, straight pieces beyond the first and
-/// last station along their tangents.
-fn guide_curve(stations: &[Station], length: f64) -> Vec<Vector3<f64>> {
+/// them: a catenary or cubic Hermite piece between consecutive stations
+/// ([`sagging_piece`], [`hermite_with_length`]), hanging tails beyond the first and last
+/// station ([`hanging_tail`]).
+pub(crate) fn guide_curve(
+    stations: &[Station],
+    length: f64,
+    loading: &Loading,
+) -> Vec<Vector3<f64>> {
     let Some(first) = stations.first() else {
         return vec![Vector3::zeros(), Vector3::x() * length];
     };
@@ -135,40 +199,307 @@ fn guide_curve(stations: &[Station], length: f64) -> Vec<Vector3<f64>> {
         }
     };
     let mut polyline = Vec::new();
-    let lead = first.tangent.unwrap_or_else(|| {
-        if stations.len() > 1 {
-            chord_direction(first, &stations[1])
-        } else {
-            Vector3::x()
-        }
-    });
     if first.s > 0.0 {
-        polyline.push(first.position - lead * first.s);
+        // The tail before the first station, built outwards from it and reversed.
+        let outwards = match first.tangent {
+            Some(t) => -t,
+            None => loading.down().unwrap_or_else(|| {
+                if stations.len() > 1 {
+                    -chord_direction(first, &stations[1])
+                } else {
+                    -Vector3::x()
+                }
+            }),
+        };
+        let tail = hanging_tail(first.position, outwards, first.s, loading);
+        polyline.extend(tail.iter().rev());
+    } else {
+        polyline.push(first.position);
     }
-    polyline.push(first.position);
     for pair in stations.windows(2) {
         let (a, b) = (&pair[0], &pair[1]);
-        let direction = chord_direction(a, b);
-        let piece = hermite_with_length(
-            a.position,
-            a.tangent.unwrap_or(direction),
-            b.position,
-            b.tangent.unwrap_or(direction),
-            b.s - a.s,
-        );
+        let piece = sagging_piece(a, b, b.s - a.s, loading).unwrap_or_else(|| {
+            let direction = chord_direction(a, b);
+            hermite_with_length(
+                a.position,
+                a.tangent.unwrap_or(direction),
+                b.position,
+                b.tangent.unwrap_or(direction),
+                b.s - a.s,
+            )
+        });
         polyline.extend_from_slice(&piece[1..]);
     }
     if last.s < length {
-        let trail = last.tangent.unwrap_or_else(|| {
-            if stations.len() > 1 {
-                chord_direction(&stations[stations.len() - 2], last)
-            } else {
-                lead
-            }
-        });
-        polyline.push(last.position + trail * (length - last.s));
+        let outwards = match last.tangent {
+            Some(t) => t,
+            None => loading.down().unwrap_or_else(|| {
+                if stations.len() > 1 {
+                    chord_direction(&stations[stations.len() - 2], last)
+                } else {
+                    Vector3::x()
+                }
+            }),
+        };
+        let tail = hanging_tail(last.position, outwards, length - last.s, loading);
+        polyline.extend_from_slice(&tail[1..]);
     }
     polyline
+}
+
+/// A free tail of `length` m leaving `origin` along the unit `direction` and hanging
+/// under its weight: its tangent turns from `direction` towards gravity in their plane,
+/// by the angle `ψ(s) = min(ψ_lin(s), θ (1 − e^{−s/ℓ}))` with `θ` the angle between
+/// `direction` and gravity. `ψ_lin = w_⊥ (L³ − (L − s)³) / (6 EI)` is the slope of a
+/// linear cantilever under its transverse weight (a stiff tail barely bends),
+/// `ℓ = √(EI / (w L))` the bending length of a tail hanging under its own weight (a limp
+/// tail turns within it and hangs straight down). Straight without weight.
+pub(crate) fn hanging_tail(
+    origin: Vector3<f64>,
+    direction: Vector3<f64>,
+    length: f64,
+    loading: &Loading,
+) -> Vec<Vector3<f64>> {
+    const STEPS: usize = 2000;
+    let straight = vec![origin, origin + direction * length];
+    let Some(down) = loading.down() else {
+        return straight;
+    };
+    if length <= 0.0 {
+        return straight;
+    }
+    let cos = direction.dot(&down).clamp(-1.0, 1.0);
+    let theta = cos.acos();
+    let mut normal = down - direction * cos;
+    if normal.norm() < 1e-9 {
+        if cos > 0.0 {
+            return straight; // already hanging
+        }
+        // Pointing straight up: fall over to any side.
+        normal = direction.cross(&Vector3::x());
+        if normal.norm() < 1e-6 {
+            normal = direction.cross(&Vector3::y());
+        }
+    }
+    let normal = normal.normalize();
+    let w = loading.weight;
+    let transverse = if theta <= FRAC_PI_2 {
+        w * theta.sin()
+    } else {
+        w
+    };
+    let ei = loading.bending.max(f64::MIN_POSITIVE);
+    let layer = (ei / (w * length)).sqrt();
+    let slope = |s: f64| {
+        let linear = transverse / (6.0 * ei) * (length.powi(3) - (length - s).powi(3));
+        let layered = theta * (1.0 - (-s / layer).exp());
+        linear.min(layered).min(theta)
+    };
+    let ds = length / STEPS as f64;
+    let mut point = origin;
+    let mut points = Vec::with_capacity(STEPS + 1);
+    points.push(origin);
+    for k in 0..STEPS {
+        let psi = slope((k as f64 + 0.5) * ds);
+        point += (direction * psi.cos() + normal * psi.sin()) * ds;
+        points.push(point);
+    }
+    points
+}
+
+/// A catenary from station `a` to station `b` of arc length `length` (m), sampled,
+/// blended into the stations' tangents over the first and last few percent: `None`
+/// (use the Hermite curve) without weight, for a vertical or taut chord, or when a
+/// clamped station meets a rod stiff enough for its bending to shape it
+/// ([`SAG_RATIO`]).
+pub(crate) fn sagging_piece(
+    a: &Station,
+    b: &Station,
+    length: f64,
+    loading: &Loading,
+) -> Option<Vec<Vector3<f64>>> {
+    let down = loading.down()?;
+    let clamped = a.tangent.is_some() || b.tangent.is_some();
+    if clamped && loading.sag_ratio(length) < SAG_RATIO {
+        return None;
+    }
+    let chord = (b.position - a.position).norm();
+    let curve = |catenary_length: f64| -> Option<Vec<Vector3<f64>>> {
+        let catenary = Catenary::through(a.position, b.position, down, catenary_length)?;
+        Some(blended_samples(&catenary, a.tangent, b.tangent, loading))
+    };
+    let plain = curve(length)?;
+    if !clamped {
+        return Some(plain);
+    }
+    // The blend changes the length a little: find the catenary length that gives the
+    // piece its length (monotone in practice; fall back if the bracket fails).
+    let excess = |l: f64| curve(l).map(|p| polyline_length(&p) - length);
+    let mut lo = chord + 1e-9 * length;
+    let mut hi = length;
+    if excess(lo)? > 0.0 {
+        return None;
+    }
+    let mut grown = 0;
+    while excess(hi)? < 0.0 {
+        hi *= 1.1;
+        grown += 1;
+        if grown > 20 {
+            return None;
+        }
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid)? < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    curve(0.5 * (lo + hi))
+}
+
+/// [`SAMPLES`] points of `catenary` at equal arc length, with the tangent at a clamped
+/// end turned to `t0` (start) or `t1` (end): `p(u) = c(u) + Δ₀ H(u) − Δ₁ H(1 − u)` with
+/// `H(u) = u (1 − u/δ)²` on `[0, δ]` (zero beyond; `H(0) = 0`, `H'(0) = 1`) and
+/// `Δ = ℓ (t − t_c)`, over a fraction `δ` of about two bending lengths (3 %…25 %).
+fn blended_samples(
+    catenary: &Catenary,
+    t0: Option<Vector3<f64>>,
+    t1: Option<Vector3<f64>>,
+    loading: &Loading,
+) -> Vec<Vector3<f64>> {
+    let l = catenary.length;
+    let layer = (loading.bending / (loading.weight * l)).sqrt() / l;
+    let delta = (2.0 * layer).clamp(0.03, 0.25);
+    let bump = |u: f64| {
+        if u < delta {
+            u * (1.0 - u / delta).powi(2)
+        } else {
+            0.0
+        }
+    };
+    let unit = |t: Vector3<f64>| t.normalize();
+    let d0 = t0.map(|t| l * (unit(t) - catenary.tangent(0.0)));
+    let d1 = t1.map(|t| l * (unit(t) - catenary.tangent(l)));
+    (0..=SAMPLES)
+        .map(|i| {
+            let u = i as f64 / SAMPLES as f64;
+            let mut p = catenary.point(u * l);
+            if let Some(d) = d0 {
+                p += d * bump(u);
+            }
+            if let Some(d) = d1 {
+                p -= d * bump(1.0 - u);
+            }
+            p
+        })
+        .collect()
+}
+
+/// Sum of the segment lengths of a polyline, m.
+fn polyline_length(points: &[Vector3<f64>]) -> f64 {
+    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+/// A catenary `y = a (cosh((x − x₀)/a) − cosh(x₀/a))` in the vertical plane through
+/// its start and end (`x` horizontal from the start, `y` up against gravity), of a
+/// given arc length.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Catenary {
+    start: Vector3<f64>,
+    across: Vector3<f64>,
+    up: Vector3<f64>,
+    /// Catenary parameter `a = H / w` in m.
+    a: f64,
+    /// Horizontal position of the lowest point (vertex) in m (may lie outside).
+    x0: f64,
+    /// Arc length in m.
+    pub length: f64,
+}
+
+impl Catenary {
+    /// The catenary from `a` to `b` (m) of arc length `length` (m) hanging towards the
+    /// unit `down`: `None` if the chord is vertical (horizontal span below 1e-6 of the
+    /// length) or not shorter than `length`.
+    pub(crate) fn through(
+        a: Vector3<f64>,
+        b: Vector3<f64>,
+        down: Vector3<f64>,
+        length: f64,
+    ) -> Option<Self> {
+        let chord = b - a;
+        let rise = -chord.dot(&down);
+        let horizontal = chord + down * rise;
+        let span = horizontal.norm();
+        if !(length.is_finite() && chord.norm() < length && span > 1e-6 * length) {
+            return None;
+        }
+        // sinh(z)/z = √(ℓ² − v²)/H with z = H/(2a): bisection (monotone in z > 0).
+        let ratio = (length * length - rise * rise).sqrt() / span;
+        let f = |z: f64| {
+            if z < 1e-4 {
+                1.0 + z * z / 6.0 * (1.0 + z * z / 20.0)
+            } else {
+                z.sinh() / z
+            }
+        };
+        let mut hi = 1.0;
+        while f(hi) < ratio {
+            hi *= 2.0;
+            if hi > 700.0 {
+                return None;
+            }
+        }
+        let mut lo = 0.0;
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) < ratio {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo <= f64::EPSILON * hi {
+                break;
+            }
+        }
+        let z = 0.5 * (lo + hi);
+        if z <= 0.0 {
+            return None;
+        }
+        let param = span / (2.0 * z);
+        let x0 = 0.5 * span - param * (rise / length).atanh();
+        Some(Self {
+            start: a,
+            across: horizontal / span,
+            up: -down,
+            a: param,
+            x0,
+            length,
+        })
+    }
+
+    /// `sinh((x − x₀)/a)` at arc length `s` (m) from the start: the slope `dy/dx`.
+    fn slope(&self, s: f64) -> f64 {
+        s / self.a - (self.x0 / self.a).sinh()
+    }
+
+    /// The point at arc length `s` (m) from the start.
+    pub(crate) fn point(&self, s: f64) -> Vector3<f64> {
+        let x = self.x0 + self.a * self.slope(s).asinh();
+        // cosh A − cosh B = 2 sinh((A+B)/2) sinh((A−B)/2), without cancellation.
+        let y = 2.0
+            * self.a
+            * ((x - 2.0 * self.x0) / (2.0 * self.a)).sinh()
+            * (x / (2.0 * self.a)).sinh();
+        self.start + self.across * x + self.up * y
+    }
+
+    /// The unit tangent at arc length `s` (m).
+    pub(crate) fn tangent(&self, s: f64) -> Vector3<f64> {
+        let slope = self.slope(s);
+        (self.across + self.up * slope) / (1.0 + slope * slope).sqrt()
+    }
 }
 
 /// Points at the fractions `s / length` of the polyline's arc length.
@@ -208,7 +539,6 @@ fn hermite_with_length(
     t1: Vector3<f64>,
     length: f64,
 ) -> Vec<Vector3<f64>> {
-    const SAMPLES: usize = 400;
     let chord = b - a;
     let scale = chord.norm().max(1e-3 * length);
     let axis = if chord.norm() > 0.0 {
@@ -256,16 +586,18 @@ fn hermite_with_length(
 
 /// Spreads the twist between the transported last frame and a clamped end frame
 /// linearly along the rod, so that neither end starts with a concentrated twist (for a
-/// route on a helix this recovers the Frenet-type frames exactly).
+/// route on a helix this recovers the Frenet-type frames exactly). The twist is the
+/// shortest one, `φ₀ ∈ (−π, π]`, plus `turns` whole turns.
 fn distribute_twist(
     frames: &mut [UnitQuaternion<f64>],
     end_frame: &UnitQuaternion<f64>,
     arc_lengths: &[f64],
+    turns: i64,
 ) {
     let last = *frames.last().expect("at least one edge");
     // Twist angle about the last edge's a3 that best aligns its a1 with the end frame's.
     let target_a1 = last.inverse() * (end_frame * Vector3::x());
-    let twist = target_a1.y.atan2(target_a1.x);
+    let twist = target_a1.y.atan2(target_a1.x) + TAU * turns as f64;
     let length = *arc_lengths.last().expect("vertices");
     let n = frames.len();
     for (e, frame) in frames.iter_mut().enumerate() {
@@ -276,5 +608,201 @@ fn distribute_twist(
             0.5 * (arc_lengths[e] + arc_lengths[e + 1]) / length
         };
         *frame *= UnitQuaternion::from_axis_angle(&Vector3::z_axis(), twist * share);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::{End, RodSpec};
+    use strand_rod::{Rod, Section};
+
+    /// Arc length of a curve sampled densely (chord sum; the chord error of 2·10⁵
+    /// samples is far below 1e-9 of the length for these curvatures).
+    fn dense_length(f: impl Fn(f64) -> Vector3<f64>, length: f64) -> f64 {
+        const K: usize = 200_000;
+        (0..K)
+            .map(|i| {
+                (f((i + 1) as f64 * length / K as f64) - f(i as f64 * length / K as f64)).norm()
+            })
+            .sum()
+    }
+
+    fn loading(ei: f64) -> Loading {
+        Loading {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            weight: 0.5 * 9.81,
+            bending: ei,
+        }
+    }
+
+    #[test]
+    fn catenary_has_the_length_and_passes_through_both_ends() {
+        let down = -Vector3::z();
+        for (b, length) in [
+            (Vector3::new(0.8, 0.0, 0.0), 1.0),
+            (Vector3::new(0.3, 0.4, 0.2), 1.0),
+            (Vector3::new(0.1, 0.0, -0.5), 3.0),
+            (Vector3::new(0.999, 0.0, 0.0), 1.0),
+        ] {
+            let a = Vector3::new(0.1, -0.2, 0.3);
+            let end = a + b;
+            let c = Catenary::through(a, end, down, length).unwrap();
+            assert!((c.point(0.0) - a).norm() < 1e-12 * length);
+            assert!(
+                (c.point(length) - end).norm() < 1e-9 * length,
+                "{:?}",
+                c.point(length) - end
+            );
+            let measured = dense_length(|s| c.point(s), length);
+            assert!(
+                (measured / length - 1.0).abs() < 1e-9,
+                "{measured} vs {length}"
+            );
+            // In the vertical plane of the chord.
+            let normal = (b - down * b.dot(&down)).cross(&down).normalize();
+            assert!((c.point(0.37 * length) - a).dot(&normal).abs() < 1e-12);
+        }
+        // Sag of the symmetric cable from the closed form: a cosh(H/2a) − a with
+        // sinh(H/2a) = L/2a.
+        let c = Catenary::through(Vector3::zeros(), Vector3::x() * 0.8, down, 1.0).unwrap();
+        let z = {
+            let (mut lo, mut hi) = (1e-6, 10.0);
+            for _ in 0..200 {
+                let mid: f64 = 0.5 * (lo + hi);
+                if mid.sinh() / mid < 1.0 / 0.8 {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        let a = 0.8 / (2.0 * z);
+        let sag = a * z.cosh() - a;
+        assert!(
+            (c.point(0.5).z + sag).abs() < 1e-12,
+            "{} vs {}",
+            c.point(0.5).z,
+            -sag
+        );
+    }
+
+    #[test]
+    fn catenary_falls_back_for_vertical_or_taut_chords() {
+        let down = -Vector3::z();
+        assert!(Catenary::through(Vector3::zeros(), Vector3::z() * 0.5, down, 1.0).is_none());
+        assert!(Catenary::through(Vector3::zeros(), Vector3::x(), down, 1.0).is_none());
+        assert!(Catenary::through(Vector3::zeros(), Vector3::x() * 1.2, down, 1.0).is_none());
+    }
+
+    fn station(s: f64, position: Vector3<f64>, tangent: Option<Vector3<f64>>) -> Station {
+        Station {
+            s,
+            position,
+            tangent,
+        }
+    }
+
+    #[test]
+    fn pinned_cable_guess_is_the_catenary() {
+        let stations = [
+            station(0.0, Vector3::zeros(), None),
+            station(1.0, Vector3::x() * 0.8, None),
+        ];
+        let curve = guide_curve(&stations, 1.0, &loading(1e-3));
+        let c =
+            Catenary::through(Vector3::zeros(), Vector3::x() * 0.8, -Vector3::z(), 1.0).unwrap();
+        assert_eq!(curve.len(), SAMPLES + 1);
+        for (i, p) in curve.iter().enumerate() {
+            assert!((p - c.point(i as f64 / SAMPLES as f64)).norm() < 1e-12);
+        }
+        // Without gravity: the previous Hermite bow.
+        let mut weightless = loading(1e-3);
+        weightless.gravity = Vector3::zeros();
+        let bow = guide_curve(&stations, 1.0, &weightless);
+        assert!((polyline_length(&bow) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn clamped_limp_cable_leaves_along_the_clamps_and_has_its_length() {
+        let t0 = Vector3::new(1.0, 0.0, 1.0).normalize();
+        let t1 = Vector3::new(1.0, 0.0, -1.0).normalize();
+        let stations = [
+            station(0.0, Vector3::zeros(), Some(t0)),
+            station(1.0, Vector3::x() * 0.8, Some(t1)),
+        ];
+        let curve = guide_curve(&stations, 1.0, &loading(1e-4));
+        assert!((polyline_length(&curve) / 1.0 - 1.0).abs() < 1e-9);
+        assert!((curve[0] - stations[0].position).norm() < 1e-12);
+        assert!((curve.last().unwrap() - stations[1].position).norm() < 1e-9);
+        let first = (curve[1] - curve[0]).normalize();
+        let last = (curve[SAMPLES] - curve[SAMPLES - 1]).normalize();
+        assert!(first.dot(&t0) > 0.97, "{first:?}");
+        assert!(last.dot(&t1) > 0.97, "{last:?}");
+        // It sags: its middle is below both ends.
+        assert!(curve[SAMPLES / 2].z < -0.1);
+        // A stiff hose between the same clamps (w L³/EI = 0.5) keeps the Hermite curve.
+        let stiff = guide_curve(&stations, 1.0, &loading(10.0));
+        let hermite = hermite_with_length(Vector3::zeros(), t0, Vector3::x() * 0.8, t1, 1.0);
+        assert_eq!(stiff, hermite);
+    }
+
+    #[test]
+    fn free_tail_hangs_from_a_horizontal_clamp() {
+        let stations = [station(0.0, Vector3::zeros(), Some(Vector3::x()))];
+        let limp = guide_curve(&stations, 1.0, &loading(1e-4));
+        assert!((polyline_length(&limp) - 1.0).abs() < 1e-12);
+        let tip = limp.last().unwrap();
+        // Bending length √(EI/(wL)) = 4.5 mm: the tip hangs about a metre down.
+        assert!(tip.z < -0.99 && tip.x > 0.0 && tip.x < 0.01, "{tip:?}");
+        assert!((limp[1] - limp[0]).normalize().dot(&Vector3::x()) > 0.99);
+        // A stiff cantilever deflects like a linear beam: tip slope w L³/(6 EI).
+        let stiff = guide_curve(&stations, 1.0, &loading(100.0));
+        let n = stiff.len();
+        let slope = (stiff[n - 1] - stiff[n - 2]).normalize();
+        let expected = 0.5 * 9.81 / (6.0 * 100.0);
+        assert!(
+            (slope.z.asin() + expected).abs() < 1e-6,
+            "{}",
+            slope.z.asin()
+        );
+    }
+
+    #[test]
+    fn whole_turns_of_twist_are_spread_along_the_rod() {
+        let section = Section::try_explicit(1e4, 1e4, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), FRAC_PI_2);
+        let twisted =
+            along_x * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 190f64.to_radians());
+        for (turns, expected) in [(0, -170.0), (1, 190.0), (-1, -530.0)] {
+            let system = System {
+                rods: vec![RodSpec {
+                    name: "rod".into(),
+                    rod: Rod::try_straight(section, 1.0, 40).unwrap(),
+                    start: End::clamped(Vector3::zeros(), along_x),
+                    end: End::clamped(Vector3::x(), twisted).with_twist_turns(turns),
+                    route: None,
+                }],
+                bodies: vec![],
+                clips: vec![],
+                gravity: Vector3::zeros(),
+            };
+            let state = initial_state(&system);
+            let frames = &state.rods[0].frames;
+            // Sum of the twist increments from the clamp through every edge to the end.
+            let mut total = 0.0;
+            let mut previous = along_x;
+            for q in frames.iter().chain(std::iter::once(&twisted)) {
+                let relative = strand_rod::so3::log(&(previous.inverse() * q));
+                total += relative.z;
+                previous = *q;
+            }
+            assert!(
+                (total.to_degrees() - expected).abs() < 1e-9,
+                "{turns}: {}",
+                total.to_degrees()
+            );
+        }
     }
 }

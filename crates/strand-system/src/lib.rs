@@ -19,7 +19,7 @@ mod pattern;
 mod reactions;
 mod system;
 
-pub use dofs::{BlockKind, Dofs};
+pub use dofs::{BlockKind, ClipIndex, Dofs};
 pub use initial::initial_state;
 pub use model::{Evaluation, Model, Residual};
 pub use pattern::HessianPattern;

@@ -129,7 +129,7 @@ impl Model {
                         Some(b) => [LocalBlock::Free(dofs.edge(r, n - 1)), b, LocalBlock::Fixed],
                         None => continue,
                     },
-                    j => match system.clip_at(r, j) {
+                    j => match dofs.clip_at(r, j) {
                         Some(clip) => {
                             let frame = clip_frame_local(&system, &dofs, clip);
                             let before = [
@@ -294,16 +294,32 @@ impl Model {
                 .1,
             end: self.system.end_placement(&spec.end, true, &state.bodies).1,
             clips: self
-                .system
-                .clips
+                .dofs
+                .clips()
+                .on_rod(rod)
                 .iter()
-                .enumerate()
-                .filter(|(_, clip)| clip.rod.0 == rod)
-                .map(|(c, clip)| {
+                .map(|&(vertex, c)| {
                     let output = self.system.clip_output(c, &state.clips, &state.bodies);
-                    (clip.vertex, output.orientation)
+                    (vertex, output.orientation)
                 })
                 .collect(),
+            end_loads: [0, spec.rod.segments()].map(|j| self.end_vertex_load(rod, j)),
+        }
+    }
+
+    /// The external force (N) on end vertex `j` of rod `rod` that the sectional force
+    /// at that end includes: the half cell's weight `h̄_j ρ_L g`, and at a held end also
+    /// the dead end load, which goes straight into the support. With it the sectional
+    /// force at a held end is the support's reaction, and at a free end the applied
+    /// end load (see [`BoundaryFrames::end_loads`]).
+    fn end_vertex_load(&self, rod: usize, j: usize) -> Vector3<f64> {
+        let spec = &self.system.rods[rod];
+        let end = if j == 0 { &spec.start } else { &spec.end };
+        let weight = spec.rod.vertex_mass(j) * self.system.gravity;
+        if end.support.is_held() {
+            weight + end.load.force
+        } else {
+            weight
         }
     }
 
@@ -785,7 +801,7 @@ fn vertex_local(system: &System, dofs: &Dofs, r: usize, j: usize) -> LocalBlock 
     if let Some(b) = dofs.vertex(r, j) {
         return LocalBlock::Free(b);
     }
-    if let Some(clip) = system.clip_at(r, j) {
+    if let Some(clip) = dofs.clip_at(r, j) {
         return match system.clips[clip].joint {
             Joint::Fixed if !on_free_body(system, dofs, clip) => LocalBlock::Fixed,
             _ => LocalBlock::ClipPoint { clip },

@@ -225,6 +225,14 @@ pub struct End {
     pub support: Support,
     /// Dead loads at this end.
     pub load: EndLoad,
+    /// Whole turns of twist (2π rad each, right-handed about the rod's tangent) by which
+    /// this end's boundary frame is wound beyond the shortest rotation from the rod's
+    /// other end. A boundary frame is a rotation, so it fixes the twist of a rod only
+    /// modulo one turn; this integer says which turn is meant. The initial guess spreads
+    /// the total twist `φ₀ + 2π (end.twist_turns − start.twist_turns)` along the rod
+    /// (`φ₀ ∈ (−π, π]` the shortest twist), and Newton converges to the state of that
+    /// winding. Non-zero only where both ends have a boundary frame (clamp, clamped port).
+    pub twist_turns: i32,
 }
 
 impl End {
@@ -233,6 +241,7 @@ impl End {
         Self {
             support: Support::Free,
             load: EndLoad::default(),
+            twist_turns: 0,
         }
     }
 
@@ -241,6 +250,7 @@ impl End {
         Self {
             support: Support::Clamped { position, frame },
             load: EndLoad::default(),
+            twist_turns: 0,
         }
     }
 
@@ -249,7 +259,22 @@ impl End {
         Self {
             support: Support::Pinned { position },
             load: EndLoad::default(),
+            twist_turns: 0,
         }
+    }
+
+    /// The same end wound by `turns` extra whole turns (see [`End::twist_turns`]).
+    pub fn with_twist_turns(mut self, turns: i32) -> Self {
+        self.twist_turns = turns;
+        self
+    }
+
+    /// Whether the end has a boundary frame (a clamp or a clamped port).
+    pub fn has_frame(&self) -> bool {
+        matches!(
+            self.support,
+            Support::Clamped { .. } | Support::Port { clamped: true, .. }
+        )
     }
 
     /// The same end with a dead force (N) added.
@@ -374,6 +399,14 @@ pub enum SystemError {
     InvalidClip {
         /// Clip name.
         clip: String,
+        /// What is wrong and how to fix it.
+        what: String,
+    },
+    /// Extra twist turns where they have no meaning, or more than the rod can resolve.
+    #[error("rod '{rod}': {what}")]
+    InvalidTwist {
+        /// Rod name.
+        rod: String,
         /// What is wrong and how to fix it.
         what: String,
     },
@@ -540,7 +573,8 @@ impl System {
         }
     }
 
-    /// The clip holding vertex `vertex` of rod `rod`, if any.
+    /// The clip holding vertex `vertex` of rod `rod`, if any: a scan of every clip,
+    /// `O(clips)`; per-vertex loops use the index of [`crate::Dofs::clip_at`].
     pub fn clip_at(&self, rod: usize, vertex: usize) -> Option<usize> {
         self.clips
             .iter()
@@ -550,6 +584,7 @@ impl System {
     /// Checks that every clip holds an existing interior vertex, one clip per vertex,
     /// with a unit axis.
     fn validate_clips(&self) -> Result<(), SystemError> {
+        let mut held = std::collections::HashSet::with_capacity(self.clips.len());
         for (i, clip) in self.clips.iter().enumerate() {
             let invalid = |what: String| SystemError::InvalidClip {
                 clip: clip.name.clone(),
@@ -567,10 +602,7 @@ impl System {
                     n - 1
                 )));
             }
-            if self.clips[..i]
-                .iter()
-                .any(|c| c.rod == clip.rod && c.vertex == clip.vertex)
-            {
+            if !held.insert((clip.rod, clip.vertex)) {
                 return Err(invalid(format!(
                     "another clip already holds vertex {} of rod '{}'",
                     clip.vertex, rod.name
@@ -675,6 +707,34 @@ impl System {
         Ok(())
     }
 
+    /// Extra twist turns need a boundary frame at both ends, and enough edges that the
+    /// twist per vertex stays below a half turn (the discrete curvature measures
+    /// relative rotations in (−π, π)).
+    fn validate_twist(&self, spec: &RodSpec) -> Result<(), SystemError> {
+        let turns = i64::from(spec.end.twist_turns) - i64::from(spec.start.twist_turns);
+        if turns == 0 {
+            return Ok(());
+        }
+        let invalid = |what: String| SystemError::InvalidTwist {
+            rod: spec.name.clone(),
+            what,
+        };
+        if !(spec.start.has_frame() && spec.end.has_frame()) {
+            return Err(invalid(format!(
+                "{turns} extra twist turn(s) need both ends clamped (a clamp, connector or clamped port):                  a pinned or free end cannot hold a twist"
+            )));
+        }
+        // Total twist up to (|turns| + 1/2) turns over N vertices: below π/2 per vertex.
+        let needed = 4 * turns.unsigned_abs() + 2;
+        let segments = spec.rod.segments() as u64;
+        if segments < needed {
+            return Err(invalid(format!(
+                "{turns} extra twist turn(s) need at least {needed} segments (got {segments}):                  the twist per segment must stay below a quarter turn"
+            )));
+        }
+        Ok(())
+    }
+
     /// Checks what the mechanics cannot: finiteness, supports, and that prescribed ends
     /// are reachable (the axial strain needed must stay below 10 %).
     pub fn validate(&self) -> Result<(), SystemError> {
@@ -687,6 +747,11 @@ impl System {
                 what: "gravity".into(),
             });
         }
+        let clipped_rods: std::collections::HashSet<&str> = self
+            .clips
+            .iter()
+            .filter_map(|c| self.rods.get(c.rod.0).map(|r| r.name.as_str()))
+            .collect();
         let mut names = std::collections::HashSet::new();
         for spec in &self.rods {
             if !names.insert(spec.name.as_str()) {
@@ -712,10 +777,8 @@ impl System {
                     return Err(bad("load"));
                 }
             }
-            let clipped = self
-                .clips
-                .iter()
-                .any(|c| self.rods.get(c.rod.0).is_some_and(|r| r.name == spec.name));
+            self.validate_twist(spec)?;
+            let clipped = clipped_rods.contains(spec.name.as_str());
             if spec.start.support == Support::Free && spec.end.support == Support::Free && !clipped
             {
                 return Err(SystemError::Unsupported {

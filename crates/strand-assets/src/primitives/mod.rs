@@ -3,6 +3,7 @@
 pub(crate) mod axis_box;
 pub(crate) mod chamfered_box;
 pub(crate) mod cylinder;
+pub(crate) mod parallelogram;
 pub(crate) mod plane;
 pub(crate) mod tube;
 pub(crate) mod wavy_surface;

@@ -113,7 +113,11 @@ pub(crate) fn variant_dir(variants_dir: &Path, id: &str) -> PathBuf {
 }
 
 /// The progress bar: done/total, failures and ETA on stderr, hidden unless stderr
-/// is a terminal.
+/// is a terminal. It draws from the worker threads, straight to the process's
+/// stderr (not to the `err` writer of [`crate::run`]): nothing may hold the `Stderr`
+/// lock while the pool runs, or the first draw from a worker waits for it forever
+/// (issue 12; `main` passes `std::io::stderr()`, which locks per write). The bar
+/// takes the width the text leaves, so that the line does not wrap on 80 columns.
 fn progress_bar(total: usize) -> ProgressBar {
     let target = if std::io::stderr().is_terminal() {
         ProgressDrawTarget::stderr()
@@ -122,7 +126,7 @@ fn progress_bar(total: usize) -> ProgressBar {
     };
     let bar = ProgressBar::with_draw_target(Some(total as u64), target);
     if let Ok(style) = ProgressStyle::with_template(
-        "{bar:40.cyan/blue} {pos}/{len} variants  {msg}  {elapsed_precise} elapsed, ETA {eta_precise}",
+        "{wide_bar:.cyan/blue} {pos}/{len} variants  {msg}  {elapsed_precise} elapsed, ETA {eta_precise}",
     ) {
         bar.set_style(style);
     }
@@ -185,7 +189,10 @@ impl<'a> Runner<'a> {
                 }
             })
         });
-        self.progress.finish_and_clear();
+        // Forced final draw, left on the terminal: the last increments may have been
+        // skipped by the refresh-rate limit, and "N/N variants … elapsed" is the record
+        // of the run.
+        self.progress.finish();
         if let Some(e) = self.io_error.lock().map(|e| e.clone()).unwrap_or(None) {
             return Err(e);
         }

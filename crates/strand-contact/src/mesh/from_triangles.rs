@@ -4,6 +4,7 @@ use nalgebra::Point3;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
 use super::convert::to_glam;
+use super::topology::analyse;
 use super::{MeshError, ObstacleMesh};
 
 /// A triangle counts as degenerate (and is skipped) when twice its area is at most
@@ -16,7 +17,8 @@ impl ObstacleMesh {
     /// Checks that every vertex is finite and every index in range; degenerate
     /// (zero-area, see [`DEGENERATE_RELATIVE_AREA`]) triangles are skipped and counted
     /// ([`ObstacleMesh::skipped_degenerate`]); at least one triangle must remain.
-    /// Open and non-manifold meshes are accepted.
+    /// Open and non-manifold meshes are accepted; [`ObstacleMesh::diagnostics`] says
+    /// what was found.
     pub fn try_from_triangles(
         name: impl Into<String>,
         vertices: Vec<Point3<f64>>,
@@ -79,6 +81,7 @@ pub(crate) fn build(
         };
         return Err(MeshError::NoTriangles { mesh: name, detail });
     }
+    let topology = analyse(&vertices, &kept, skipped_degenerate, [min, max]);
     let glam_vertices = vertices.iter().map(to_glam).collect();
     let trimesh =
         TriMesh::with_flags(glam_vertices, kept, TriMeshFlags::empty()).map_err(|_| {
@@ -90,8 +93,9 @@ pub(crate) fn build(
     Ok(ObstacleMesh {
         name,
         trimesh,
-        skipped_degenerate,
         bounding_box: [min, max],
+        patch: topology.patch,
+        diagnostics: topology.diagnostics,
     })
 }
 

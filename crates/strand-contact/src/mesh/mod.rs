@@ -5,18 +5,29 @@
 //! triangles with [`ObstacleMesh::try_from_triangles`]) and is immutable afterwards,
 //! so it can be shared (`Arc`) across solver iterations, case variants and batches.
 //! Contact is defined by the unsigned distance to the mesh surface, so meshes need
-//! not be closed or consistently oriented.
+//! not be closed or consistently oriented. A point near several smooth patches of one
+//! mesh (a groove, a corner) has one local contact per patch
+//! ([`ObstacleMesh::local_contacts`]). Only a closed, consistently wound mesh has an
+//! inside ([`ObstacleMesh::encloses`]); an open mesh (a sheet, a box without a lid)
+//! has none.
 
 mod convert;
+mod diagnostics;
+mod encloses;
 mod error;
 mod from_triangles;
 mod load_obj;
+mod local_contacts;
 mod obstacle_mesh;
 mod segment_box;
 mod segment_proximity;
+mod topology;
 
 pub(crate) use convert::to_glam;
+pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
+pub use local_contacts::LocalContact;
 pub use obstacle_mesh::ObstacleMesh;
 pub use segment_proximity::Proximity;
+pub use topology::SMOOTH_PATCH_ANGLE_RAD;

@@ -5,6 +5,7 @@ use std::fmt;
 use nalgebra::Point3;
 use parry3d_f64::shape::TriMesh;
 
+use super::MeshDiagnostics;
 use super::convert::from_glam;
 
 /// A rigid environment mesh in world coordinates (m): a parry `TriMesh` with its BVH.
@@ -14,8 +15,10 @@ use super::convert::from_glam;
 pub struct ObstacleMesh {
     pub(crate) name: String,
     pub(crate) trimesh: TriMesh,
-    pub(crate) skipped_degenerate: usize,
     pub(crate) bounding_box: [Point3<f64>; 2],
+    /// The smooth patch of every triangle (named by its smallest triangle index).
+    pub(crate) patch: Vec<u32>,
+    pub(crate) diagnostics: MeshDiagnostics,
 }
 
 impl ObstacleMesh {
@@ -43,7 +46,18 @@ impl ObstacleMesh {
     /// Number of degenerate (zero-area) triangles skipped when the mesh was built; the
     /// caller may warn about them.
     pub fn skipped_degenerate(&self) -> usize {
-        self.skipped_degenerate
+        self.diagnostics.degenerate_skipped
+    }
+
+    /// Counts, defects, closedness and bounding box of the mesh, for the user.
+    pub fn diagnostics(&self) -> &MeshDiagnostics {
+        &self.diagnostics
+    }
+
+    /// The smooth patch (see [`super::SMOOTH_PATCH_ANGLE_RAD`]) of triangle `index`
+    /// (`< triangle_count()`): the smallest triangle index of the patch.
+    pub fn patch_of(&self, index: usize) -> usize {
+        self.patch[index] as usize
     }
 
     /// The axis-aligned bounding box `[min, max]` of the kept triangles, m.
@@ -75,7 +89,7 @@ impl fmt::Debug for ObstacleMesh {
             .field("name", &self.name)
             .field("triangles", &self.triangle_count())
             .field("vertices", &self.vertex_count())
-            .field("skipped_degenerate", &self.skipped_degenerate)
+            .field("skipped_degenerate", &self.diagnostics.degenerate_skipped)
             .field("bounding_box", &self.bounding_box)
             .finish()
     }

@@ -103,7 +103,7 @@ impl ObstacleMesh {
     }
 
     /// The public result for closest parameters on `triangle`.
-    fn proximity(
+    pub(super) fn proximity(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
@@ -152,7 +152,7 @@ impl ObstacleMesh {
 }
 
 /// Lower bounds of the distance between a segment and BVH nodes.
-struct SegmentBound {
+pub(super) struct SegmentBound {
     start: GlamVector,
     direction: GlamVector,
     min: GlamVector,
@@ -160,7 +160,7 @@ struct SegmentBound {
 }
 
 impl SegmentBound {
-    fn new(p0: &Point3<f64>, p1: &Point3<f64>) -> Self {
+    pub(super) fn new(p0: &Point3<f64>, p1: &Point3<f64>) -> Self {
         let (start, end) = (to_glam(p0), to_glam(p1));
         Self {
             start,
@@ -172,7 +172,7 @@ impl SegmentBound {
 
     /// Distance between the segment and the node's box, or a lower bound of it that
     /// is already above `limit` (the node is pruned either way), m.
-    fn distance(&self, node: &BvhNode, limit: f64) -> f64 {
+    pub(super) fn distance(&self, node: &BvhNode, limit: f64) -> f64 {
         let (min, max) = (node.mins(), node.maxs());
         let cheap = box_box_distance(min, max, self.min, self.max);
         if cheap >= limit {

@@ -186,7 +186,9 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
     // (mesh silhouettes as segments), which `collect` leaves empty until the contact
     // crate computes silhouettes; until then only the supports (connectors, junction
     // bodies and their ports, clips) outline the surroundings.
-    let outlines = runs.iter().any(|r| !r.doc.environment.is_empty());
+    let outlines = runs
+        .iter()
+        .any(|r| r.doc.environment.iter().any(|e| !e.segments_m.is_empty()));
     let _ = writeln!(
         html,
         "<p class=\"note\">Hoses coloured by internal force magnitude |f| (one colour scale for all results); supports: connectors ■, junction bodies ● with their ports, clips ▲. {}</p>",

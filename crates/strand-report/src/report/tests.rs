@@ -56,6 +56,7 @@ fn docs() -> (ResultDoc, ResultDoc) {
             [[1.0, -0.1, -0.1], [1.0, 0.1, 0.2]],
             [[1.0, 0.1, 0.2], [0.0, -0.1, -0.1]],
         ],
+        diagnostics: None,
     });
     (base, longer)
 }

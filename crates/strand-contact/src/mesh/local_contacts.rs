@@ -1,0 +1,188 @@
+//! Every local contact of a segment (or a point) with a mesh: one per smooth patch.
+//!
+//! A vertex lying in a groove touches both flanks; a single nearest point would jump
+//! from one flank to the other between iterations. Here every triangle within reach
+//! is a candidate; a candidate whose mesh point `q` is not a local minimum of the
+//! distance over the surface (a triangle touching `q` is nearer to the segment point)
+//! is dropped, and each smooth patch ([`super::SMOOTH_PATCH_ANGLE_RAD`]) keeps its
+//! nearest remaining candidate. Coplanar neighbours of a tessellated plane are one
+//! patch, so a point on a floor has one contact; a convex ridge seen from above gives
+//! the same point from both faces, kept once.
+
+use nalgebra::Point3;
+use parry3d_f64::partitioning::{BvhNode, TraversalAction};
+
+use super::ObstacleMesh;
+use super::segment_proximity::SegmentBound;
+use crate::closest::{
+    Candidate, SegmentTriangleParameters, TIE_TOLERANCE, pick, segment_triangle_candidate,
+};
+use crate::mesh::Proximity;
+
+/// One local contact: the nearest point of one smooth patch, a local minimum of the
+/// distance over the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalContact {
+    /// The patch ([`ObstacleMesh::patch_of`]): stable while the contact stays on it,
+    /// so it names the constraint across iterations.
+    pub patch: usize,
+    /// The nearest point of the patch (as [`ObstacleMesh::segment_proximity`] gives
+    /// for the whole mesh; `tie` spans the patch's stretch of nearest points).
+    pub proximity: Proximity,
+}
+
+/// One triangle within reach.
+struct Near {
+    triangle: usize,
+    candidate: Candidate<SegmentTriangleParameters>,
+}
+
+impl ObstacleMesh {
+    /// The local contacts of segment `[p0, p1]` (m) within `max_distance` (m), nearest
+    /// first; at most one per smooth patch. Empty when the mesh is farther away.
+    pub fn local_contacts(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+    ) -> Vec<LocalContact> {
+        let [min, max] = self.bounding_box;
+        let size = (p1 - p0).norm() + (max - min).norm();
+        let tolerance = TIE_TOLERANCE * size;
+        let near = self.within(p0, p1, max_distance);
+        let mut patches: Vec<usize> = near.iter().map(|n| self.patch_of(n.triangle)).collect();
+        patches.sort_unstable();
+        patches.dedup();
+        let mut out: Vec<LocalContact> = Vec::with_capacity(patches.len());
+        for patch in patches {
+            let members: Vec<&Near> = near
+                .iter()
+                .filter(|n| self.patch_of(n.triangle) == patch)
+                .collect();
+            let candidates: Vec<_> = members.iter().map(|n| n.candidate).collect();
+            let best = pick(&candidates, tolerance);
+            let Some(&&Near { triangle, .. }) = members
+                .iter()
+                .find(|n| n.candidate.value == best.value && n.candidate.squared == best.squared)
+            else {
+                continue;
+            };
+            if !self.is_local_minimum(p0, p1, triangle, &best, &near, tolerance) {
+                continue;
+            }
+            let mut proximity = self.proximity(p0, p1, triangle, best.value, tolerance);
+            // The patch's stretch of nearest points (an edge lying on a face).
+            let limit = (best.squared.sqrt() + tolerance).powi(2);
+            let (low, high) = candidates.iter().filter(|c| c.squared <= limit).fold(
+                (f64::INFINITY, f64::NEG_INFINITY),
+                |(l, h), c| {
+                    let half = 0.5 * c.interval;
+                    (l.min(c.value.0 - half), h.max(c.value.0 + half))
+                },
+            );
+            let (low, high) = (low.max(0.0), high.min(1.0));
+            proximity.tie = [low, high];
+            if high - low > best.interval * (1.0 + 1e-9) {
+                // Its midpoint, as `segment_proximity` does for the whole mesh.
+                let s = 0.5 * (low + high);
+                let point = p0 + (p1 - p0) * s;
+                let at: Vec<_> = members
+                    .iter()
+                    .map(|n| {
+                        let [a, b, c] = self.triangle(n.triangle);
+                        (
+                            n.triangle,
+                            segment_triangle_candidate(&point, &point, &a, &b, &c),
+                        )
+                    })
+                    .collect();
+                if let Some((t, c)) = at.iter().min_by(|x, y| x.1.squared.total_cmp(&y.1.squared)) {
+                    let mut mid = self.proximity(&point, &point, *t, c.value, tolerance);
+                    mid.s = s;
+                    mid.tie = [low, high];
+                    proximity = mid;
+                }
+            }
+            let duplicate = out.iter().any(|kept| {
+                let k = &kept.proximity;
+                (k.point_on_mesh - proximity.point_on_mesh).norm() <= SAME_POINT * size
+                    && (k.point_on_segment - proximity.point_on_segment).norm() <= SAME_POINT * size
+            });
+            if !duplicate {
+                out.push(LocalContact { patch, proximity });
+            }
+        }
+        out.sort_by(|a, b| {
+            (a.proximity.distance, a.patch)
+                .partial_cmp(&(b.proximity.distance, b.patch))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        out
+    }
+
+    /// Every triangle within `max_distance` of the segment.
+    fn within(&self, p0: &Point3<f64>, p1: &Point3<f64>, max_distance: f64) -> Vec<Near> {
+        let bound = SegmentBound::new(p0, p1);
+        let limit = max_distance.next_up();
+        let mut near = Vec::new();
+        self.trimesh.bvh().traverse(|node: &BvhNode| {
+            if bound.distance(node, limit) > limit {
+                return TraversalAction::Prune;
+            }
+            if let Some(leaf) = node.leaf_data() {
+                let triangle = leaf as usize;
+                let [a, b, c] = self.triangle(triangle);
+                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                if candidate.squared <= limit * limit {
+                    near.push(Near {
+                        triangle,
+                        candidate,
+                    });
+                }
+            }
+            TraversalAction::Continue
+        });
+        near
+    }
+
+    /// Whether the candidate's mesh point `q` is a local minimum of the distance from
+    /// the segment point over the surface: no other triangle touching `q` comes nearer
+    /// to that point (by more than `tolerance`).
+    fn is_local_minimum(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        triangle: usize,
+        best: &Candidate<SegmentTriangleParameters>,
+        near: &[Near],
+        tolerance: f64,
+    ) -> bool {
+        let (s, [u, v, w]) = best.value;
+        let point = p0 + (p1 - p0) * s;
+        let [a, b, c] = self.triangle(triangle);
+        let q = Point3::from(a.coords * u + b.coords * v + c.coords * w);
+        let distance = best.squared.sqrt();
+        let touch = CONTAINS * (1.0 + distance);
+        near.iter().filter(|n| n.triangle != triangle).all(|n| {
+            let [a, b, c] = self.triangle(n.triangle);
+            let low = a.inf(&b).inf(&c);
+            let high = a.sup(&b).sup(&c);
+            if (0..3).any(|k| q[k] < low[k] - touch || q[k] > high[k] + touch) {
+                return true;
+            }
+            if segment_triangle_candidate(&q, &q, &a, &b, &c).squared > touch * touch {
+                return true;
+            }
+            let other = segment_triangle_candidate(&point, &point, &a, &b, &c);
+            other.squared.sqrt() >= distance - tolerance
+        })
+    }
+}
+
+/// A triangle within this distance (relative to `1 + distance`, m) of a mesh point
+/// touches it.
+const CONTAINS: f64 = 1e-10;
+
+/// Two contacts whose points (on the mesh and on the segment) agree to this fraction
+/// of the geometry's size are one contact (a ridge seen from both faces).
+const SAME_POINT: f64 = 1e-9;

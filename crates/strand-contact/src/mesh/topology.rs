@@ -1,0 +1,138 @@
+//! Topology of the kept triangles: welded vertices, edge use, smooth patches and the
+//! [`MeshDiagnostics`].
+
+use std::collections::HashMap;
+
+use nalgebra::{Point3, Vector3};
+
+use super::diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
+
+/// Largest turn of the normal across a shared edge inside one smooth patch, rad (30°):
+/// a tessellated plane or a finely faceted cylinder is one patch, the two flanks of a
+/// groove (90° or sharper) or the faces of a box are separate patches.
+pub const SMOOTH_PATCH_ANGLE_RAD: f64 = std::f64::consts::PI / 6.0;
+
+/// The patch of every kept triangle (the smallest triangle index of its patch) and the
+/// diagnostics.
+pub(crate) struct Topology {
+    /// `patch[t]`: the patch of triangle `t`, named by its smallest triangle index.
+    pub patch: Vec<u32>,
+    /// What the user should know.
+    pub diagnostics: MeshDiagnostics,
+}
+
+/// Analyses `triangles` (kept, 0-based into `vertices`, m).
+pub(crate) fn analyse(
+    vertices: &[Point3<f64>],
+    triangles: &[[u32; 3]],
+    degenerate_skipped: usize,
+    bounding_box_m: [Point3<f64>; 2],
+) -> Topology {
+    // Weld vertices at exactly the same position (−0 and +0 alike).
+    let mut first_at: HashMap<[u64; 3], u32> = HashMap::with_capacity(vertices.len());
+    let welded: Vec<u32> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let bits = [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+            *first_at.entry(bits).or_insert(i as u32)
+        })
+        .collect();
+    let duplicate_vertices = vertices.len() - first_at.len();
+
+    // Per undirected welded edge: the triangles using it and whether they run min → max.
+    let mut edges: HashMap<(u32, u32), Vec<(u32, bool)>> =
+        HashMap::with_capacity(triangles.len() * 3 / 2);
+    let mut slivers = 0;
+    let mut normals = Vec::with_capacity(triangles.len());
+    for (t, indices) in triangles.iter().enumerate() {
+        let w = indices.map(|i| welded[i as usize]);
+        let [a, b, c] = indices.map(|i| vertices[i as usize]);
+        let cross = (b - a).cross(&(c - a));
+        let longest2 = [(b - a), (c - a), (c - b)]
+            .iter()
+            .map(Vector3::norm_squared)
+            .fold(0.0, f64::max);
+        if cross.norm() < SLIVER_RELATIVE_AREA * longest2 {
+            slivers += 1;
+        }
+        normals.push(cross.normalize());
+        for k in 0..3 {
+            let (u, v) = (w[k], w[(k + 1) % 3]);
+            edges
+                .entry((u.min(v), u.max(v)))
+                .or_default()
+                .push((t as u32, u < v));
+        }
+    }
+
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    let (mut boundary_edges, mut non_manifold_edges, mut misoriented_edges) = (0, 0, 0);
+    let smooth = SMOOTH_PATCH_ANGLE_RAD.cos();
+    for users in edges.values() {
+        match users.as_slice() {
+            [_] => boundary_edges += 1,
+            [(t1, f1), (t2, f2)] => {
+                // Consistent winding traverses the edge in opposite directions; compare
+                // the normals as if it did.
+                let sign = if f1 == f2 {
+                    misoriented_edges += 1;
+                    -1.0
+                } else {
+                    1.0
+                };
+                if sign * normals[*t1 as usize].dot(&normals[*t2 as usize]) >= smooth {
+                    union(&mut parent, *t1, *t2);
+                }
+            }
+            _ => non_manifold_edges += 1,
+        }
+    }
+    // Name each patch by its smallest triangle: the root of a triangle is found before
+    // any larger one of its patch.
+    let mut name: HashMap<u32, u32> = HashMap::new();
+    let patch: Vec<u32> = (0..triangles.len() as u32)
+        .map(|t| {
+            let root = find(&mut parent, t);
+            *name.entry(root).or_insert(t)
+        })
+        .collect();
+    let closed = !triangles.is_empty()
+        && boundary_edges == 0
+        && non_manifold_edges == 0
+        && misoriented_edges == 0;
+    Topology {
+        patch,
+        diagnostics: MeshDiagnostics {
+            triangles: triangles.len(),
+            degenerate_skipped,
+            slivers,
+            vertices: vertices.len(),
+            duplicate_vertices,
+            boundary_edges,
+            non_manifold_edges,
+            misoriented_edges,
+            closed,
+            patches: name.len(),
+            bounding_box_m,
+        },
+    }
+}
+
+/// Root of `x` with path halving.
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
+}
+
+/// Joins the sets of `a` and `b`.
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb) as usize] = ra.min(rb);
+    }
+}

@@ -1,0 +1,142 @@
+//! Vertex and edge gaps of one rod against one mesh: one per local contact (smooth
+//! patch) of every vertex sphere and of every edge that crosses a convex feature.
+
+use nalgebra::Point3;
+use strand_contact::{Gap, LocalContact, Obstacle, ObstacleMesh, RodGeometry};
+use strand_system::Model;
+
+use super::{Contact, Tag};
+
+/// How much nearer than both its vertices (relative to `1 + edge length`, m) an edge's
+/// interior point must be to give a gap of its own.
+const EDGE_BAND: f64 = 1e-12;
+
+impl Contact {
+    /// Vertex and edge gaps of rod `rod` against mesh `index`, appended to `out`.
+    ///
+    /// Every vertex is a sphere of the rod's radius with one gap per local contact
+    /// (one per smooth patch it is near: both flanks of a groove, the three faces of a
+    /// corner, one for a tessellated floor). An edge adds a gap of its own on a patch
+    /// only where its nearest point on that patch lies strictly inside it and nearer
+    /// than both its vertices (the edge crosses a convex feature), or at the inner ends
+    /// of a stretch lying along the patch.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn mesh_gaps(
+        &self,
+        model: &Model,
+        rod: usize,
+        geometry: &RodGeometry,
+        index: usize,
+        mesh: &ObstacleMesh,
+        margin_m: f64,
+        out: &mut Vec<(Gap, Tag)>,
+    ) -> Result<(), String> {
+        let reach = geometry.radius + margin_m;
+        let vertices = geometry.vertices;
+        let last_edge = vertices.len() - 2;
+        let touches = |point: &Point3<f64>| {
+            format!(
+                "rod '{}' touches mesh '{}' with its centreline at ({:.1}, {:.1}, {:.1}) mm",
+                model.system().rods[rod].name,
+                mesh.name(),
+                point.x * 1e3,
+                point.y * 1e3,
+                point.z * 1e3
+            )
+        };
+        let gap_of = |contact: &LocalContact, edge: usize, s: f64, point: Point3<f64>| {
+            let near = &contact.proximity;
+            let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
+            Ok::<_, String>(Gap {
+                rod,
+                edge,
+                s,
+                with: Obstacle::Mesh(index),
+                point,
+                witness: near.point_on_mesh,
+                normal,
+                gap: near.distance - geometry.radius,
+            })
+        };
+        // Per vertex: its local contacts (patch, distance).
+        let mut vertex_contacts: Vec<Vec<(usize, f64)>> = vec![Vec::new(); vertices.len()];
+        for (j, p) in vertices.iter().enumerate() {
+            if !Self::in_reach(mesh, p, p, reach) {
+                continue;
+            }
+            let (edge, s) = if j <= last_edge {
+                (j, 0.0)
+            } else {
+                (last_edge, 1.0)
+            };
+            for contact in mesh.local_contacts(p, p, reach) {
+                vertex_contacts[j].push((contact.patch, contact.proximity.distance));
+                out.push((gap_of(&contact, edge, s, *p)?, Tag::new(contact.patch, 0)));
+            }
+        }
+        // A vertex's distance to a patch: its contact there, else its nearest contact.
+        let distance_to = |j: usize, patch: usize| {
+            let contacts = &vertex_contacts[j];
+            contacts
+                .iter()
+                .find(|(p, _)| *p == patch)
+                .or_else(|| contacts.first())
+                .map_or(f64::INFINITY, |(_, d)| *d)
+        };
+        for edge in 0..=last_edge {
+            let (a, b) = (&vertices[edge], &vertices[edge + 1]);
+            if !Self::in_reach(mesh, a, b, reach) {
+                continue;
+            }
+            for contact in mesh.local_contacts(a, b, reach) {
+                let near = &contact.proximity;
+                let patch = contact.patch;
+                // Where the edge runs along the patch over a stretch (lying on a face and
+                // overhanging its ridge), the stretch's inner ends hold it; otherwise an
+                // interior point nearer than both vertices (the edge crosses a ridge).
+                let [low, high] = near.tie;
+                let band = EDGE_BAND * (1.0 + (b - a).norm());
+                let interior = near.s > 0.0 && near.s < 1.0;
+                let nearer = near.distance + band
+                    < distance_to(edge, patch).min(distance_to(edge + 1, patch));
+                let points: Vec<(f64, u8)> = if high - low > 1e-9 {
+                    [(low, 1), (high, 2)]
+                        .into_iter()
+                        .filter(|(s, _)| *s > 0.0 && *s < 1.0)
+                        .collect()
+                } else if interior && nearer {
+                    vec![(near.s, 0)]
+                } else {
+                    vec![]
+                };
+                for (s, end) in points {
+                    // The point's own contact on the patch (exact for a point).
+                    let point = a + (b - a) * s;
+                    let Some(at) = mesh
+                        .local_contacts(&point, &point, reach)
+                        .into_iter()
+                        .find(|c| c.patch == patch)
+                    else {
+                        continue;
+                    };
+                    out.push((gap_of(&at, edge, s, point)?, Tag::new(patch, end)));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether segment `[a, b]` is within `reach` (m) of the mesh's bounding box: most
+    /// features are far from most meshes, ruled out without a BVH search.
+    fn in_reach(mesh: &ObstacleMesh, a: &Point3<f64>, b: &Point3<f64>, reach: f64) -> bool {
+        let [low, high] = mesh.bounding_box();
+        let outside = (0..3)
+            .map(|k| {
+                (low[k] - a[k].max(b[k]))
+                    .max(a[k].min(b[k]) - high[k])
+                    .max(0.0)
+            })
+            .fold(0.0, |sum: f64, d| sum + d * d);
+        outside <= reach * reach
+    }
+}

@@ -1,0 +1,73 @@
+//! Checks of a starting configuration: no overlap with an obstacle or another piece of
+//! rod, and no rod inside a closed part.
+
+use strand_contact::Obstacle;
+use strand_system::{Model, SystemState};
+
+use super::{Contact, START_OVERLAP_M};
+
+impl Contact {
+    /// `Err` naming the deepest overlap of a rod's surface with a mesh or another rod
+    /// (beyond [`START_OVERLAP_M`]) at `state`.
+    pub(super) fn check_overlap(&self, model: &Model, state: &SystemState) -> Result<(), String> {
+        let gaps = self.gaps(model, state, self.margin_m)?;
+        let deepest = gaps
+            .iter()
+            .filter(|g| g.gap < -START_OVERLAP_M)
+            .min_by(|a, b| a.gap.total_cmp(&b.gap));
+        let Some(g) = deepest else {
+            return Ok(());
+        };
+        let rod = &model.system().rods[g.rod];
+        let s = rod.rod.arc_lengths();
+        let at = s[g.edge] + g.s * (s[g.edge + 1] - s[g.edge]);
+        Err(format!(
+            "rod '{}' starts inside {} '{}': the hose surface overlaps it by {:.3} mm at \
+             s = {:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: move the \
+             rod's route, supports or the obstacle so that the hose starts clear of it",
+            rod.name,
+            match g.with {
+                Obstacle::Mesh(_) => "mesh",
+                Obstacle::Rod { .. } => "rod",
+            },
+            self.obstacle_name(model, &g.with),
+            -g.gap * 1e3,
+            at * 1e3,
+            g.point.x * 1e3,
+            g.point.y * 1e3,
+            g.point.z * 1e3,
+        ))
+    }
+
+    /// `Err` naming the first rod vertex (by rod, then arc length) that lies inside a
+    /// closed mesh at `state`. Open meshes have no inside and are not checked.
+    pub(super) fn check_enclosed(&self, model: &Model, state: &SystemState) -> Result<(), String> {
+        for (r, rod_state) in state.rods.iter().enumerate() {
+            let rod = &model.system().rods[r];
+            for mesh in self.meshes.iter().filter(|m| m.diagnostics().closed) {
+                let Some(j) = rod_state
+                    .positions
+                    .iter()
+                    .position(|p| mesh.encloses(&nalgebra::Point3::from(*p)))
+                else {
+                    continue;
+                };
+                let p = rod_state.positions[j];
+                let s = rod.rod.arc_lengths()[j];
+                return Err(format!(
+                    "rod '{}' starts inside mesh '{}': its centreline is enclosed by the closed \
+                     mesh at s = {:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: \
+                     move the rod's route, supports or the obstacle so that the hose starts \
+                     outside the part",
+                    rod.name,
+                    mesh.name(),
+                    s * 1e3,
+                    p.x * 1e3,
+                    p.y * 1e3,
+                    p.z * 1e3,
+                ));
+            }
+        }
+        Ok(())
+    }
+}

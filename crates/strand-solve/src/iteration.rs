@@ -1,0 +1,536 @@
+//! One Newton/SQP solve on one model, in named phases:
+//!
+//! 1. **convergence test** ([`Iteration::kkt`]): the KKT residual `g − Σ λ_i a_i` in
+//!    newtons, feasibility and complementarity of the rows, and stagnation;
+//! 2. **model step** ([`Iteration::factor_damped`]): the Hessian with the gauge held
+//!    and a Levenberg–Marquardt damping `λ·diag|H|`, i.e. scaled per unknown (a
+//!    position's own `EA/h`, a rotation's own `EI/h`, a joint's own stiffness), raised
+//!    from the last accepted value until the factorisation is positive definite;
+//! 3. **direction** ([`Iteration::direction`]): the damped Newton step, projected by the
+//!    QP of the linearised inequalities (contact, joint limits);
+//! 4. **globalisation** ([`Iteration::globalise`]): a trust region in physical units
+//!    (largest rotation in rad, largest translation in m), shrunk on rejection, grown on
+//!    success;
+//! 5. **acceptance** (inside `globalise`): the ratio of achieved to predicted decrease of
+//!    the exact-penalty merit `E + μ Σ max(0, −gap)`; in the round-off regime, a
+//!    decrease of the residual instead;
+//! 6. **finish** ([`Iteration::finish`]): residual, multipliers and the stability
+//!    classification of the returned state.
+
+use strand_system::{Evaluation, Model, Residual, SystemState};
+
+use crate::constraints::{Constraints, Row, RowKey, limit_rows};
+use crate::gauge::Gauge;
+use crate::linear::symmetric_product;
+use crate::report::{Solution, SolveReport, Termination};
+use crate::stability::reduced_inertia;
+use crate::{SolverSettings, SparseCholesky};
+
+/// Smallest damping scale of an unknown relative to the largest Hessian diagonal.
+const DAMPING_FLOOR: f64 = 1e-4;
+
+/// Buffers reused by every solve of one model.
+pub(crate) struct Workspace {
+    pub cholesky: SparseCholesky,
+    pub diagonal: Vec<usize>,
+    pub gauge: Gauge,
+    /// Every rotation (and gauge) unknown held: the positions-only correction.
+    pub rotations: Gauge,
+    pub eval: Evaluation,
+    pub trial_eval: Evaluation,
+    pub damped: Vec<f64>,
+    pub step: Vec<f64>,
+    pub product: Vec<f64>,
+    pub rhs: Vec<f64>,
+}
+
+/// The state of one Newton/SQP iteration sequence.
+pub(crate) struct Iteration<'a> {
+    model: &'a Model,
+    constraints: Option<&'a dyn Constraints>,
+    settings: &'a SolverSettings,
+    work: &'a mut Workspace,
+    /// Current iterate and its rows.
+    state: SystemState,
+    rows: Vec<Row>,
+    /// Multipliers of the last step by key (sorted).
+    multipliers: Vec<(RowKey, f64)>,
+    merit_weight: f64,
+    /// Relative Levenberg–Marquardt damping of the last accepted step (0: pure Newton).
+    damping: f64,
+    /// Trust radius as a fraction of the settings' step limits.
+    radius: f64,
+    /// Largest translation of a vertex in one step, m.
+    max_translation: f64,
+    /// The tolerance applied: the larger of the setting and the round-off floor, N.
+    tolerance: f64,
+    report: SolveReport,
+    history: Vec<(f64, f64)>,
+}
+
+impl<'a> Iteration<'a> {
+    pub(crate) fn new(
+        model: &'a Model,
+        constraints: Option<&'a dyn Constraints>,
+        settings: &'a SolverSettings,
+        work: &'a mut Workspace,
+        mut state: SystemState,
+    ) -> Self {
+        model.enforce_supports(&mut state);
+        model.evaluate(&state, &mut work.eval, true);
+        let longest_rod = model
+            .system()
+            .rods
+            .iter()
+            .map(|r| r.rod.length())
+            .fold(0.0, f64::max);
+        let mut max_translation = settings.max_translation_step * longest_rod;
+        if let Some(c) = constraints {
+            max_translation = max_translation.min(c.max_translation_m());
+        }
+        let floor = residual_floor(model);
+        let mut report = SolveReport::new(model.dofs().len(), settings.tolerance_n);
+        report.residual_floor_n = floor;
+        report.gauge_freedoms = work.gauge.held().len();
+        let mut iteration = Self {
+            model,
+            constraints,
+            settings,
+            work,
+            state,
+            rows: Vec::new(),
+            multipliers: Vec::new(),
+            merit_weight: 0.0,
+            damping: 0.0,
+            radius: 1.0,
+            max_translation,
+            tolerance: settings.tolerance_n.max(floor),
+            report,
+            history: Vec::new(),
+        };
+        let mut rows = Vec::new();
+        iteration.collect_rows(&iteration.state.clone(), &mut rows);
+        iteration.rows = rows;
+        iteration
+    }
+
+    /// Runs the iteration to convergence or failure.
+    pub(crate) fn run(mut self) -> Solution {
+        let termination = loop {
+            let (residual, satisfied) = self.kkt(&self.rows, &self.work.eval.gradient);
+            if !residual.combined_n.is_finite() || !self.work.eval.energy.is_finite() {
+                break Termination::NotFinite;
+            }
+            if residual.combined_n <= self.tolerance && satisfied {
+                break Termination::Converged;
+            }
+            if self.stagnated(residual.combined_n) {
+                break Termination::Stagnated;
+            }
+            if self.report.iterations >= self.settings.max_iterations {
+                break Termination::MaxIterations;
+            }
+            self.report.iterations += 1;
+            if let Err(stop) = self.factor_damped() {
+                break stop;
+            }
+            if let Err(stop) = self.direction() {
+                break stop;
+            }
+            if let Err(stop) = self.globalise(residual.combined_n) {
+                break stop;
+            }
+        };
+        self.finish(termination)
+    }
+
+    /// Convergence test: the KKT residual `g − Σ λ_i a_i` with the multipliers of the
+    /// last step on the current rows, and whether every row is feasible and every row
+    /// with a multiplier closed (complementarity).
+    fn kkt(&self, rows: &[Row], gradient: &[f64]) -> (Residual, bool) {
+        let mut r = gradient.to_vec();
+        let mut satisfied = true;
+        let tolerance = self.settings.constraint_tolerance;
+        for row in rows {
+            let lambda = self.multiplier(row.key);
+            if row.value < -tolerance || (lambda > 0.0 && row.value > tolerance) {
+                satisfied = false;
+            }
+            for &(k, a) in &row.gradient {
+                r[k] -= lambda * a;
+            }
+        }
+        (self.model.residual(&r), satisfied)
+    }
+
+    fn multiplier(&self, key: RowKey) -> f64 {
+        self.multipliers
+            .binary_search_by(|(k, _)| k.cmp(&key))
+            .map_or(0.0, |i| self.multipliers[i].1)
+    }
+
+    /// Stagnation: the best residual has not dropped by the required factor within the
+    /// window while the energy no longer changes beyond round-off.
+    fn stagnated(&mut self, residual: f64) -> bool {
+        let energy = self.work.eval.energy;
+        self.history.push((residual, energy));
+        let window = self.settings.stagnation_iterations;
+        if self.history.len() <= window {
+            return false;
+        }
+        let (old_residual, old_energy) = self.history[self.history.len() - 1 - window];
+        let best_recent = self.history[self.history.len() - window..]
+            .iter()
+            .map(|h| h.0)
+            .fold(f64::INFINITY, f64::min);
+        let best_before = self.history[..self.history.len() - window]
+            .iter()
+            .map(|h| h.0)
+            .fold(f64::INFINITY, f64::min)
+            .min(old_residual);
+        let noise = 1e-12 * energy.abs().max(old_energy.abs()).max(1e-300);
+        best_recent > self.settings.stagnation_reduction * best_before
+            && (old_energy - energy).abs() <= noise
+    }
+
+    /// Model step: factorises `H + λ·diag|H|` (gauge held), with the smallest damping
+    /// from the last accepted one down (or up) that is positive definite.
+    fn factor_damped(&mut self) -> Result<(), Termination> {
+        let settings = self.settings;
+        let work = &mut *self.work;
+        let mut damping = self.damping;
+        loop {
+            work.damped.copy_from_slice(&work.eval.hessian);
+            if damping > 0.0 {
+                // Per-unknown scale: the unknown's own diagonal, but at least a fixed
+                // fraction of the largest one, so that soft directions are not damped
+                // away entirely while stiff ones relax (measured: pure Marquardt scaling
+                // lets a strained start drift to another equilibrium).
+                let largest = work
+                    .diagonal
+                    .iter()
+                    .map(|&k| work.eval.hessian[k].abs())
+                    .fold(f64::MIN_POSITIVE, f64::max);
+                for &k in &work.diagonal {
+                    let d = work.eval.hessian[k].abs().max(DAMPING_FLOOR * largest);
+                    work.damped[k] += damping * d;
+                }
+            }
+            work.gauge.fix_matrix(&mut work.damped);
+            if work.cholesky.factor(&work.damped) {
+                break;
+            }
+            damping = if damping == 0.0 {
+                settings.min_damping
+            } else {
+                damping * settings.damping_increase
+            };
+            if damping > settings.max_damping {
+                return Err(Termination::LineSearchFailed);
+            }
+        }
+        if damping > 0.0 {
+            self.report.shifted_iterations += 1;
+        }
+        self.damping = damping;
+        Ok(())
+    }
+
+    /// Direction: the damped Newton step `−(H + λD)⁻¹ g`, then the QP of the
+    /// linearised inequalities with the same matrix.
+    fn direction(&mut self) -> Result<(), Termination> {
+        let work = &mut *self.work;
+        for (s, g) in work.step.iter_mut().zip(&work.eval.gradient) {
+            *s = -g;
+        }
+        work.gauge.fix_vector(&mut work.step);
+        work.cholesky.solve_in_place(&mut work.step);
+        if self.rows.is_empty() {
+            return Ok(());
+        }
+        let hint: Vec<usize> = (0..self.rows.len())
+            .filter(|&i| {
+                self.multipliers
+                    .binary_search_by(|(k, _)| k.cmp(&self.rows[i].key))
+                    .is_ok()
+            })
+            .collect();
+        work.rhs.copy_from_slice(&work.eval.gradient);
+        work.gauge.fix_vector(&mut work.rhs);
+        let constrained = crate::sqp::constrained_step(
+            self.model.pattern(),
+            &work.damped,
+            &mut work.cholesky,
+            &work.rhs,
+            &self.rows,
+            &work.step,
+            &hint,
+        )
+        .map_err(|_| Termination::SubproblemFailed)?;
+        work.step.copy_from_slice(&constrained.step);
+        self.multipliers = self
+            .rows
+            .iter()
+            .zip(&constrained.multipliers)
+            .filter(|(_, l)| **l > 0.0)
+            .map(|(r, l)| (r.key, *l))
+            .collect();
+        self.multipliers.sort_by_key(|a| a.0);
+        let largest = self.multipliers.iter().fold(0.0f64, |m, (_, l)| m.max(*l));
+        self.merit_weight = self.merit_weight.max(2.0 * largest);
+        Ok(())
+    }
+
+    /// Globalisation and acceptance: tries the step scaled into the trust region,
+    /// shrinking the region on rejection; adapts the damping and the region to the
+    /// ratio of achieved to predicted decrease.
+    fn globalise(&mut self, residual: f64) -> Result<(), Termination> {
+        let settings = self.settings;
+        let (rotation, translation) = self.model.step_size(&self.work.step);
+        let fits = |radius: f64| {
+            (radius * settings.max_rotation_step_rad / rotation.max(1e-300))
+                .min(radius * self.max_translation / translation.max(1e-300))
+                .min(1.0)
+        };
+        // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
+        let slope: f64 = self
+            .work
+            .step
+            .iter()
+            .zip(&self.work.eval.gradient)
+            .map(|(s, g)| s * g)
+            .sum();
+        symmetric_product(
+            self.model.pattern(),
+            &self.work.eval.hessian,
+            &self.work.step,
+            &mut self.work.product,
+        );
+        let curvature: f64 = self
+            .work
+            .step
+            .iter()
+            .zip(&self.work.product)
+            .map(|(s, p)| s * p)
+            .sum();
+        let violation = violation_of(&self.rows);
+        let merit = self.work.eval.energy + self.merit_weight * violation;
+
+        let mut trial = self.state.clone();
+        let mut trial_rows: Vec<Row> = Vec::new();
+        let mut t = fits(self.radius);
+        for attempt in 0..=settings.max_line_search_steps {
+            self.model
+                .retract_into(&self.state, &self.work.step, t, &mut trial);
+            let full = attempt == 0;
+            let energy = if full {
+                self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                self.work.trial_eval.energy
+            } else {
+                self.model.energy(&trial)
+            };
+            let admissible = self.collect_rows(&trial, &mut trial_rows);
+            let trial_merit = if admissible {
+                energy + self.merit_weight * violation_of(&trial_rows)
+            } else {
+                f64::INFINITY
+            };
+            // The linearised rows close the violation in proportion to t.
+            let predicted =
+                -(t * slope + 0.5 * t * t * curvature) + self.merit_weight * violation * t;
+            let achieved = merit - trial_merit;
+            let noise = 1e-13 * self.work.eval.energy.abs().max(energy.abs()).max(1e-12);
+            let mut accepted = trial_merit.is_finite()
+                && predicted > 0.0
+                && achieved >= settings.acceptance_ratio * predicted;
+            let ratio = if predicted > 0.0 {
+                achieved / predicted
+            } else {
+                0.0
+            };
+            // Round-off regime: merit differences are noise; accept a step that
+            // reduces the residual.
+            if !accepted
+                && trial_merit.is_finite()
+                && achieved.abs() <= noise
+                && predicted.abs() <= noise
+            {
+                let evaluated_now = !full;
+                if evaluated_now {
+                    self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                }
+                let (trial_residual, _) = self.kkt(&trial_rows, &self.work.trial_eval.gradient);
+                accepted = trial_residual.combined_n < residual;
+                if accepted {
+                    self.accept(trial, trial_rows, t, 1.0);
+                    return Ok(());
+                }
+            }
+            if accepted {
+                let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
+                    .min(self.radius * self.max_translation / translation.max(1e-300));
+                if full && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
+                    // The model is exact and the step well inside the region (a damped
+                    // step along negative curvature): extend it while the energy falls.
+                    let (mut best_t, mut best_energy) = (t, trial_merit);
+                    let mut longer = trial.clone();
+                    let mut scale = 2.0;
+                    while scale <= room {
+                        self.model
+                            .retract_into(&self.state, &self.work.step, scale, &mut longer);
+                        let energy = self.model.energy(&longer);
+                        if !(energy < best_energy) {
+                            break;
+                        }
+                        (best_t, best_energy) = (scale, energy);
+                        scale *= 2.0;
+                    }
+                    if best_t > t {
+                        self.model
+                            .retract_into(&self.state, &self.work.step, best_t, &mut trial);
+                        self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                        self.collect_rows(&trial, &mut trial_rows);
+                    }
+                }
+                if !full {
+                    self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                }
+                self.accept(trial, trial_rows, t, ratio);
+                return Ok(());
+            }
+            if full
+                && trial_merit.is_finite()
+                && predicted > 0.0
+                && self.rows.is_empty()
+                && trial_rows.is_empty()
+            {
+                // Second-order correction: a finite rotation of the frames strains the
+                // stiff axial and shear springs beyond what the quadratic model sees.
+                // At the trial's frames the energy is quadratic in the positions, so
+                // one positions-only Newton step removes that strain exactly.
+                let work = &mut *self.work;
+                work.damped.copy_from_slice(&work.trial_eval.hessian);
+                work.rotations.fix_matrix(&mut work.damped);
+                for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
+                    *c = -g;
+                }
+                work.rotations.fix_vector(&mut work.rhs);
+                if !work.cholesky.factor(&work.damped) {
+                    // Not convex in the positions (a body or clip couples them to
+                    // rotations): shorten the step instead.
+                    self.radius = (self.radius * 0.25).min(0.25 * t / fits(1.0).max(1e-300));
+                    t = fits(self.radius);
+                    continue;
+                }
+                work.cholesky.solve_in_place(&mut work.rhs);
+                let corrected = self.model.retract(&trial, &work.rhs);
+                let energy = self.model.energy(&corrected);
+                if merit - energy >= settings.acceptance_ratio * predicted {
+                    self.model
+                        .evaluate(&corrected, &mut self.work.trial_eval, true);
+                    let ratio = (merit - energy) / predicted;
+                    self.accept(corrected, trial_rows, t, ratio);
+                    return Ok(());
+                }
+            }
+            // Rejected: shrink the region (at most a quarter of the tried step).
+            self.radius = (self.radius * 0.25).min(0.25 * t / fits(1.0).max(1e-300));
+            t = fits(self.radius);
+        }
+        Err(Termination::LineSearchFailed)
+    }
+
+    /// Moves to an accepted trial and adapts damping and trust radius.
+    fn accept(&mut self, trial: SystemState, rows: Vec<Row>, t: f64, ratio: f64) {
+        let settings = self.settings;
+        self.state = trial;
+        self.rows = rows;
+        std::mem::swap(&mut self.work.eval, &mut self.work.trial_eval);
+        let full_step = t >= 1.0;
+        if ratio >= settings.trust_ratio {
+            self.radius = (self.radius * 2.0).min(1.0);
+            if full_step {
+                self.damping /= settings.damping_decrease;
+                if self.damping < settings.min_damping {
+                    self.damping = 0.0;
+                }
+            }
+        } else {
+            self.damping = (self.damping * settings.damping_increase).max(settings.min_damping);
+        }
+    }
+
+    /// Rows at `state`: joint limits and (if any) contact. `false` when the state is not
+    /// admissible (a centreline through an obstacle).
+    fn collect_rows(&self, state: &SystemState, rows: &mut Vec<Row>) -> bool {
+        rows.clear();
+        limit_rows(self.model, state, rows);
+        match self.constraints {
+            Some(c) => c.rows(self.model, state, rows).is_ok(),
+            None => true,
+        }
+    }
+
+    /// Finish: residual, multipliers per row and the stability of the returned state.
+    fn finish(mut self, termination: Termination) -> Solution {
+        let (residual, _) = self.kkt(&self.rows, &self.work.eval.gradient);
+        let converged = termination == Termination::Converged;
+        let active: Vec<&Row> = self
+            .rows
+            .iter()
+            .filter(|r| self.multiplier(r.key) > 0.0)
+            .collect();
+        let inertia = reduced_inertia(
+            self.model.pattern(),
+            &self.work.eval.hessian,
+            &self.work.gauge,
+            &active,
+            self.settings.neutral_tolerance,
+        );
+        let report = &mut self.report;
+        match inertia {
+            Ok(inertia) => {
+                report.negative_directions = inertia.negative;
+                report.neutral_directions = inertia.neutral;
+                report.stable = converged && inertia.negative == 0;
+            }
+            Err(_) => report.stable = false,
+        }
+        report.converged = converged;
+        report.termination = termination;
+        report.residual = residual;
+        report.energy_j = self.work.eval.energy;
+        report.fine_iterations = report.iterations;
+        let constraints = self
+            .rows
+            .iter()
+            .map(|row| (row.clone(), self.multiplier(row.key)))
+            .collect();
+        Solution {
+            report: self.report,
+            state: self.state,
+            constraints,
+        }
+    }
+}
+
+/// Total violation `Σ max(0, −value)` of the rows.
+fn violation_of(rows: &[Row]) -> f64 {
+    rows.iter().map(|r| (-r.value).max(0.0)).sum()
+}
+
+/// The round-off floor of the residual in N: a strain computed to one ulp times the
+/// largest axial or shear stiffness (positions are stored compensated, so it does not
+/// grow with the distance from the origin).
+fn residual_floor(model: &Model) -> f64 {
+    let stiffest = model
+        .system()
+        .rods
+        .iter()
+        .map(|r| {
+            let s = r.rod.section().strain_stiffness();
+            s.max()
+        })
+        .fold(0.0, f64::max);
+    2.0 * f64::EPSILON * stiffest
+}

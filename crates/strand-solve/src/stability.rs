@@ -1,0 +1,184 @@
+//! Stability of an equilibrium from the inertia of the reduced Hessian.
+//!
+//! The admissible directions at an equilibrium are those that keep the supports
+//! (eliminated by construction), the gauge (held, see [`crate::gauge`]) and every
+//! active inequality (contact, joint stop carrying a force): `a_i · d = 0`. The
+//! equilibrium is stable when the Hessian restricted to them, `Zᵀ H Z`, has no negative
+//! eigenvalue. Its inertia is read, without forming `Z`, from the bordered matrix
+//!
+//! ```text
+//!     K(σ) = [ H + σD   Aᵀ  ]
+//!            [ A       −δ I ]
+//! ```
+//!
+//! whose sparse `LDLᵀ` factorisation has `neg(K) = neg(H + σD + AᵀA/δ) + m` negative
+//! pivots (Sylvester's law of inertia; a tiny `δ` makes the penalty `AᵀA/δ` exclude the
+//! constrained directions and keeps dependent rows harmless). `D` is the Hessian's own
+//! diagonal, so `σ` is a relative eigenvalue threshold, the same for positions,
+//! rotations and joints. Two factorisations classify every eigenvalue:
+//! `neg(K(+τ)) − m` directions are negative beyond round-off and
+//! `neg(K(−τ)) − neg(K(+τ))` are neutral (`|λ| ≤ τ`, e.g. a buckled round rod that can
+//! turn its buckling plane about the chord). Neither depends on the sign round-off
+//! gives an exactly neutral direction.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Par, Side};
+use strand_system::HessianPattern;
+
+use crate::SolveError;
+use crate::constraints::Row;
+use crate::gauge::Gauge;
+
+/// Curvature counts of the reduced Hessian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Inertia {
+    /// Directions with a relative eigenvalue below `−τ`.
+    pub negative: usize,
+    /// Directions with `|λ| ≤ τ`.
+    pub neutral: usize,
+}
+
+/// Classifies the Hessian `hessian` (values of `pattern`, upper triangle) reduced to the
+/// directions that keep `gauge` and the `active` rows, with relative threshold `tau`.
+pub fn reduced_inertia(
+    pattern: &HessianPattern,
+    hessian: &[f64],
+    gauge: &Gauge,
+    active: &[&Row],
+    tau: f64,
+) -> Result<Inertia, SolveError> {
+    let bordered = Bordered::new(pattern, active);
+    let mut values = vec![0.0; bordered.nnz()];
+    let mut count = |sigma: f64| -> Result<usize, SolveError> {
+        bordered.fill(hessian, gauge, active, sigma, &mut values);
+        let negative = bordered.negative_pivots(&values)?;
+        Ok(negative.saturating_sub(active.len()))
+    };
+    let below_plus = count(tau)?;
+    let below_minus = count(-tau)?;
+    Ok(Inertia {
+        negative: below_plus,
+        neutral: below_minus.saturating_sub(below_plus),
+    })
+}
+
+/// The bordered pattern `[H Aᵀ; A −δI]` (upper triangle, CSC) with a simplicial
+/// symbolic analysis in the natural order (the rows of `A` last, so their pivots come
+/// after the Hessian's).
+struct Bordered<'p> {
+    pattern: &'p HessianPattern,
+    structure: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    /// Per active row: value offsets of its entries and of its diagonal.
+    row_offsets: Vec<(Vec<usize>, usize)>,
+}
+
+impl<'p> Bordered<'p> {
+    fn new(pattern: &'p HessianPattern, active: &[&Row]) -> Self {
+        let n = pattern.dim();
+        let mut col_ptr = pattern.col_ptr.clone();
+        let mut row_idx = pattern.row_idx.clone();
+        let mut row_offsets = Vec::with_capacity(active.len());
+        for (i, row) in active.iter().enumerate() {
+            let mut entries: Vec<usize> = row.gradient.iter().map(|&(k, _)| k).collect();
+            entries.sort_unstable();
+            entries.dedup();
+            let start = row_idx.len();
+            row_idx.extend_from_slice(&entries);
+            row_idx.push(n + i);
+            col_ptr.push(row_idx.len());
+            let offsets = (start..start + entries.len()).collect();
+            row_offsets.push((offsets, row_idx.len() - 1));
+        }
+        let dim = n + active.len();
+        let structure = SymbolicSparseColMat::new_checked(dim, dim, col_ptr, None, row_idx);
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(
+            structure.as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            params,
+        )
+        .expect("the bordered pattern is square and sorted");
+        Self {
+            pattern,
+            structure,
+            symbolic,
+            row_offsets,
+        }
+    }
+
+    fn nnz(&self) -> usize {
+        self.structure.row_idx().len()
+    }
+
+    /// Values of `K(σ)`.
+    fn fill(&self, hessian: &[f64], gauge: &Gauge, active: &[&Row], sigma: f64, out: &mut [f64]) {
+        let h_nnz = hessian.len();
+        out[..h_nnz].copy_from_slice(hessian);
+        let mut largest_diagonal = f64::MIN_POSITIVE;
+        for col in 0..self.pattern.dim() {
+            let end = self.pattern.col_ptr[col + 1];
+            // The diagonal is the last entry of each upper-triangular column.
+            let d = hessian[end - 1].abs().max(f64::MIN_POSITIVE);
+            largest_diagonal = largest_diagonal.max(d);
+            out[end - 1] += sigma * d;
+        }
+        gauge.fix_matrix(&mut out[..h_nnz]);
+        for ((offsets, diagonal), row) in self.row_offsets.iter().zip(active) {
+            for slot in offsets {
+                out[*slot] = 0.0;
+            }
+            let mut norm_squared = 0.0;
+            for &(k, a) in &row.gradient {
+                let slot = offsets
+                    .iter()
+                    .find(|&&s| self.structure.row_idx()[s] == k)
+                    .expect("entry in bordered column");
+                out[*slot] += a;
+                norm_squared += a * a;
+            }
+            // δ such that the penalty AᵀA/δ exceeds every diagonal by 1e10.
+            out[*diagonal] = -1e-10 * norm_squared.max(f64::MIN_POSITIVE) / largest_diagonal;
+        }
+    }
+
+    /// Number of negative pivots of the `LDLᵀ` factorisation of `values`.
+    fn negative_pivots(&self, values: &[f64]) -> Result<usize, SolveError> {
+        let mut factor = vec![0.0; self.symbolic.len_val()];
+        let mut buffer = MemBuffer::try_new(
+            self.symbolic
+                .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
+        )
+        .map_err(|_| SolveError::Linear("out of memory for the stability test".into()))?;
+        let matrix = SparseColMatRef::new(self.structure.as_ref(), values);
+        self.symbolic
+            .factorize_numeric_ldlt::<f64>(
+                &mut factor,
+                matrix,
+                Side::Upper,
+                LdltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|e| SolveError::Linear(format!("stability test: {e:?}")))?;
+        let SymbolicCholeskyRaw::Simplicial(simplicial) = self.symbolic.raw() else {
+            unreachable!("simplicial analysis was forced");
+        };
+        let col_ptr = simplicial.col_ptr();
+        Ok((0..self.structure.ncols())
+            .filter(|&k| factor[col_ptr[k]] < 0.0)
+            .count())
+    }
+}
