@@ -176,9 +176,9 @@ pub fn convergence_grid(count: usize) -> Vec<GridCase> {
             rng.pick(&meshes)
         };
         let span = if end == Free { 1.0 } else { rng.pick(&spans) };
-        let gravity = rng.next() % 2 == 0;
-        let dead_load = end == Free && (!gravity || rng.next() % 2 == 0);
-        let route = rng.next() % 2 == 0;
+        let gravity = rng.next().is_multiple_of(2);
+        let dead_load = end == Free && (!gravity || rng.next().is_multiple_of(2));
+        let route = rng.next().is_multiple_of(2);
         let clip = rng.pick(&clips);
         out.push(GridCase {
             index,

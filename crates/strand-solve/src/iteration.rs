@@ -379,7 +379,7 @@ impl<'a> Iteration<'a> {
                         self.model
                             .retract_into(&self.state, &self.work.step, scale, &mut longer);
                         let energy = self.model.energy(&longer);
-                        if !(energy < best_energy) {
+                        if energy.partial_cmp(&best_energy) != Some(std::cmp::Ordering::Less) {
                             break;
                         }
                         (best_t, best_energy) = (scale, energy);
