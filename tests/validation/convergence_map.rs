@@ -180,7 +180,14 @@ fn every_case_of_the_convergence_map_converges_in_few_iterations() {
         "{:<78} {:>5} {:>5} {:>5} {:>5} {:>10} {:>6} {:>4} {:>4} {:>8}",
         "case", "iter", "fine", "coars", "cont", "residual", "stable", "neg", "neu", "time"
     );
-    for case in &grid {
+    // `STRAND_MAP_CASE=<index>` runs one case of the map (to trace it).
+    let only: Option<usize> = std::env::var("STRAND_MAP_CASE")
+        .ok()
+        .and_then(|v| v.parse().ok());
+    for (index, case) in grid.iter().enumerate() {
+        if only.is_some_and(|o| o != index) {
+            continue;
+        }
         let label = case.label();
         let model = match Model::try_new(grid_system(case)) {
             Ok(model) => model,

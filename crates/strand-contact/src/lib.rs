@@ -8,7 +8,10 @@
 //!   contact constraints at).
 //! - [`mesh`]: environment meshes ([`ObstacleMesh`]): OBJ files or triangle lists
 //!   turned into a parry `TriMesh` with its BVH, built once and shared (`Arc`) across
-//!   iterations, variants and batches; nearest-point queries of segments.
+//!   iterations, variants and batches; nearest-point queries of segments, one local
+//!   contact per smooth patch ([`ObstacleMesh::local_contacts`]: both flanks of a
+//!   groove), the inside of closed meshes ([`ObstacleMesh::encloses`]) and
+//!   [`MeshDiagnostics`] (defects, closedness, bounding box).
 //! - [`gaps`]: the contact gaps of whole rods (each edge a capsule of the rod's outer
 //!   radius) against meshes and against each other (with a broad phase), with the
 //!   data the solver needs to linearise them.

@@ -164,14 +164,18 @@ impl Contact {
         constraints: &[(Row, f64)],
     ) -> Result<Vec<ContactForce>, String> {
         let gaps = self.tagged_gaps(model, state, self.margin_m)?;
+        // Multipliers by key, looked up by bisection (not a scan per gap: thousands of
+        // rod–rod pairs at fine discretisations).
+        let mut by_key: Vec<(RowKey, f64)> =
+            constraints.iter().map(|(row, l)| (row.key, *l)).collect();
+        by_key.sort_by_key(|(k, _)| *k);
         Ok(gaps
             .into_iter()
             .map(|(gap, tag)| {
                 let key = key_of(&gap, tag);
-                let force_n = constraints
-                    .iter()
-                    .find(|(row, _)| row.key == key)
-                    .map_or(0.0, |(_, l)| *l);
+                let force_n = by_key
+                    .binary_search_by_key(&key, |(k, _)| *k)
+                    .map_or(0.0, |i| by_key[i].1);
                 ContactForce { gap, force_n }
             })
             .collect())

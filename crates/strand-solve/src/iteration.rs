@@ -66,6 +66,8 @@ pub(crate) struct Iteration<'a> {
     tolerance: f64,
     report: SolveReport,
     history: Vec<(f64, f64)>,
+    /// Print every trial step to stderr (environment variable `STRAND_TRACE` set).
+    trace: bool,
 }
 
 impl<'a> Iteration<'a> {
@@ -107,6 +109,7 @@ impl<'a> Iteration<'a> {
             tolerance: settings.tolerance_n.max(floor),
             report,
             history: Vec::new(),
+            trace: std::env::var_os("STRAND_TRACE").is_some(),
         };
         let mut rows = Vec::new();
         iteration.collect_rows(&iteration.state.clone(), &mut rows);
@@ -287,9 +290,10 @@ impl<'a> Iteration<'a> {
     fn globalise(&mut self, residual: f64) -> Result<(), Termination> {
         let settings = self.settings;
         let (rotation, translation) = self.model.step_size(&self.work.step);
-        let fits = |radius: f64| {
+        let max_translation = self.max_translation;
+        let fits = move |radius: f64| {
             (radius * settings.max_rotation_step_rad / rotation.max(1e-300))
-                .min(radius * self.max_translation / translation.max(1e-300))
+                .min(radius * max_translation / translation.max(1e-300))
                 .min(1.0)
         };
         // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
@@ -323,12 +327,30 @@ impl<'a> Iteration<'a> {
             self.model
                 .retract_into(&self.state, &self.work.step, t, &mut trial);
             let full = attempt == 0;
-            let energy = if full {
+            let mut energy = if full {
                 self.model.evaluate(&trial, &mut self.work.trial_eval, true);
                 self.work.trial_eval.energy
             } else {
                 self.model.energy(&trial)
             };
+            if full && self.rows.is_empty() {
+                // A full step that the quadratic model did not foresee (energy above
+                // the model's prediction, or a larger residual) gets the positions-only
+                // correction first; near convergence it is skipped (Newton's fast path).
+                let predicted_energy = self.work.eval.energy + t * slope + 0.5 * t * t * curvature;
+                let (trial_residual, _) = self.kkt(&[], &self.work.trial_eval.gradient);
+                let surprising = energy - self.work.eval.energy
+                    > settings.trust_ratio * (predicted_energy - self.work.eval.energy)
+                    || trial_residual.combined_n > residual;
+                if surprising && let Some(relaxed) = self.relax_positions(&trial) {
+                    let relaxed_energy = self.model.energy(&relaxed);
+                    if relaxed_energy < energy {
+                        trial = relaxed;
+                        self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                        energy = self.work.trial_eval.energy;
+                    }
+                }
+            }
             let admissible = self.collect_rows(&trial, &mut trial_rows);
             let trial_merit = if admissible {
                 energy + self.merit_weight * violation_of(&trial_rows)
@@ -366,6 +388,12 @@ impl<'a> Iteration<'a> {
                     return Ok(());
                 }
             }
+            if self.trace {
+                eprintln!(
+                    "strand-solve: iteration {:3} trial {attempt}: residual {residual:.3e} N, energy {:.9e} J, damping {:.1e}, radius {:.2e}, t {t:.2e}, ratio {ratio:.3}, rotation {rotation:.2e} rad, translation {translation:.2e} m",
+                    self.report.iterations, self.work.eval.energy, self.damping, self.radius
+                );
+            }
             if accepted {
                 let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
                     .min(self.radius * self.max_translation / translation.max(1e-300));
@@ -398,46 +426,34 @@ impl<'a> Iteration<'a> {
                 self.accept(trial, trial_rows, t, ratio);
                 return Ok(());
             }
-            if full
-                && trial_merit.is_finite()
-                && predicted > 0.0
-                && self.rows.is_empty()
-                && trial_rows.is_empty()
-            {
-                // Second-order correction: a finite rotation of the frames strains the
-                // stiff axial and shear springs beyond what the quadratic model sees.
-                // At the trial's frames the energy is quadratic in the positions, so
-                // one positions-only Newton step removes that strain exactly.
-                let work = &mut *self.work;
-                work.damped.copy_from_slice(&work.trial_eval.hessian);
-                work.rotations.fix_matrix(&mut work.damped);
-                for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
-                    *c = -g;
-                }
-                work.rotations.fix_vector(&mut work.rhs);
-                if !work.cholesky.factor(&work.damped) {
-                    // Not convex in the positions (a body or clip couples them to
-                    // rotations): shorten the step instead.
-                    self.radius = (self.radius * 0.25).min(0.25 * t / fits(1.0).max(1e-300));
-                    t = fits(self.radius);
-                    continue;
-                }
-                work.cholesky.solve_in_place(&mut work.rhs);
-                let corrected = self.model.retract(&trial, &work.rhs);
-                let energy = self.model.energy(&corrected);
-                if merit - energy >= settings.acceptance_ratio * predicted {
-                    self.model
-                        .evaluate(&corrected, &mut self.work.trial_eval, true);
-                    let ratio = (merit - energy) / predicted;
-                    self.accept(corrected, trial_rows, t, ratio);
-                    return Ok(());
-                }
-            }
             // Rejected: shrink the region (at most a quarter of the tried step).
             self.radius = (self.radius * 0.25).min(0.25 * t / fits(1.0).max(1e-300));
             t = fits(self.radius);
         }
         Err(Termination::LineSearchFailed)
+    }
+
+    /// Positions-only correction: at fixed frames the rod energy is quadratic in the
+    /// positions (strains are linear in them), so one Newton step on the positions
+    /// alone, with the Hessian at `trial` (`work.trial_eval`), removes the axial and
+    /// shear strain that a finite rotation of the frames induced. `None` when that
+    /// block is not positive definite (a body or clip couples positions to rotations).
+    fn relax_positions(&mut self, trial: &SystemState) -> Option<SystemState> {
+        let work = &mut *self.work;
+        work.damped.copy_from_slice(&work.trial_eval.hessian);
+        work.rotations.fix_matrix(&mut work.damped);
+        for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
+            *c = -g;
+        }
+        work.rotations.fix_vector(&mut work.rhs);
+        let factored = work.cholesky.factor(&work.damped);
+        // The damped factor of this iteration is needed again for nothing but a
+        // rejection's shorter step along the same direction, which reuses `step`.
+        if !factored {
+            return None;
+        }
+        work.cholesky.solve_in_place(&mut work.rhs);
+        Some(self.model.retract(trial, &work.rhs))
     }
 
     /// Moves to an accepted trial and adapts damping and trust radius.
