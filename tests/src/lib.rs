@@ -26,7 +26,6 @@
 //! * [`reference::ode`] — the fixed-step Gragg–Bulirsch–Stoer integrator
 //!   shared by the references.
 //!
-//! [`grid`] is the parameter grid of the solver's convergence map (plain data).
-
-pub mod grid;
+//! The parameter grid of the solver's convergence map lives in `strand_cli::bench::grid`
+//! (shared with `strand bench --grid`).
 pub mod reference;

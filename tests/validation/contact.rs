@@ -43,6 +43,16 @@ fn solved(model: &Model, contact: &Contact, initial: SystemState) -> (Solution, 
     let settings = SolverSettings::default();
     let solution = solve_constrained(model, contact, initial, &settings).unwrap();
     let report = &solution.report;
+    println!(
+        "PROBE solve: converged {} {:?} iterations {} (coarse {}, cont {}) residual {:.2e} time {:.3}s",
+        report.converged,
+        report.termination,
+        report.iterations,
+        report.coarse_iterations,
+        report.continuation_iterations,
+        report.residual.combined_n,
+        report.solve_seconds
+    );
     assert!(report.converged, "not converged: {report:?}");
     assert!(report.residual.combined_n <= settings.tolerance_n);
     assert!(report.stable, "not stable");
@@ -467,4 +477,12 @@ fn the_longer_hose_variant_of_the_contact_case_converges_without_penetration() {
     let contact = built.contact().expect("the case has an environment");
     let (_, forces) = solved(&built.model, &contact, built.initial.clone());
     assert!(forces.iter().any(|f| f.force_n > 0.0), "hose 3 still rests");
+}
+
+#[test]
+fn probe_drum_refinement() {
+    for n in std::env::var("PROBE_N").map(|s| vec![s.parse::<usize>().unwrap()]).unwrap_or(vec![40, 80, 160, 320]) {
+        let r = std::panic::catch_unwind(|| hose_over_drum(n));
+        println!("PROBE drum {n}: {r:?}");
+    }
 }

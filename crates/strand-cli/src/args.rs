@@ -111,7 +111,17 @@ pub enum Command {
         title: Option<String>,
     },
     /// Benchmark: solve time, iterations and residual at several discretisations
-    /// (medians of repeated solves; the paper's IPOPT times for comparison).
+    /// (medians of repeated solves; the paper's IPOPT times for comparison), or with
+    /// --grid the convergence map of issue 9.
+    #[command(after_help = "\
+With --grid (no CASE, --segments or --repeats), the first N cases of the seeded
+convergence map (single rods: clamp/pin/free/port ends, EI 10 to 1e-6 N m^2, EA/EI
+up to 1e12, 10 to 1000 edges, spans up to 0.999 L, gravity, dead loads, routes,
+clips) are solved once each with the default solver settings. One line per case:
+label, Newton iterations (all, fine, coarse, continuation), residual [N], stable,
+cold solve time [ms]; then the converged count, total/median/max iterations, median
+and total time, and the issue-9 targets (all converge, median iterations <= 20, max
+<= 100) marked met or NOT MET. Exit code 3 if a case does not converge.")]
     Bench {
         /// The case file (RON).
         #[arg(default_value = "cases/elastica_fig3.ron")]
@@ -122,5 +132,12 @@ pub enum Command {
         /// Repeated solves per discretisation (the median is reported).
         #[arg(long, default_value_t = 20)]
         repeats: usize,
+        /// Run the convergence map of issue 9 instead of CASE: iterations and time
+        /// per case, and totals/medians against the targets (see below).
+        #[arg(long, conflicts_with_all = ["case", "segments", "repeats"])]
+        grid: bool,
+        /// Number of convergence-map cases to run (with --grid).
+        #[arg(long, value_name = "N", requires = "grid", default_value_t = crate::bench::grid::DEFAULT_CASES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000))]
+        cases: usize,
     },
 }

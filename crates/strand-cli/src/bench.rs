@@ -1,6 +1,11 @@
 //! `strand bench`: solve time, iterations and residual of a case at several
 //! discretisations, as a table (a benchmark, not a test: timings are medians of
 //! repeated solves on whatever machine runs it).
+//!
+//! [`grid`] is the convergence map of issue 9 (`strand bench --grid`): its cases, the
+//! system of each, and the table of iterations and times per case.
+
+pub mod grid;
 
 use std::path::Path;
 use std::time::Instant;

@@ -1,4 +1,5 @@
-//! The subcommands `solve`, `check` and `bench` (`study` is in [`crate::study`]).
+//! The subcommands `solve`, `check` and `bench` (`study` is in [`crate::study`], the
+//! convergence map of `bench --grid` in [`crate::bench::grid`]).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -92,9 +93,13 @@ pub(crate) fn execute(
         } => crate::report::run(dirs, file, labels, title.as_deref(), out),
         Command::Check { case, segments } => check_case(case, segments.map(|n| n as usize), out),
         Command::Bench {
+            grid: true, cases, ..
+        } => Ok(bench_grid(*cases, out)),
+        Command::Bench {
             case,
             segments,
             repeats,
+            ..
         } => {
             if segments.contains(&0) {
                 return Err(Failure {
@@ -119,6 +124,29 @@ pub(crate) fn execute(
                 Exit::NotConverged
             })
         }
+    }
+}
+
+/// `strand bench --grid`: the convergence map, one line per case as it is solved, then
+/// the summary.
+fn bench_grid(cases: usize, out: &mut dyn Write) -> Exit {
+    use crate::bench::grid::{GridSummary, format_grid_row, grid_header, run_grid};
+    let _ = write!(
+        out,
+        "convergence map: {cases} cases, default solver settings\n{}",
+        grid_header()
+    );
+    let _ = out.flush();
+    let rows = run_grid(cases, |row| {
+        let _ = write!(out, "{}", format_grid_row(row));
+        let _ = out.flush();
+    });
+    let summary = GridSummary::of(&rows);
+    let _ = write!(out, "\n{summary}");
+    if summary.converged == summary.cases {
+        Exit::Success
+    } else {
+        Exit::NotConverged
     }
 }
 

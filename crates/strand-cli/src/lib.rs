@@ -18,6 +18,8 @@
 //!                                                HTML design review of results (first = reference)
 //! strand check CASE [--segments N]               validate the case only
 //! strand bench [CASE] [--segments 19,99,999] [--repeats 20]   timing table
+//! strand bench --grid [--cases 200]              convergence map (issue 9): iterations and
+//!                                                time per case, medians against the targets
 //! ```
 //!
 //! | exit code | meaning |

@@ -51,6 +51,49 @@ fn help_goes_to_stdout_and_usage_errors_exit_2() {
 }
 
 #[test]
+fn bench_grid_is_documented_and_its_options_are_checked() {
+    let (exit, out, _) = strand(&["bench", "--help"]);
+    assert_eq!(exit, Exit::Success);
+    for word in [
+        "--grid",
+        "--cases",
+        "convergence map",
+        "median iterations <= 20",
+    ] {
+        assert!(out.contains(word), "{word}: {out}");
+    }
+    for args in [
+        &["bench", "--cases", "3"][..],
+        &["bench", "--grid", "--cases", "0"],
+        &["bench", "--grid", "--segments", "19"],
+        &["bench", "--grid", "--repeats", "2"],
+        &["bench", "cases/elastica_fig3.ron", "--grid"],
+    ] {
+        let (exit, _, err) = strand(args);
+        assert_eq!(exit, Exit::InvalidInput, "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn bench_grid_prints_a_line_per_case_and_the_summary() {
+    // Two cases; whether they converge is the solver's business (exit 0 or 3), the
+    // output's shape is ours. No timing is checked.
+    let (exit, out, err) = strand(&["bench", "--grid", "--cases", "2"]);
+    assert!(
+        matches!(exit, Exit::Success | Exit::NotConverged),
+        "{exit:?}: {err}"
+    );
+    let grid = crate::bench::grid::convergence_grid(2);
+    for case in &grid {
+        assert!(out.contains(&case.label()), "{out}");
+    }
+    assert!(out.contains("of 2 cases"), "{out}");
+    assert!(out.contains("iterations: total "), "{out}");
+    assert!(out.contains("median <= 20: "), "{out}");
+    assert!(out.contains("time: median "), "{out}");
+}
+
+#[test]
 fn check_validates_without_writing() {
     let case = case_path("elastica_fig2.ron");
     let (exit, out, err) = strand(&["check", case.to_str().unwrap()]);

@@ -90,6 +90,9 @@ pub struct ResultDoc {
     /// Newton iterations of the continuation's load steps (part of `iterations`).
     #[serde(default)]
     pub continuation_iterations: usize,
+    /// Newton iterations spent leaving unstable equilibria (part of `iterations`).
+    #[serde(default)]
+    pub escape_iterations: usize,
     /// Total potential energy, J.
     #[serde(rename = "energy_J")]
     pub energy_j: f64,
@@ -368,6 +371,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         coarse_iterations: report.coarse_iterations,
         continuation_steps: report.continuation_steps,
         continuation_iterations: report.continuation_iterations,
+        escape_iterations: report.escape_iterations,
         energy_j: report.energy_j,
         unknowns: report.unknowns,
         timing_s: timing,

@@ -200,6 +200,7 @@ pub(crate) mod tests {
             coarse_iterations: 0,
             continuation_steps: 0,
             continuation_iterations: 0,
+            escape_iterations: 0,
             energy_j: 0.0,
             unknowns: 0,
             timing_s: Timing::default(),

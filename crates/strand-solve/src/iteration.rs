@@ -29,6 +29,22 @@ use crate::{SolverSettings, SparseCholesky};
 /// Smallest damping scale of an unknown relative to the largest Hessian diagonal.
 const DAMPING_FLOOR: f64 = 1e-4;
 
+/// The damping scale of every unknown (in the order of `diagonal`, the value offsets
+/// of the Hessian's diagonal): its own diagonal entry, but at least [`DAMPING_FLOOR`]
+/// of the largest one, so that soft directions are not damped away entirely while stiff
+/// ones relax (measured: pure Marquardt scaling lets a strained start drift to another
+/// equilibrium).
+pub(crate) fn damping_scale(hessian: &[f64], diagonal: &[usize]) -> Vec<f64> {
+    let largest = diagonal
+        .iter()
+        .map(|&k| hessian[k].abs())
+        .fold(f64::MIN_POSITIVE, f64::max);
+    diagonal
+        .iter()
+        .map(|&k| hessian[k].abs().max(DAMPING_FLOOR * largest))
+        .collect()
+}
+
 /// Buffers reused by every solve of one model.
 pub(crate) struct Workspace {
     pub cholesky: SparseCholesky,
@@ -205,17 +221,8 @@ impl<'a> Iteration<'a> {
         loop {
             work.damped.copy_from_slice(&work.eval.hessian);
             if damping > 0.0 {
-                // Per-unknown scale: the unknown's own diagonal, but at least a fixed
-                // fraction of the largest one, so that soft directions are not damped
-                // away entirely while stiff ones relax (measured: pure Marquardt scaling
-                // lets a strained start drift to another equilibrium).
-                let largest = work
-                    .diagonal
-                    .iter()
-                    .map(|&k| work.eval.hessian[k].abs())
-                    .fold(f64::MIN_POSITIVE, f64::max);
-                for &k in &work.diagonal {
-                    let d = work.eval.hessian[k].abs().max(DAMPING_FLOOR * largest);
+                let scale = damping_scale(&work.eval.hessian, &work.diagonal);
+                for (&k, d) in work.diagonal.iter().zip(&scale) {
                     work.damped[k] += damping * d;
                 }
             }

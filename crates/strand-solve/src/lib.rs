@@ -21,6 +21,7 @@ mod linear;
 mod nested;
 mod newton;
 mod report;
+mod saddle;
 mod settings;
 mod sqp;
 pub mod stability;

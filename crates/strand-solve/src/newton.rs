@@ -10,7 +10,14 @@ use crate::constraints::Constraints;
 use crate::gauge::Gauge;
 use crate::iteration::{Iteration, Workspace};
 use crate::report::Solution;
-use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested};
+use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle};
+
+/// Systems whose held points centre farther than this from the origin (m) are solved in
+/// local coordinates (the round-off of 10 m coordinates is 2e-15 m, harmless).
+pub const LOCAL_ORIGIN_DISTANCE_M: f64 = 10.0;
+
+/// Largest number of escapes from unstable equilibria in one solve.
+pub const MAX_SADDLE_ESCAPES: usize = 3;
 
 /// Iteration budget of the coarse level of nested iteration.
 pub const COARSE_MAX_ITERATIONS: usize = 40;
@@ -102,6 +109,30 @@ impl<'m> Solver<'m> {
                 .map_err(SolveError::StartsInside)?;
         }
         let started = Instant::now();
+        // Local coordinates: a system far from the origin is solved moved next to it
+        // (round-off of the coordinates would otherwise set the residual floor), then
+        // moved back. Contact meshes stay where they are, so only without contact.
+        let origin = self.model.system().local_origin();
+        if self.constraints.is_none() && origin.norm() > LOCAL_ORIGIN_DISTANCE_M {
+            let local = Model::try_new(self.model.system().translated(&-origin))
+                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+            let mut local_initial = initial;
+            local_initial.translate(&-origin);
+            let mut solution = Solver::try_new(&local)?.solve_here(local_initial, settings)?;
+            solution.state.translate(&origin);
+            solution.report.solve_seconds = started.elapsed().as_secs_f64();
+            return Ok(solution);
+        }
+        self.solve_here(initial, settings)
+    }
+
+    /// [`Solver::solve`] in the model's own coordinates (after the checks).
+    fn solve_here(
+        &mut self,
+        initial: SystemState,
+        settings: &SolverSettings,
+    ) -> Result<Solution, SolveError> {
+        let started = Instant::now();
         // A start that is already an equilibrium (a warm start, a moulded rod in its
         // nominal shape) needs no coarse guess.
         let mut eval = self.model.new_evaluation();
@@ -148,16 +179,62 @@ impl<'m> Solver<'m> {
                 solution = ramped;
             }
         }
+        let escape_iterations = if settings.escape_saddles {
+            self.escape_saddle(&mut solution, settings)
+        } else {
+            0
+        };
         let report = &mut solution.report;
+        report.escape_iterations = escape_iterations;
         report.coarse_iterations = coarse_iterations;
         report.continuation_steps = continuation_steps;
         report.continuation_iterations = continuation_iterations;
         report.iterations = report.fine_iterations
             + coarse_iterations
             + continuation_iterations
-            + replaced_iterations;
+            + replaced_iterations
+            + escape_iterations;
         report.solve_seconds = started.elapsed().as_secs_f64();
         Ok(solution)
+    }
+
+    /// Leaves an unstable converged state along its direction of most negative
+    /// curvature (both senses tried, the lower energy kept) for a converged state of
+    /// lower energy, at most [`MAX_SADDLE_ESCAPES`] times. Returns the Newton
+    /// iterations spent; `solution` is replaced only by a converged state of lower
+    /// energy.
+    fn escape_saddle(&mut self, solution: &mut Solution, settings: &SolverSettings) -> usize {
+        let mut spent = 0;
+        for _ in 0..MAX_SADDLE_ESCAPES {
+            if !solution.report.converged || solution.report.negative_directions == 0 {
+                break;
+            }
+            let Some(direction) =
+                saddle::negative_direction(self.model, &mut self.work, &solution.state)
+            else {
+                break;
+            };
+            let mut best: Option<Solution> = None;
+            for sense in [1.0, -1.0] {
+                let step: Vec<f64> = direction.iter().map(|d| sense * d).collect();
+                let start = self.model.retract(&solution.state, &step);
+                let candidate = self.iterate(start, settings);
+                spent += candidate.report.iterations;
+                let lower = candidate.report.energy_j
+                    < solution.report.energy_j - 1e-12 * solution.report.energy_j.abs();
+                let better = best
+                    .as_ref()
+                    .is_none_or(|b| candidate.report.energy_j < b.report.energy_j);
+                if candidate.report.converged && lower && better {
+                    best = Some(candidate);
+                }
+            }
+            match best {
+                Some(found) => *solution = found,
+                None => break,
+            }
+        }
+        spent
     }
 
     /// One Newton/SQP iteration sequence from `initial` on this model (no nested

@@ -52,6 +52,9 @@ pub struct SolveReport {
     pub continuation_steps: usize,
     /// Newton iterations spent in the continuation's load steps.
     pub continuation_iterations: usize,
+    /// Newton iterations spent leaving unstable equilibria (part of `iterations`; see
+    /// [`crate::SolverSettings::escape_saddles`]).
+    pub escape_iterations: usize,
     /// Iterations whose Hessian needed damping to become positive definite or to give
     /// an acceptable step.
     pub shifted_iterations: usize,
@@ -91,6 +94,7 @@ impl SolveReport {
             coarse_iterations: 0,
             continuation_steps: 0,
             continuation_iterations: 0,
+            escape_iterations: 0,
             shifted_iterations: 0,
             stable: false,
             negative_directions: 0,

@@ -67,6 +67,11 @@ pub struct SolverSettings {
     /// end positions from the start state with an adaptive step, each step
     /// warm-started, and report that result instead.
     pub load_continuation: bool,
+    /// When a solve converges to an unstable equilibrium (a straight rod beyond
+    /// buckling, reached from a perfectly straight start), perturb it along its
+    /// direction of most negative curvature and solve again, returning the stable branch
+    /// a real hose takes. Turn off to examine a given unstable state.
+    pub escape_saddles: bool,
     /// Largest number of continuation steps (accepted and rejected together).
     pub max_continuation_steps: usize,
     /// Inequality constraints (contact gaps in m, joint limits in rad or m): a converged
@@ -97,6 +102,7 @@ impl Default for SolverSettings {
             stagnation_reduction: 0.5,
             nested_iteration: true,
             load_continuation: true,
+            escape_saddles: true,
             max_continuation_steps: 64,
             constraint_tolerance: 1e-9,
             neutral_tolerance: 1e-11,

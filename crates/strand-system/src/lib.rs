@@ -18,6 +18,7 @@ mod model;
 mod pattern;
 mod reactions;
 mod system;
+mod translate;
 
 pub use dofs::{BlockKind, ClipIndex, Dofs};
 pub use initial::initial_state;
