@@ -44,7 +44,7 @@ fn solved(model: &Model, contact: &Contact, initial: SystemState) -> (Solution, 
     let solution = solve_constrained(model, contact, initial, &settings).unwrap();
     let report = &solution.report;
     println!(
-        "PROBE solve: converged {} {:?} iterations {} (coarse {}, cont {}) residual {:.2e} time {:.3}s",
+        "solve: converged {} ({:?}) in {} iterations ({} coarse, {} continuation), residual {:.2e} N, {:.3} s",
         report.converged,
         report.termination,
         report.iterations,
@@ -210,12 +210,29 @@ fn a_propped_cantilever_matches_euler_bernoulli() {
 #[test]
 fn a_hose_pulled_over_a_cylinder_has_equal_tension_and_load_t_over_rho() {
     // The spans' tensions differ by a discretisation error (vertex contacts on the
-    // faceted drum): 9.4e-4 relative at 160 edges.
-    let difference = hose_over_drum(160);
-    assert!(
-        difference <= 1e-3,
-        "tension differs by {difference:.2e} relative"
+    // faceted drum) that shrinks as the hose is refined: 160 -> 320 edges.
+    let coarse = hose_over_drum(160);
+    let fine = hose_over_drum(320);
+    let order = (coarse / fine).log2();
+    println!(
+        "tension difference {coarse:.2e} (160 edges), {fine:.2e} (320 edges): observed order {order:.2}"
     );
+    assert!(coarse <= 1e-3, "tension differs by {coarse:.2e} relative");
+    assert!(
+        fine <= coarse / 2.0,
+        "no tightening with refinement: {coarse:.2e} -> {fine:.2e}"
+    );
+}
+
+/// At 40 edges the hose converges directly; at 80 (started from a 40-edge solution by
+/// nested iteration) the loop stagnates at a residual of about 8e-2 N with nearly
+/// every trial rejected (ratio < 0 on steps of 1e-5 m: the active set on the faceted
+/// drum changes within a step), see the report of issue 10.
+#[test]
+#[ignore = "80 edges: Stagnated after 254 iterations (32 coarse, 185 continuation), residual 7.9e-2 N, 249 rejected trials"]
+fn a_hose_pulled_over_a_cylinder_converges_at_80_edges() {
+    let difference = hose_over_drum(80);
+    assert!(difference <= 2e-3, "tension differs by {difference:.2e}");
 }
 
 /// Solves the hose over the drum with `segments` edges, checks the contact load and
@@ -477,12 +494,4 @@ fn the_longer_hose_variant_of_the_contact_case_converges_without_penetration() {
     let contact = built.contact().expect("the case has an environment");
     let (_, forces) = solved(&built.model, &contact, built.initial.clone());
     assert!(forces.iter().any(|f| f.force_n > 0.0), "hose 3 still rests");
-}
-
-#[test]
-fn probe_drum_refinement() {
-    for n in std::env::var("PROBE_N").map(|s| vec![s.parse::<usize>().unwrap()]).unwrap_or(vec![40, 80, 160, 320]) {
-        let r = std::panic::catch_unwind(|| hose_over_drum(n));
-        println!("PROBE drum {n}: {r:?}");
-    }
 }

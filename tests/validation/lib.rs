@@ -14,6 +14,7 @@ mod common;
 mod contact;
 mod convergence_map;
 mod cooler;
+mod drop;
 mod elastica;
 mod end_forces;
 mod groove;

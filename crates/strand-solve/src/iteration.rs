@@ -341,14 +341,12 @@ impl<'a> Iteration<'a> {
                 self.model.energy(&trial)
             };
             if full && self.rows.is_empty() {
-                // A full step that the quadratic model did not foresee (energy above
-                // the model's prediction, or a larger residual) gets the positions-only
+                // A full step that the quadratic model did not foresee (less than
+                // `trust_ratio` of the predicted decrease) gets the positions-only
                 // correction first; near convergence it is skipped (Newton's fast path).
                 let predicted_energy = self.work.eval.energy + t * slope + 0.5 * t * t * curvature;
-                let (trial_residual, _) = self.kkt(&[], &self.work.trial_eval.gradient);
                 let surprising = energy - self.work.eval.energy
-                    > settings.trust_ratio * (predicted_energy - self.work.eval.energy)
-                    || trial_residual.combined_n > residual;
+                    > settings.trust_ratio * (predicted_energy - self.work.eval.energy);
                 if surprising && let Some(relaxed) = self.relax_positions(&trial) {
                     let relaxed_energy = self.model.energy(&relaxed);
                     if relaxed_energy < energy {
@@ -503,13 +501,32 @@ impl<'a> Iteration<'a> {
             .iter()
             .filter(|r| self.multiplier(r.key) > 0.0)
             .collect();
-        let inertia = reduced_inertia(
-            self.model.pattern(),
-            &self.work.eval.hessian,
-            &self.work.gauge,
-            &active,
-            self.settings.neutral_tolerance,
-        );
+        // Fast path: without active rows, `H − τD` positive definite (one Cholesky with
+        // the analysis already done) means no negative and no neutral direction.
+        let tau = self.settings.neutral_tolerance;
+        let work = &mut *self.work;
+        let clearly_stable = active.is_empty() && {
+            work.damped.copy_from_slice(&work.eval.hessian);
+            for &k in &work.diagonal {
+                work.damped[k] -= tau * work.eval.hessian[k].abs();
+            }
+            work.gauge.fix_matrix(&mut work.damped);
+            work.cholesky.factor(&work.damped)
+        };
+        let inertia = if clearly_stable {
+            Ok(crate::stability::Inertia {
+                negative: 0,
+                neutral: 0,
+            })
+        } else {
+            reduced_inertia(
+                self.model.pattern(),
+                &work.eval.hessian,
+                &work.gauge,
+                &active,
+                tau,
+            )
+        };
         let report = &mut self.report;
         match inertia {
             Ok(inertia) => {
