@@ -63,9 +63,10 @@ pub struct SolverSettings {
     /// Start rods of more than 64 segments from the solution of a coarsened copy of the
     /// system (nested iteration). Turn off when warm-starting from a nearby solution.
     pub nested_iteration: bool,
-    /// When a direct solve does not converge, ramp gravity, dead loads and prescribed
-    /// end positions from the start state with an adaptive step, each step
-    /// warm-started, and report that result instead.
+    /// When a direct solve does not converge, ramp gravity and the dead end loads from
+    /// zero with an adaptive step (first 1/8, doubled after an easy step, quartered
+    /// after a failed one), each step warm-started, and report that result instead.
+    /// Prescribed end positions are not ramped.
     pub load_continuation: bool,
     /// When a solve converges to an unstable equilibrium (a straight rod beyond
     /// buckling, reached from a perfectly straight start), perturb it along its
