@@ -111,7 +111,37 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         number(doc.tolerance_n),
         doc.iterations,
     );
-    let _ = writeln!(s, "stable      {}", yes(doc.stable));
+    // Where the iterations went, when not all in one direct solve.
+    let mut parts = Vec::new();
+    if doc.coarse_iterations > 0 {
+        parts.push(format!("{} coarse", doc.coarse_iterations));
+    }
+    if doc.continuation_steps > 0 {
+        parts.push(format!(
+            "{} in {} load steps",
+            doc.continuation_iterations, doc.continuation_steps
+        ));
+    }
+    if doc.escape_iterations > 0 {
+        parts.push(format!(
+            "{} leaving an unstable state",
+            doc.escape_iterations
+        ));
+    }
+    if !parts.is_empty() {
+        let _ = writeln!(s, "iterations  {} ({})", doc.iterations, parts.join(", "));
+    }
+    let mut curvature = format!(
+        "{} negative, {} neutral direction(s)",
+        doc.negative_directions, doc.neutral_directions
+    );
+    if doc.gauge_freedoms > 0 {
+        curvature += &format!(
+            "; {} free turn(s) of a round rod about its axis held",
+            doc.gauge_freedoms
+        );
+    }
+    let _ = writeln!(s, "stable      {} ({curvature})", yes(doc.stable));
     let _ = writeln!(s, "energy      {} J", number(doc.energy_j));
     let _ = writeln!(
         s,

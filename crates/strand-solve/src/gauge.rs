@@ -15,7 +15,7 @@
 //! along the orbit, every equilibrium is still reached, and the full gradient, including
 //! the held component, is what the convergence test measures.
 
-use strand_system::{Model, Support};
+use strand_system::{HessianPattern, Model, Support};
 
 /// The unknowns held at zero to fix the gauge, with the Hessian value offsets to clear.
 #[derive(Clone, Debug, Default)]
@@ -69,10 +69,14 @@ impl Gauge {
 
     /// Holds the given unknowns (any set, e.g. every rotation for a positions-only
     /// correction step).
-    pub fn holding(model: &Model, mut held: Vec<usize>) -> Self {
+    pub fn holding(model: &Model, held: Vec<usize>) -> Self {
+        Self::holding_in(model.pattern(), held)
+    }
+
+    /// [`Gauge::holding`] for a bare Hessian pattern.
+    pub fn holding_in(pattern: &HessianPattern, mut held: Vec<usize>) -> Self {
         held.sort_unstable();
         held.dedup();
-        let pattern = model.pattern();
         let mut off_diagonal = Vec::new();
         let mut diagonal = Vec::new();
         for col in 0..pattern.dim() {
@@ -121,5 +125,80 @@ impl Gauge {
         for &k in &self.held {
             vector[k] = 0.0;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, RodSpec, System};
+
+    use super::*;
+
+    fn rod_between(start: End, end: End, section: Section) -> Model {
+        Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "r".into(),
+                rod: Rod::try_straight(section, 1.0, 8).unwrap(),
+                start,
+                end,
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn only_a_round_rod_without_end_frames_has_a_gauge_freedom() {
+        let round = Section::try_explicit(1e6, 1e6, 1e-2, 1e-2, 0.5, 0.0).unwrap();
+        let pin = |x: f64| End::pinned(Vector3::new(x, 0.0, 0.0));
+        let clamp = End::clamped(Vector3::zeros(), UnitQuaternion::identity());
+        // Pinned at both ends, or pinned and free: one turn about the axis is free.
+        assert_eq!(
+            Gauge::of(&rod_between(pin(0.0), pin(0.8), round))
+                .held()
+                .len(),
+            1
+        );
+        assert_eq!(
+            Gauge::of(&rod_between(pin(0.0), End::free(), round))
+                .held()
+                .len(),
+            1
+        );
+        // A clamp fixes the frame.
+        assert!(Gauge::of(&rod_between(clamp, pin(0.8), round)).is_empty());
+        // An end moment sees the frame.
+        let mut loaded = pin(0.8);
+        loaded.load.moment = Vector3::new(0.0, 0.0, 0.1);
+        assert!(Gauge::of(&rod_between(pin(0.0), loaded, round)).is_empty());
+        // A section that is not round has a preferred orientation.
+        let flat = Section::try_explicit(1e6, 1e6, 1e-2, 1e-2, 0.5, 0.0)
+            .map(|mut s| {
+                s.bending_stiffness_2 = 2e-2;
+                s
+            })
+            .unwrap();
+        assert!(Gauge::of(&rod_between(pin(0.0), pin(0.8), flat)).is_empty());
+    }
+
+    #[test]
+    fn the_held_component_is_the_tangent_rotation_of_the_middle_edge() {
+        let round = Section::try_explicit(1e6, 1e6, 1e-2, 1e-2, 0.5, 0.0).unwrap();
+        let model = rod_between(
+            End::pinned(Vector3::zeros()),
+            End::pinned(Vector3::new(0.8, 0.0, 0.0)),
+            round,
+        );
+        let gauge = Gauge::of(&model);
+        assert_eq!(gauge.held(), &[3 * model.dofs().edge(0, 4) + 2]);
+        // Fixing a vector zeroes exactly that entry.
+        let mut v = vec![1.0; model.dofs().len()];
+        gauge.fix_vector(&mut v);
+        assert_eq!(v.iter().filter(|x| **x == 0.0).count(), 1);
     }
 }

@@ -182,3 +182,68 @@ impl<'p> Bordered<'p> {
             .count())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraints::RowKey;
+
+    /// Two 3-blocks: `[[1, 2], [2, 1]]` on unknowns 0, 1 (eigenvalues −1 and 3),
+    /// `[[1, 1], [1, 1]]` on unknowns 3, 4 (eigenvalues 0 and 2), 1 on 2 and 5.
+    fn toy() -> (HessianPattern, Vec<f64>) {
+        let coupling = [vec![0usize, 1]];
+        let pattern = HessianPattern::new(2, coupling.iter().map(|b| b.as_slice()));
+        let mut values = vec![0.0; pattern.nnz()];
+        let mut set = |row: usize, col: usize, value: f64| {
+            let rows = &pattern.row_idx[pattern.col_ptr[col]..pattern.col_ptr[col + 1]];
+            let at = rows.iter().position(|&r| r == row).unwrap();
+            values[pattern.col_ptr[col] + at] = value;
+        };
+        for k in 0..6 {
+            set(k, k, 1.0);
+        }
+        set(0, 1, 2.0);
+        set(3, 4, 1.0);
+        (pattern, values)
+    }
+
+    #[test]
+    fn counts_negative_and_neutral_directions() {
+        let (pattern, values) = toy();
+        let inertia = reduced_inertia(&pattern, &values, &Gauge::default(), &[], 1e-9).unwrap();
+        assert_eq!(
+            inertia,
+            Inertia {
+                negative: 1,
+                neutral: 1
+            }
+        );
+    }
+
+    #[test]
+    fn an_active_row_along_the_negative_direction_removes_it() {
+        let (pattern, values) = toy();
+        let row = Row {
+            key: RowKey::Contact(0),
+            value: 0.0,
+            gradient: vec![(0, 1.0), (1, -1.0)],
+        };
+        let inertia = reduced_inertia(&pattern, &values, &Gauge::default(), &[&row], 1e-9).unwrap();
+        assert_eq!(inertia.negative, 0);
+        assert_eq!(inertia.neutral, 1);
+    }
+
+    #[test]
+    fn a_held_unknown_removes_the_neutral_direction_it_spans() {
+        let (pattern, values) = toy();
+        let gauge = Gauge::holding_in(&pattern, vec![3]);
+        let inertia = reduced_inertia(&pattern, &values, &gauge, &[], 1e-9).unwrap();
+        assert_eq!(
+            inertia,
+            Inertia {
+                negative: 1,
+                neutral: 0
+            }
+        );
+    }
+}

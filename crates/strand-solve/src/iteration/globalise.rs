@@ -1,0 +1,202 @@
+//! Globalisation and acceptance of a Newton/SQP step: the trust region in physical
+//! units, the ratio of achieved to predicted decrease of the merit function, the
+//! positions-only correction of mispredicted steps and the extension of exact ones.
+
+use strand_system::SystemState;
+
+use super::{Iteration, violation_of};
+use crate::constraints::Row;
+use crate::linear::symmetric_product;
+use crate::report::Termination;
+
+impl Iteration<'_> {
+    /// Globalisation and acceptance: tries the step scaled into the trust region,
+    /// shrinking the region on rejection; adapts the damping and the region to the
+    /// ratio of achieved to predicted decrease.
+    pub(super) fn globalise(&mut self, residual: f64) -> Result<(), Termination> {
+        let settings = self.settings;
+        let (rotation, translation) = self.model.step_size(&self.work.step);
+        let max_translation = self.max_translation;
+        let fits = move |radius: f64| {
+            (radius * settings.max_rotation_step_rad / rotation.max(1e-300))
+                .min(radius * max_translation / translation.max(1e-300))
+                .min(1.0)
+        };
+        // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
+        let slope: f64 = self
+            .work
+            .step
+            .iter()
+            .zip(&self.work.eval.gradient)
+            .map(|(s, g)| s * g)
+            .sum();
+        symmetric_product(
+            self.model.pattern(),
+            &self.work.eval.hessian,
+            &self.work.step,
+            &mut self.work.product,
+        );
+        let curvature: f64 = self
+            .work
+            .step
+            .iter()
+            .zip(&self.work.product)
+            .map(|(s, p)| s * p)
+            .sum();
+        let violation = violation_of(&self.rows);
+        let merit = self.work.eval.energy + self.merit_weight * violation;
+
+        let mut trial = self.state.clone();
+        let mut trial_rows: Vec<Row> = Vec::new();
+        let mut t = fits(self.radius);
+        for attempt in 0..=settings.max_line_search_steps {
+            self.model
+                .retract_into(&self.state, &self.work.step, t, &mut trial);
+            let full = attempt == 0;
+            let mut energy = if full {
+                self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                self.work.trial_eval.energy
+            } else {
+                self.model.energy(&trial)
+            };
+            if full && self.rows.is_empty() {
+                // A full step that the quadratic model did not foresee (less than
+                // `trust_ratio` of the predicted decrease) gets the positions-only
+                // correction first; near convergence it is skipped (Newton's fast path).
+                let predicted_energy = self.work.eval.energy + t * slope + 0.5 * t * t * curvature;
+                let surprising = energy - self.work.eval.energy
+                    > settings.trust_ratio * (predicted_energy - self.work.eval.energy);
+                if surprising && let Some(relaxed) = self.relax_positions(&trial) {
+                    let relaxed_energy = self.model.energy(&relaxed);
+                    if relaxed_energy < energy {
+                        trial = relaxed;
+                        self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                        energy = self.work.trial_eval.energy;
+                    }
+                }
+            }
+            let admissible = self.collect_rows(&trial, &mut trial_rows);
+            let trial_merit = if admissible {
+                energy + self.merit_weight * violation_of(&trial_rows)
+            } else {
+                f64::INFINITY
+            };
+            // The linearised rows close the violation in proportion to t.
+            let predicted =
+                -(t * slope + 0.5 * t * t * curvature) + self.merit_weight * violation * t;
+            let achieved = merit - trial_merit;
+            let noise = 1e-13 * self.work.eval.energy.abs().max(energy.abs()).max(1e-12);
+            let mut accepted = trial_merit.is_finite()
+                && predicted > 0.0
+                && achieved >= settings.acceptance_ratio * predicted;
+            let ratio = if predicted > 0.0 {
+                achieved / predicted
+            } else {
+                0.0
+            };
+            // Round-off regime: merit differences are noise; accept a step that
+            // reduces the residual.
+            if !accepted
+                && trial_merit.is_finite()
+                && achieved.abs() <= noise
+                && predicted.abs() <= noise
+            {
+                let evaluated_now = !full;
+                if evaluated_now {
+                    self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                }
+                let (trial_residual, _) = self.kkt(&trial_rows, &self.work.trial_eval.gradient);
+                accepted = trial_residual.combined_n < residual;
+                if accepted {
+                    self.accept(trial, trial_rows, t, 1.0);
+                    return Ok(());
+                }
+            }
+            if self.trace {
+                eprintln!(
+                    "strand-solve: iteration {:3} trial {attempt}: residual {residual:.3e} N, energy {:.9e} J, damping {:.1e}, radius {:.2e}, t {t:.2e}, ratio {ratio:.3}, rotation {rotation:.2e} rad, translation {translation:.2e} m",
+                    self.report.iterations, self.work.eval.energy, self.damping, self.radius
+                );
+            }
+            if accepted {
+                let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
+                    .min(self.radius * self.max_translation / translation.max(1e-300));
+                if full && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
+                    // The model is exact and the step well inside the region (a damped
+                    // step along negative curvature): extend it while the energy falls.
+                    let (mut best_t, mut best_energy) = (t, trial_merit);
+                    let mut longer = trial.clone();
+                    let mut scale = 2.0;
+                    while scale <= room {
+                        self.model
+                            .retract_into(&self.state, &self.work.step, scale, &mut longer);
+                        let energy = self.model.energy(&longer);
+                        if energy.partial_cmp(&best_energy) != Some(std::cmp::Ordering::Less) {
+                            break;
+                        }
+                        (best_t, best_energy) = (scale, energy);
+                        scale *= 2.0;
+                    }
+                    if best_t > t {
+                        self.model
+                            .retract_into(&self.state, &self.work.step, best_t, &mut trial);
+                        self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                        self.collect_rows(&trial, &mut trial_rows);
+                    }
+                }
+                if !full {
+                    self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                }
+                self.accept(trial, trial_rows, t, ratio);
+                return Ok(());
+            }
+            // Rejected: shrink the region (at most a quarter of the tried step).
+            self.radius = (self.radius * 0.25).min(0.25 * t / fits(1.0).max(1e-300));
+            t = fits(self.radius);
+        }
+        Err(Termination::LineSearchFailed)
+    }
+
+    /// Positions-only correction: at fixed frames the rod energy is quadratic in the
+    /// positions (strains are linear in them), so one Newton step on the positions
+    /// alone, with the Hessian at `trial` (`work.trial_eval`), removes the axial and
+    /// shear strain that a finite rotation of the frames induced. `None` when that
+    /// block is not positive definite (a body or clip couples positions to rotations).
+    fn relax_positions(&mut self, trial: &SystemState) -> Option<SystemState> {
+        let work = &mut *self.work;
+        work.damped.copy_from_slice(&work.trial_eval.hessian);
+        work.rotations.fix_matrix(&mut work.damped);
+        for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
+            *c = -g;
+        }
+        work.rotations.fix_vector(&mut work.rhs);
+        let factored = work.cholesky.factor(&work.damped);
+        // The damped factor of this iteration is needed again for nothing but a
+        // rejection's shorter step along the same direction, which reuses `step`.
+        if !factored {
+            return None;
+        }
+        work.cholesky.solve_in_place(&mut work.rhs);
+        Some(self.model.retract(trial, &work.rhs))
+    }
+
+    /// Moves to an accepted trial and adapts damping and trust radius.
+    fn accept(&mut self, trial: SystemState, rows: Vec<Row>, t: f64, ratio: f64) {
+        let settings = self.settings;
+        self.state = trial;
+        self.rows = rows;
+        std::mem::swap(&mut self.work.eval, &mut self.work.trial_eval);
+        let full_step = t >= 1.0;
+        if ratio >= settings.trust_ratio {
+            self.radius = (self.radius * 2.0).min(1.0);
+            if full_step {
+                self.damping /= settings.damping_decrease;
+                if self.damping < settings.min_damping {
+                    self.damping = 0.0;
+                }
+            }
+        } else {
+            self.damping = (self.damping * settings.damping_increase).max(settings.min_damping);
+        }
+    }
+}
