@@ -25,7 +25,7 @@ use strand_tests::reference::buckling::{
 };
 use strand_tests::reference::reissner_planar::PlanarRod;
 
-use crate::common::{frame_along_x, observed_orders};
+use crate::common::{frame_along_x, observed_orders, sci};
 
 const MESHES: [usize; 5] = [10, 20, 40, 80, 160];
 const EA: f64 = 3e4;
@@ -92,12 +92,6 @@ fn largest_deflection(state: &RodState) -> f64 {
         .iter()
         .map(|p| p.y.hypot(p.z))
         .fold(0.0, f64::max)
-}
-
-/// `[1.234e-5, …]` for messages.
-fn sci(values: &[f64]) -> String {
-    let items: Vec<String> = values.iter().map(|v| format!("{v:.3e}")).collect();
-    format!("[{}]", items.join(", "))
 }
 
 #[test]

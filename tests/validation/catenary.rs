@@ -22,7 +22,7 @@ use strand_rod::{Rod, Section};
 use strand_system::{End, RodSpec, System};
 use strand_tests::reference::catenary::Cable;
 
-use crate::common::{observed_orders, solve_converged};
+use crate::common::{observed_orders, sci, solve_converged};
 
 const MESHES: [usize; 4] = [20, 40, 80, 160];
 const MASS: f64 = 0.5;
@@ -47,12 +47,6 @@ fn cable_system(segments: usize, span: f64, rise: f64) -> System {
         clips: vec![],
         gravity: Vector3::new(0.0, 0.0, -G),
     }
-}
-
-/// `[1.234e-5, …]` for messages.
-fn sci(values: &[f64]) -> String {
-    let items: Vec<String> = values.iter().map(|v| format!("{v:.3e}")).collect();
-    format!("[{}]", items.join(", "))
 }
 
 #[test]

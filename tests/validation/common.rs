@@ -61,6 +61,12 @@ pub fn observed_orders(errors: &[f64]) -> Vec<f64> {
     errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
 
+/// `[1.234e-5, …]`: a list of numbers for assertion messages.
+pub fn sci(values: &[f64]) -> String {
+    let items: Vec<String> = values.iter().map(|v| format!("{v:.3e}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
 /// The bundled `cases/` directory.
 pub fn cases_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases")

@@ -12,7 +12,7 @@ use strand_rod::{Rod, Section};
 use strand_system::{End, RodSpec, System};
 use strand_tests::reference::heavy_cantilever::HeavyCantilever;
 
-use crate::common::{frame_along_x, observed_orders, solve_converged};
+use crate::common::{frame_along_x, observed_orders, sci, solve_converged};
 
 const MESHES: [usize; 4] = [20, 40, 80, 160];
 const G: f64 = 9.81;
@@ -31,12 +31,6 @@ fn heavy_rod(segments: usize, q: f64) -> System {
         clips: vec![],
         gravity: Vector3::new(0.0, 0.0, -G),
     }
-}
-
-/// `[1.234e-5, …]` for messages.
-fn sci(values: &[f64]) -> String {
-    let items: Vec<String> = values.iter().map(|v| format!("{v:.3e}")).collect();
-    format!("[{}]", items.join(", "))
 }
 
 #[test]

@@ -67,14 +67,15 @@ impl<'m> Solver<'m> {
     /// Symbolic phase: analyses the model's Hessian pattern and its gauge freedoms.
     pub fn try_new(model: &'m Model) -> Result<Self, SolveError> {
         let n = model.dofs().len();
+        let gauge = Gauge::of(model);
         Ok(Self {
             model,
             constraints: None,
             work: Workspace {
                 cholesky: SparseCholesky::try_new(model.pattern())?,
                 diagonal: diagonal_positions(model),
-                gauge: Gauge::of(model),
-                rotations: Gauge::holding(model, rotation_unknowns(model)),
+                rotations: Gauge::holding(model, rotation_unknowns(model, &gauge)),
+                gauge,
                 eval: model.new_evaluation(),
                 trial_eval: model.new_evaluation(),
                 damped: vec![0.0; model.pattern().nnz()],
@@ -252,13 +253,13 @@ impl<'m> Solver<'m> {
 }
 
 /// Every rotation unknown and every gauge-held unknown.
-fn rotation_unknowns(model: &Model) -> Vec<usize> {
+fn rotation_unknowns(model: &Model, gauge: &Gauge) -> Vec<usize> {
     let dofs = model.dofs();
     let mut held: Vec<usize> = (0..dofs.block_count())
         .filter(|&b| dofs.kind(b) == strand_system::BlockKind::Rotation)
         .flat_map(|b| [3 * b, 3 * b + 1, 3 * b + 2])
         .collect();
-    held.extend_from_slice(Gauge::of(model).held());
+    held.extend_from_slice(gauge.held());
     held
 }
 
