@@ -13,7 +13,7 @@ use strand_system::{Model, initial_state};
 const CASES: usize = DEFAULT_CASES;
 
 #[test]
-#[ignore = "issue 9 open: the solver does not yet meet this map (82 of 200 cases fail, median 112 iterations; mostly EA/EI >= 1e8 and kinked routes); run with --ignored"]
+#[ignore = "issue 9 open: the solver does not yet meet this map (80 of 200 cases fail, median 107 iterations; mostly EA/EI >= 1e8 and kinked routes); run with --ignored"]
 fn every_case_of_the_convergence_map_converges_in_few_iterations() {
     let settings = SolverSettings::default();
     let grid = convergence_grid(CASES);

@@ -45,6 +45,15 @@ impl Iteration<'_> {
             .sum();
         let violation = violation_of(&self.rows);
         let merit = self.work.eval.energy + self.merit_weight * violation;
+        // A damped step well inside the trust region (a quarter of it or less) is
+        // short because of the damping: only then look for negative curvature.
+        let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
+            .min(self.radius * max_translation / translation.max(1e-300));
+        let negative = if room >= 4.0 {
+            self.negative_curvature()
+        } else {
+            None
+        };
 
         let mut trial = self.state.clone();
         let mut trial_rows: Vec<Row> = Vec::new();
@@ -118,9 +127,41 @@ impl Iteration<'_> {
                     self.report.iterations, self.work.eval.energy, self.damping, self.radius
                 );
             }
+            if full && let Some(v) = &negative {
+                // Along a direction of negative curvature the damped step is short;
+                // the step plus that direction, scaled to the trust region, often
+                // falls much further (the trust-region step of the indefinite case).
+                let (v_rotation, v_translation) = self.model.step_size(v);
+                let reach = (self.radius * settings.max_rotation_step_rad / v_rotation.max(1e-300))
+                    .min(self.radius * max_translation / v_translation.max(1e-300));
+                let descent: f64 = v
+                    .iter()
+                    .zip(&self.work.eval.gradient)
+                    .map(|(a, g)| a * g)
+                    .sum();
+                let sense = if descent > 0.0 { -reach } else { reach };
+                let combined: Vec<f64> = self
+                    .work
+                    .step
+                    .iter()
+                    .zip(v)
+                    .map(|(d, vi)| t * d + sense * vi)
+                    .collect();
+                let bent = self.model.retract(&self.state, &combined);
+                let bent_energy = self.model.energy(&bent);
+                let best_so_far = if accepted { trial_merit } else { merit };
+                if bent_energy.is_finite() && bent_energy < best_so_far {
+                    self.model.evaluate(&bent, &mut self.work.trial_eval, true);
+                    let ratio = if predicted > 0.0 {
+                        (merit - bent_energy) / predicted
+                    } else {
+                        1.0
+                    };
+                    self.accept(bent, Vec::new(), t, ratio.min(1.0));
+                    return Ok(());
+                }
+            }
             if accepted {
-                let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
-                    .min(self.radius * self.max_translation / translation.max(1e-300));
                 if full && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
                     // The model is exact and the step well inside the region (a damped
                     // step along negative curvature): extend it while the energy falls.

@@ -23,9 +23,13 @@ use strand_system::{Evaluation, Model, Residual, SystemState};
 
 use crate::constraints::{Constraints, Row, RowKey, limit_rows};
 use crate::gauge::Gauge;
+use crate::linear::symmetric_product;
 use crate::report::{Solution, SolveReport, Termination};
 use crate::stability::reduced_inertia;
 use crate::{SolverSettings, SparseCholesky};
+
+/// Inverse-iteration steps per iteration for the direction of negative curvature.
+const NEGATIVE_CURVATURE_ITERATIONS: usize = 6;
 
 /// Smallest damping scale of an unknown relative to the largest Hessian diagonal.
 const DAMPING_FLOOR: f64 = 1e-4;
@@ -83,6 +87,10 @@ pub(crate) struct Iteration<'a> {
     tolerance: f64,
     report: SolveReport,
     history: Vec<(f64, f64)>,
+    /// Whether this iteration's Hessian needed damping to be positive definite.
+    indefinite: bool,
+    /// The last direction of negative curvature (warm start of inverse iteration).
+    curvature_direction: Vec<f64>,
     /// Print every trial step to stderr (environment variable `STRAND_TRACE` set).
     trace: bool,
 }
@@ -127,6 +135,8 @@ impl<'a> Iteration<'a> {
             report,
             history: Vec::new(),
             trace: std::env::var_os("STRAND_TRACE").is_some(),
+            indefinite: false,
+            curvature_direction: Vec::new(),
         };
         let mut rows = Vec::new();
         iteration.collect_rows(&iteration.state.clone(), &mut rows);
@@ -219,6 +229,7 @@ impl<'a> Iteration<'a> {
         let settings = self.settings;
         let work = &mut *self.work;
         let mut damping = self.damping;
+        let mut failed = false;
         loop {
             work.damped.copy_from_slice(&work.eval.hessian);
             if damping > 0.0 {
@@ -231,6 +242,7 @@ impl<'a> Iteration<'a> {
             if work.cholesky.factor(&work.damped) {
                 break;
             }
+            failed = true;
             damping = if damping == 0.0 {
                 settings.min_damping
             } else {
@@ -244,7 +256,56 @@ impl<'a> Iteration<'a> {
             self.report.shifted_iterations += 1;
         }
         self.damping = damping;
+        self.indefinite = failed;
         Ok(())
+    }
+
+    /// A direction of negative curvature of the Hessian (the generalised eigenvector of
+    /// `(H, D)` with the most negative eigenvalue), from a few steps of inverse
+    /// iteration with the current damped factor, warm-started from the last one.
+    /// `None` unless the Hessian was found indefinite and the direction's Rayleigh
+    /// quotient is negative.
+    fn negative_curvature(&mut self) -> Option<Vec<f64>> {
+        if !self.indefinite || !self.rows.is_empty() {
+            return None;
+        }
+        let work = &mut *self.work;
+        let scale = damping_scale(&work.eval.hessian, &work.diagonal);
+        let n = work.step.len();
+        if self.curvature_direction.len() != n {
+            self.curvature_direction = (0..n)
+                .map(|i| ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5)
+                .collect();
+        }
+        let x = &mut self.curvature_direction;
+        for _ in 0..NEGATIVE_CURVATURE_ITERATIONS {
+            for (r, (xi, d)) in work.rhs.iter_mut().zip(x.iter().zip(&scale)) {
+                *r = xi * d;
+            }
+            work.gauge.fix_vector(&mut work.rhs);
+            work.cholesky.solve_in_place(&mut work.rhs);
+            let norm = work
+                .rhs
+                .iter()
+                .zip(&scale)
+                .map(|(y, d)| y * y * d)
+                .sum::<f64>()
+                .sqrt();
+            if !(norm.is_finite() && norm > 0.0) {
+                return None;
+            }
+            for (xi, y) in x.iter_mut().zip(&work.rhs) {
+                *xi = y / norm;
+            }
+        }
+        symmetric_product(
+            self.model.pattern(),
+            &work.eval.hessian,
+            x,
+            &mut work.product,
+        );
+        let curvature: f64 = x.iter().zip(&work.product).map(|(a, b)| a * b).sum();
+        (curvature < 0.0).then(|| x.clone())
     }
 
     /// Direction: the damped Newton step `−(H + λD)⁻¹ g`, then the QP of the
