@@ -23,7 +23,7 @@ pub fn collect_contacts(
     model: &Model,
     solution: &Solution,
     contact: &Contact,
-) -> Result<(), String> {
+) -> Result<(), strand_solve::ConstraintError> {
     let rods = &model.system().rods;
     // Reference arc lengths once per rod, not once per contact or clearance pair.
     let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();

@@ -4,6 +4,68 @@
 
 use strand_system::{Model, SystemState};
 
+/// Why a state is not admissible for the inequality constraints (contact), with the
+/// rod and obstacle names and lengths in mm, as the user reads them.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ConstraintError {
+    /// A rod's centreline passes through an obstacle's surface or another centreline
+    /// (no normal: the gap is undefined).
+    #[error(
+        "rod '{rod}' {what}: its centreline passes through ({:.1}, {:.1}, {:.1}) mm",
+        .point_mm[0], .point_mm[1], .point_mm[2]
+    )]
+    CentrelineTouches {
+        /// The rod's name.
+        rod: String,
+        /// What it touches, e.g. `touches mesh 'bracket'` or `edge 4 crosses rod 1 edge 2`.
+        what: String,
+        /// Where, mm.
+        point_mm: [f64; 3],
+    },
+    /// A rod starts overlapping an obstacle or another rod.
+    #[error(
+        "rod '{rod}' starts inside {kind} '{obstacle}': the hose surface overlaps it by \
+         {overlap_mm:.3} mm at s = {s_mm:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  \
+         hint: move the rod's route, supports or the obstacle so that the hose starts clear \
+         of it",
+        .point_mm[0], .point_mm[1], .point_mm[2]
+    )]
+    StartsOverlapping {
+        /// The rod's name.
+        rod: String,
+        /// `mesh` or `rod`.
+        kind: &'static str,
+        /// The obstacle's name.
+        obstacle: String,
+        /// Depth of the overlap, mm.
+        overlap_mm: f64,
+        /// Arc length of the deepest point, mm.
+        s_mm: f64,
+        /// The deepest centreline point, mm.
+        point_mm: [f64; 3],
+    },
+    /// A rod starts inside a closed mesh.
+    #[error(
+        "rod '{rod}' starts inside mesh '{mesh}': its centreline is enclosed by the closed \
+         mesh at s = {s_mm:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: move \
+         the rod's route, supports or the obstacle so that the hose starts outside the part",
+        .point_mm[0], .point_mm[1], .point_mm[2]
+    )]
+    StartsEnclosed {
+        /// The rod's name.
+        rod: String,
+        /// The mesh's name.
+        mesh: String,
+        /// Arc length of the first enclosed vertex, mm.
+        s_mm: f64,
+        /// That vertex, mm.
+        point_mm: [f64; 3],
+    },
+    /// Any other failure of the gap computation (e.g. an invalid margin).
+    #[error(transparent)]
+    Gaps(#[from] strand_contact::GapError),
+}
+
 /// Identifies a constraint across iterates, so its multiplier carries over.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RowKey {
@@ -42,11 +104,16 @@ pub trait Constraints: Sync {
     /// Appends the rows at `state`: the constraints that can become active within one
     /// step (e.g. contact pairs within a search margin). `Err` with a message when the
     /// state is not admissible (a centreline passes through an obstacle).
-    fn rows(&self, model: &Model, state: &SystemState, out: &mut Vec<Row>) -> Result<(), String>;
+    fn rows(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        out: &mut Vec<Row>,
+    ) -> Result<(), ConstraintError>;
 
     /// Checks a starting state: `Err` names where it violates a constraint (a hose that
     /// starts inside an obstacle).
-    fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), String>;
+    fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError>;
 
     /// Largest translation of any vertex in one step, m, so that no obstacle outside the
     /// search margin can be reached within one step.

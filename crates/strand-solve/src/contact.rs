@@ -12,7 +12,7 @@ use nalgebra::{Point3, Vector3};
 use strand_contact::{Gap, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::{Model, SystemState};
 
-use crate::constraints::{Constraints, Row, RowKey};
+use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 
 mod exclusion;
 mod mesh_gaps;
@@ -93,7 +93,7 @@ impl Contact {
         model: &Model,
         state: &SystemState,
         margin_m: f64,
-    ) -> Result<Vec<Gap>, String> {
+    ) -> Result<Vec<Gap>, ConstraintError> {
         Ok(self
             .tagged_gaps(model, state, margin_m)?
             .into_iter()
@@ -108,7 +108,7 @@ impl Contact {
         model: &Model,
         state: &SystemState,
         margin_m: f64,
-    ) -> Result<Vec<(Gap, Tag)>, String> {
+    ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines: Vec<Vec<Point3<f64>>> = state
             .rods
             .iter()
@@ -136,7 +136,7 @@ impl Contact {
             exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
         };
         let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
-            .map_err(|e| describe_error(model, &e))?;
+            .map_err(|e| describe_error(model, e))?;
         gaps.extend(between_rods.into_iter().map(|gap| (gap, Tag::new(0, 0))));
         // The positions' low-order parts (compensated summation), to first order: a gap
         // then resolves the vertex positions beyond double precision, as the elastic
@@ -162,7 +162,7 @@ impl Contact {
         model: &Model,
         state: &SystemState,
         constraints: &[(Row, f64)],
-    ) -> Result<Vec<ContactForce>, String> {
+    ) -> Result<Vec<ContactForce>, ConstraintError> {
         let gaps = self.tagged_gaps(model, state, self.margin_m)?;
         // Multipliers by key, looked up by bisection (not a scan per gap: thousands of
         // rod–rod pairs at fine discretisations).
@@ -191,22 +191,19 @@ impl Contact {
 }
 
 /// A gap error in the rods' names, lengths in mm.
-fn describe_error(model: &Model, error: &strand_contact::GapError) -> String {
-    let rods = &model.system().rods;
+fn describe_error(model: &Model, error: strand_contact::GapError) -> ConstraintError {
     match error {
         strand_contact::GapError::CentrelineTouches {
             rod,
             edge,
             what,
             point,
-        } => format!(
-            "rod '{}' edge {edge} {what}: its centreline passes through ({:.1}, {:.1}, {:.1}) mm",
-            rods[*rod].name,
-            point.x * 1e3,
-            point.y * 1e3,
-            point.z * 1e3
-        ),
-        other => other.to_string(),
+        } => ConstraintError::CentrelineTouches {
+            rod: model.system().rods[rod].name.clone(),
+            what: format!("edge {edge} {what}"),
+            point_mm: [point.x * 1e3, point.y * 1e3, point.z * 1e3],
+        },
+        other => ConstraintError::Gaps(other),
     }
 }
 
@@ -236,7 +233,12 @@ fn key_of(gap: &Gap, tag: Tag) -> RowKey {
 }
 
 impl Constraints for Contact {
-    fn rows(&self, model: &Model, state: &SystemState, out: &mut Vec<Row>) -> Result<(), String> {
+    fn rows(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        out: &mut Vec<Row>,
+    ) -> Result<(), ConstraintError> {
         for (gap, tag) in self.tagged_gaps(model, state, self.margin_m)? {
             let normal: Vector3<f64> = gap.normal.into_inner();
             let mut gradient = Vec::new();
@@ -275,7 +277,7 @@ impl Constraints for Contact {
         Ok(())
     }
 
-    fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), String> {
+    fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError> {
         self.check_overlap(model, state)?;
         self.check_enclosed(model, state)
     }

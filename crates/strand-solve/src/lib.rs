@@ -26,7 +26,7 @@ mod settings;
 mod sqp;
 pub mod stability;
 
-pub use constraints::{Constraints, Row, RowKey, limit_rows};
+pub use constraints::{ConstraintError, Constraints, Row, RowKey, limit_rows};
 pub use linear::SparseCholesky;
 pub use newton::{Solver, solve, solve_constrained};
 pub use report::{Solution, SolveReport, Termination};
@@ -46,7 +46,7 @@ pub enum SolveError {
     #[error(transparent)]
     Settings(#[from] SettingsError),
     /// The starting configuration violates a contact constraint (a hose starts inside
-    /// an obstacle); the message says where.
-    #[error("{0}")]
-    StartsInside(String),
+    /// an obstacle); the error says where.
+    #[error(transparent)]
+    StartsInside(ConstraintError),
 }

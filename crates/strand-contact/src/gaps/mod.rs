@@ -76,7 +76,7 @@ pub struct Gap {
 }
 
 /// Why contact gaps could not be computed.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GapError {
     /// A rod's centreline touches or crosses a mesh surface or another rod's
     /// centreline: no contact direction exists there.

@@ -6,6 +6,7 @@ use strand_contact::{Gap, LocalContact, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::Model;
 
 use super::{Contact, Tag};
+use crate::constraints::ConstraintError;
 
 /// How much nearer than both its vertices (relative to `1 + edge length`, m) an edge's
 /// interior point must be to give a gap of its own.
@@ -30,24 +31,19 @@ impl Contact {
         mesh: &ObstacleMesh,
         margin_m: f64,
         out: &mut Vec<(Gap, Tag)>,
-    ) -> Result<(), String> {
+    ) -> Result<(), ConstraintError> {
         let reach = geometry.radius + margin_m;
         let vertices = geometry.vertices;
         let last_edge = vertices.len() - 2;
-        let touches = |point: &Point3<f64>| {
-            format!(
-                "rod '{}' touches mesh '{}' with its centreline at ({:.1}, {:.1}, {:.1}) mm",
-                model.system().rods[rod].name,
-                mesh.name(),
-                point.x * 1e3,
-                point.y * 1e3,
-                point.z * 1e3
-            )
+        let touches = |point: &Point3<f64>| ConstraintError::CentrelineTouches {
+            rod: model.system().rods[rod].name.clone(),
+            what: format!("touches mesh '{}'", mesh.name()),
+            point_mm: [point.x * 1e3, point.y * 1e3, point.z * 1e3],
         };
         let gap_of = |contact: &LocalContact, edge: usize, s: f64, point: Point3<f64>| {
             let near = &contact.proximity;
             let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
-            Ok::<_, String>(Gap {
+            Ok::<_, ConstraintError>(Gap {
                 rod,
                 edge,
                 s,

@@ -5,11 +5,16 @@ use strand_contact::Obstacle;
 use strand_system::{Model, SystemState};
 
 use super::{Contact, START_OVERLAP_M};
+use crate::constraints::ConstraintError;
 
 impl Contact {
     /// `Err` naming the deepest overlap of a rod's surface with a mesh or another rod
     /// (beyond [`START_OVERLAP_M`]) at `state`.
-    pub(super) fn check_overlap(&self, model: &Model, state: &SystemState) -> Result<(), String> {
+    pub(super) fn check_overlap(
+        &self,
+        model: &Model,
+        state: &SystemState,
+    ) -> Result<(), ConstraintError> {
         let gaps = self.gaps(model, state, self.margin_m)?;
         let deepest = gaps
             .iter()
@@ -21,27 +26,26 @@ impl Contact {
         let rod = &model.system().rods[g.rod];
         let s = rod.rod.arc_lengths();
         let at = s[g.edge] + g.s * (s[g.edge + 1] - s[g.edge]);
-        Err(format!(
-            "rod '{}' starts inside {} '{}': the hose surface overlaps it by {:.3} mm at \
-             s = {:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: move the \
-             rod's route, supports or the obstacle so that the hose starts clear of it",
-            rod.name,
-            match g.with {
+        Err(ConstraintError::StartsOverlapping {
+            rod: rod.name.clone(),
+            kind: match g.with {
                 Obstacle::Mesh(_) => "mesh",
                 Obstacle::Rod { .. } => "rod",
             },
-            self.obstacle_name(model, &g.with),
-            -g.gap * 1e3,
-            at * 1e3,
-            g.point.x * 1e3,
-            g.point.y * 1e3,
-            g.point.z * 1e3,
-        ))
+            obstacle: self.obstacle_name(model, &g.with),
+            overlap_mm: -g.gap * 1e3,
+            s_mm: at * 1e3,
+            point_mm: [g.point.x * 1e3, g.point.y * 1e3, g.point.z * 1e3],
+        })
     }
 
     /// `Err` naming the first rod vertex (by rod, then arc length) that lies inside a
     /// closed mesh at `state`. Open meshes have no inside and are not checked.
-    pub(super) fn check_enclosed(&self, model: &Model, state: &SystemState) -> Result<(), String> {
+    pub(super) fn check_enclosed(
+        &self,
+        model: &Model,
+        state: &SystemState,
+    ) -> Result<(), ConstraintError> {
         for (r, rod_state) in state.rods.iter().enumerate() {
             let rod = &model.system().rods[r];
             for mesh in self.meshes.iter().filter(|m| m.diagnostics().closed) {
@@ -54,18 +58,12 @@ impl Contact {
                 };
                 let p = rod_state.positions[j];
                 let s = rod.rod.arc_lengths()[j];
-                return Err(format!(
-                    "rod '{}' starts inside mesh '{}': its centreline is enclosed by the closed \
-                     mesh at s = {:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: \
-                     move the rod's route, supports or the obstacle so that the hose starts \
-                     outside the part",
-                    rod.name,
-                    mesh.name(),
-                    s * 1e3,
-                    p.x * 1e3,
-                    p.y * 1e3,
-                    p.z * 1e3,
-                ));
+                return Err(ConstraintError::StartsEnclosed {
+                    rod: rod.name.clone(),
+                    mesh: mesh.name().to_string(),
+                    s_mm: s * 1e3,
+                    point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
+                });
             }
         }
         Ok(())
