@@ -3,14 +3,17 @@
 //! 1. **convergence test** ([`Iteration::kkt`]): the KKT residual `g − Σ λ_i a_i` in
 //!    newtons, feasibility and complementarity of the rows, and stagnation;
 //! 2. **model step** ([`Iteration::factor_damped`]): the Hessian with the gauge held
-//!    and a Levenberg–Marquardt damping `λ·diag|H|`, i.e. scaled per unknown (a
+//!    and a Levenberg–Marquardt damping `λ·D`, `D` the Hessian's own diagonal floored
+//!    at 1e-4 of its largest entry, i.e. scaled per unknown (a
 //!    position's own `EA/h`, a rotation's own `EI/h`, a joint's own stiffness), raised
 //!    from the last accepted value until the factorisation is positive definite;
 //! 3. **direction** ([`Iteration::direction`]): the damped Newton step, projected by the
 //!    QP of the linearised inequalities (contact, joint limits);
 //! 4. **globalisation** ([`Iteration::globalise`]): a trust region in physical units
 //!    (largest rotation in rad, largest translation in m), shrunk on rejection, grown on
-//!    success;
+//!    success; a mispredicted step first gets a positions-only correction, an exact one
+//!    is extended, and a short step of an indefinite iteration is tried together with a
+//!    direction of negative curvature scaled to the region;
 //! 5. **acceptance** (inside `globalise`): the ratio of achieved to predicted decrease of
 //!    the exact-penalty merit `E + μ Σ max(0, −gap)`; in the round-off regime, a
 //!    decrease of the residual instead;
