@@ -48,31 +48,8 @@ pub(crate) fn negative_direction(
             return None;
         }
     }
-    // Deterministic, generic start vector.
-    let n = work.step.len();
-    let mut x: Vec<f64> = (0..n)
-        .map(|i| ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5)
-        .collect();
-    for _ in 0..INVERSE_ITERATIONS {
-        for (y, (xi, d)) in work.rhs.iter_mut().zip(x.iter().zip(&scale)) {
-            *y = xi * d;
-        }
-        work.gauge.fix_vector(&mut work.rhs);
-        work.cholesky.solve_in_place(&mut work.rhs);
-        let norm = work
-            .rhs
-            .iter()
-            .zip(&scale)
-            .map(|(y, d)| y * y * d)
-            .sum::<f64>()
-            .sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return None;
-        }
-        for (xi, y) in x.iter_mut().zip(&work.rhs) {
-            *xi = y / norm;
-        }
-    }
+    let mut x = generic_start(work.step.len());
+    inverse_iteration(work, &scale, &mut x, INVERSE_ITERATIONS)?;
     let (rotation, translation) = model.step_size(&x);
     let longest = model
         .system()
@@ -83,4 +60,43 @@ pub(crate) fn negative_direction(
     let factor = (PERTURBATION_ROTATION_RAD / rotation.max(1e-300))
         .min(PERTURBATION_TRANSLATION * longest / translation.max(1e-300));
     Some(x.into_iter().map(|v| v * factor).collect())
+}
+
+/// A deterministic start vector with no special direction.
+pub(crate) fn generic_start(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5)
+        .collect()
+}
+
+/// `steps` steps of inverse iteration `x ← (H + σD)⁻¹ D x / ‖·‖_D` with the factor
+/// currently in `work.cholesky` (gauge held): `x` tends to the generalised eigenvector
+/// of `(H, D)` whose eigenvalue is nearest `−σ`. `None` if a step degenerates.
+pub(crate) fn inverse_iteration(
+    work: &mut Workspace,
+    scale: &[f64],
+    x: &mut [f64],
+    steps: usize,
+) -> Option<()> {
+    for _ in 0..steps {
+        for (y, (xi, d)) in work.rhs.iter_mut().zip(x.iter().zip(scale)) {
+            *y = xi * d;
+        }
+        work.gauge.fix_vector(&mut work.rhs);
+        work.cholesky.solve_in_place(&mut work.rhs);
+        let norm = work
+            .rhs
+            .iter()
+            .zip(scale)
+            .map(|(y, d)| y * y * d)
+            .sum::<f64>()
+            .sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return None;
+        }
+        for (xi, y) in x.iter_mut().zip(&work.rhs) {
+            *xi = y / norm;
+        }
+    }
+    Some(())
 }

@@ -276,31 +276,10 @@ impl<'a> Iteration<'a> {
         let scale = damping_scale(&work.eval.hessian, &work.diagonal);
         let n = work.step.len();
         if self.curvature_direction.len() != n {
-            self.curvature_direction = (0..n)
-                .map(|i| ((i as f64 + 1.0) * 0.618_033_988_749_895).fract() - 0.5)
-                .collect();
+            self.curvature_direction = crate::saddle::generic_start(n);
         }
         let x = &mut self.curvature_direction;
-        for _ in 0..NEGATIVE_CURVATURE_ITERATIONS {
-            for (r, (xi, d)) in work.rhs.iter_mut().zip(x.iter().zip(&scale)) {
-                *r = xi * d;
-            }
-            work.gauge.fix_vector(&mut work.rhs);
-            work.cholesky.solve_in_place(&mut work.rhs);
-            let norm = work
-                .rhs
-                .iter()
-                .zip(&scale)
-                .map(|(y, d)| y * y * d)
-                .sum::<f64>()
-                .sqrt();
-            if !(norm.is_finite() && norm > 0.0) {
-                return None;
-            }
-            for (xi, y) in x.iter_mut().zip(&work.rhs) {
-                *xi = y / norm;
-            }
-        }
+        crate::saddle::inverse_iteration(work, &scale, x, NEGATIVE_CURVATURE_ITERATIONS)?;
         symmetric_product(
             self.model.pattern(),
             &work.eval.hessian,
