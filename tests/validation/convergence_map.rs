@@ -1,8 +1,9 @@
 //! Issue 9: the convergence map. Every case of `strand_cli::bench::grid::convergence_grid`
 //! (end types clamp/pin/free/port/ball-port, `EI` 10 … 1e-6 N·m², `EA/EI` up to 1e12,
 //! 10 … 1000 edges, spans 0.3 … 0.999 L, gravity, dead loads, routes, clips) must
-//! converge with the default settings; the median of `report.iterations` (every Newton
-//! iteration: fine, coarse and continuation) must be ≤ 20 and the maximum ≤ 100.
+//! converge with the default settings (asserted); the median of `report.iterations`
+//! (every Newton iteration: fine, coarse and continuation) must be ≤ 20 and the
+//! maximum ≤ 100 (the issue's target, not met yet: an ignored test).
 //! Run with `--nocapture` to see the table.
 
 use strand_cli::bench::grid::{DEFAULT_CASES, convergence_grid, grid_system, median};
@@ -12,9 +13,9 @@ use strand_system::{Model, initial_state};
 /// Number of cases (keep the release-mode run well under a minute).
 const CASES: usize = DEFAULT_CASES;
 
-#[test]
-#[ignore = "issue 9 open: the solver does not yet meet this map (80 of 200 cases fail, median 107 iterations; mostly EA/EI >= 1e8 and kinked routes); run with --ignored"]
-fn every_case_of_the_convergence_map_converges_in_few_iterations() {
+/// Solves every case, prints the table and returns the failures (label and reason) and
+/// the iterations of every case.
+fn run_map() -> (Vec<String>, Vec<usize>) {
     let settings = SolverSettings::default();
     let grid = convergence_grid(CASES);
     let started = std::time::Instant::now();
@@ -77,13 +78,28 @@ fn every_case_of_the_convergence_map_converges_in_few_iterations() {
         grid.len(),
         failures.len()
     );
+    (failures, iterations)
+}
+
+#[test]
+fn every_case_of_the_convergence_map_converges() {
+    let (failures, iterations) = run_map();
     assert!(
         failures.is_empty(),
         "{} of {} cases failed:\n{}",
         failures.len(),
-        grid.len(),
+        iterations.len(),
         failures.join("\n")
     );
+}
+
+#[test]
+#[ignore = "issue 9 open: every case converges, but in a median of 23 iterations (target 20) and at most 642 (target 100); the slowest are limp cables with a free end, a tip load and a clip; run with --ignored"]
+fn the_convergence_map_takes_few_iterations() {
+    let (failures, iterations) = run_map();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let med = median(iterations.iter().map(|&i| i as f64).collect());
+    let max = iterations.iter().copied().max().unwrap_or(0);
     assert!(med <= 20.0, "median iterations {med}");
     assert!(max <= 100, "maximum iterations {max}");
 }

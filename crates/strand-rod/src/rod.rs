@@ -153,6 +153,23 @@ impl Rod {
         })
     }
 
+    /// The same rod (reference lengths, rest strains and curvatures) with another
+    /// cross section.
+    pub fn with_section(&self, section: Section) -> Self {
+        Self {
+            section,
+            ..self.clone()
+        }
+    }
+
+    /// The shortest reference edge length in m.
+    pub fn shortest_edge(&self) -> f64 {
+        self.edge_lengths
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The cross section.
     pub fn section(&self) -> &Section {
         &self.section

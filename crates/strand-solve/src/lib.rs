@@ -25,6 +25,7 @@ mod saddle;
 mod settings;
 mod sqp;
 pub mod stability;
+pub mod stiffness;
 
 pub use constraints::{ConstraintError, Constraints, Row, RowKey, limit_rows};
 pub use linear::SparseCholesky;

@@ -10,7 +10,7 @@ use crate::constraints::Constraints;
 use crate::gauge::Gauge;
 use crate::iteration::{Iteration, Workspace};
 use crate::report::Solution;
-use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle};
+use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle, stiffness};
 
 /// Systems whose held points centre farther than this from the origin (m) are solved in
 /// local coordinates (the round-off of 10 m coordinates is 2e-15 m, harmless).
@@ -74,10 +74,13 @@ impl<'m> Solver<'m> {
             work: Workspace {
                 cholesky: SparseCholesky::try_new(model.pattern())?,
                 diagonal: diagonal_positions(model),
+                rotation: rotation_flags(model),
+                bending_scale: bending_scales(model),
                 rotations: Gauge::holding(model, rotation_unknowns(model, &gauge)),
                 gauge,
                 eval: model.new_evaluation(),
                 trial_eval: model.new_evaluation(),
+                spare_eval: model.new_evaluation(),
                 damped: vec![0.0; model.pattern().nnz()],
                 step: vec![0.0; n],
                 product: vec![0.0; n],
@@ -140,6 +143,32 @@ impl<'m> Solver<'m> {
         self.model.evaluate(&initial, &mut eval, false);
         let already_converged =
             self.model.residual(&eval.gradient).combined_n <= settings.tolerance_n;
+        // A rod far stiffer in stretch than in bending: stiffness continuation first;
+        // the direct path below is the fallback. Not with contact: a softened hose
+        // would settle into a different contact set.
+        if settings.stiffness_continuation
+            && self.constraints.is_none()
+            && !already_converged
+            && stiffness::stiffness_ratio(self.model.system()) > stiffness::STIFF_RATIO
+        {
+            let stiffened =
+                stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;
+            if let Some(mut solution) = stiffened.solution.filter(|s| s.report.converged) {
+                let escape_iterations = if settings.escape_saddles {
+                    self.escape_saddle(&mut solution, settings)
+                } else {
+                    0
+                };
+                let report = &mut solution.report;
+                report.fine_iterations = report.iterations;
+                report.escape_iterations = escape_iterations;
+                report.continuation_steps = stiffened.steps;
+                report.continuation_iterations = stiffened.iterations;
+                report.iterations += stiffened.iterations + escape_iterations;
+                report.solve_seconds = started.elapsed().as_secs_f64();
+                return Ok(solution);
+            }
+        }
         let mut coarse_iterations = 0;
         let mut start = initial.clone();
         if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
@@ -261,6 +290,31 @@ fn rotation_unknowns(model: &Model, gauge: &Gauge) -> Vec<usize> {
         .collect();
     held.extend_from_slice(gauge.held());
     held
+}
+
+/// Per unknown: `true` unless it is a position (a rod vertex or a body's origin).
+fn rotation_flags(model: &Model) -> Vec<bool> {
+    let dofs = model.dofs();
+    (0..dofs.len())
+        .map(|i| dofs.kind(i / 3) != strand_system::BlockKind::Position)
+        .collect()
+}
+
+/// Per unknown: the bending stiffness of its edge `EI/h` (N·m) for an edge rotation of
+/// a rod, 0 for every other unknown.
+fn bending_scales(model: &Model) -> Vec<f64> {
+    let dofs = model.dofs();
+    let mut scales = vec![0.0; dofs.len()];
+    for (r, spec) in model.system().rods.iter().enumerate() {
+        let bending = spec.rod.section().curvature_stiffness().max();
+        for e in 0..spec.rod.segments() {
+            let b = dofs.edge(r, e);
+            for k in 0..3 {
+                scales[3 * b + k] = bending / spec.rod.edge_length(e);
+            }
+        }
+    }
+    scales
 }
 
 /// Value offsets of the diagonal entries in the upper-triangular CSC pattern.

@@ -9,7 +9,8 @@ use crate::constraints::Row;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Termination {
-    /// The residual fell below the tolerance (or the stated round-off floor).
+    /// The residual fell below the tolerance (or the stated round-off floor), or no
+    /// step could reduce it further while it was within 4 times that floor.
     Converged,
     /// The iteration limit was reached.
     MaxIterations,
@@ -48,9 +49,11 @@ pub struct SolveReport {
     /// Newton iterations of the coarse-model solve that produced the initial guess
     /// (nested iteration; 0 when not used).
     pub coarse_iterations: usize,
-    /// Load steps of the continuation that produced this result (0: direct solve).
+    /// Steps of the continuation that produced this result (0: direct solve): load
+    /// steps, or the softened and stiffening steps of the stiffness continuation
+    /// ([`crate::stiffness`]).
     pub continuation_steps: usize,
-    /// Newton iterations spent in the continuation's load steps.
+    /// Newton iterations spent in the continuation's steps (load or stiffness).
     pub continuation_iterations: usize,
     /// Newton iterations spent leaving unstable equilibria (part of `iterations`; see
     /// [`crate::SolverSettings::escape_saddles`]).

@@ -27,7 +27,12 @@ pub(crate) fn negative_direction(
     state: &SystemState,
 ) -> Option<Vec<f64>> {
     model.evaluate(state, &mut work.eval, true);
-    let scale = damping_scale(&work.eval.hessian, &work.diagonal);
+    let scale = damping_scale(
+        &work.eval.hessian,
+        &work.diagonal,
+        &work.rotation,
+        &work.bending_scale,
+    );
     work.damped.copy_from_slice(&work.eval.hessian);
     work.gauge.fix_matrix(&mut work.damped);
     if work.cholesky.factor(&work.damped) {

@@ -68,6 +68,11 @@ pub struct SolverSettings {
     /// after a failed one), each step warm-started, and report that result instead.
     /// Prescribed end positions are not ramped.
     pub load_continuation: bool,
+    /// Solve a system with a rod far stiffer in stretch and shear than in bending at
+    /// the scale of its edges (`C·h²/EI` above 1e4) first with that stiffness capped,
+    /// then raise the cap step by step, each step warm-started (see
+    /// [`crate::stiffness`]). Not used with contact constraints.
+    pub stiffness_continuation: bool,
     /// When a solve converges to an unstable equilibrium (a straight rod beyond
     /// buckling, reached from a perfectly straight start), perturb it along its
     /// direction of most negative curvature and solve again, returning the stable branch
@@ -103,6 +108,7 @@ impl Default for SolverSettings {
             stagnation_reduction: 0.5,
             nested_iteration: true,
             load_continuation: true,
+            stiffness_continuation: true,
             escape_saddles: true,
             max_continuation_steps: 64,
             constraint_tolerance: 1e-9,

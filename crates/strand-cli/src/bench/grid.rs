@@ -431,12 +431,18 @@ pub fn run_case(case: &GridCase, settings: &SolverSettings) -> GridRow {
 }
 
 /// Solves the first `count` cases of the map with the default settings, calling
-/// `on_row` after each case (to print it as it comes).
+/// `on_row` after each case (to print it as it comes). With the environment variable
+/// `STRAND_MAP_CASE=<index>` only that case runs (to trace it with `STRAND_TRACE=1`).
 pub fn run_grid(count: usize, mut on_row: impl FnMut(&GridRow)) -> Vec<GridRow> {
     let settings = SolverSettings::default();
+    let only: Option<usize> = std::env::var("STRAND_MAP_CASE")
+        .ok()
+        .and_then(|v| v.parse().ok());
     convergence_grid(count)
         .iter()
-        .map(|case| {
+        .enumerate()
+        .filter(|(index, _)| only.is_none_or(|o| o == *index))
+        .map(|(_, case)| {
             let row = run_case(case, &settings);
             on_row(&row);
             row

@@ -1,0 +1,317 @@
+//! Stiffness continuation: a rod whose axial and shear stiffness dwarfs its bending
+//! stiffness at the scale of its edges (`C·h²/EI` of 1e4 and more: a steel cable, a
+//! thin wire) has an energy valley so narrow and curved that Newton steps turning its
+//! frames by more than `√(8 EI/(C h²))` rad are mispredicted, and a large change of
+//! shape takes hundreds of tiny steps. The same system with the strain stiffness capped
+//! at [`SOFT_RATIO`]`·EI/h²` finds its shape in a few steps; the cap is then raised by
+//! an adaptive factor (first [`FIRST_GROWTH`], squared after an easy step, square-rooted
+//! after a failed one), each step warm-started from the last equilibrium, and the true
+//! system is solved from the last step. Near the valley's floor every step is a small
+//! correction of the strains, which Newton takes in a few iterations.
+
+use strand_system::{Model, System, SystemState};
+
+use crate::constraints::Constraints;
+use crate::newton::Solver;
+use crate::report::Solution;
+use crate::{SolveError, SolverSettings};
+
+/// `C·h²/EI` above which a rod's start is solved by stiffness continuation.
+pub const STIFF_RATIO: f64 = 1e3;
+/// `C·h²/EI` of the softened system the continuation starts from.
+pub const SOFT_RATIO: f64 = 3.0;
+/// The cap is at least this multiple of the system's load (its total weight and dead
+/// end forces), so that the softened rods stretch by at most about 1 %.
+pub const LOAD_RATIO: f64 = 100.0;
+/// First growth factor of the stiffness cap.
+pub const FIRST_GROWTH: f64 = 100.0;
+/// Largest growth factor of the stiffness cap per step.
+pub const MAX_GROWTH: f64 = 1e4;
+/// Smallest growth factor before the continuation gives up.
+pub const MIN_GROWTH: f64 = 1.5;
+/// Tolerance of the intermediate steps relative to the force scale of the system (its
+/// loads plus `EI/L²` of every rod): they only need to start the next step close to its
+/// equilibrium; the final solve of the true system meets the settings' tolerance.
+pub const STEP_TOLERANCE: f64 = 1e-6;
+/// A step that converged in at most this many iterations squares the growth factor.
+pub const EASY_STEP_ITERATIONS: usize = 6;
+/// Iteration budget of one stiffening step.
+pub const STEP_MAX_ITERATIONS: usize = 40;
+
+/// The largest `C·h²/EI` of any rod of `system` (its stiffest strain component, its
+/// softest bending or twisting component and its shortest edge).
+pub fn stiffness_ratio(system: &System) -> f64 {
+    system
+        .rods
+        .iter()
+        .map(|spec| {
+            let section = spec.rod.section();
+            let strain = section.strain_stiffness().max();
+            let bending = section.curvature_stiffness().min();
+            let h = spec.rod.shortest_edge();
+            strain * h * h / bending.max(f64::MIN_POSITIVE)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The load that strains the rods, N: the total weight of the rods and the dead
+/// forces at their ends.
+pub fn load_scale(system: &System) -> f64 {
+    let g = system.gravity.norm();
+    system
+        .rods
+        .iter()
+        .map(|spec| {
+            spec.rod.section().mass_per_length * g * spec.rod.length()
+                + spec.start.load.force.norm()
+                + spec.end.load.force.norm()
+        })
+        .sum()
+}
+
+/// `system` with every rod's strain stiffnesses (`GA1`, `GA2`, `EA`) capped at
+/// `ratio · EI_min / h_min²`, but not below [`LOAD_RATIO`] times the
+/// [`load_scale`]; `None` when no rod is above the cap (the system itself).
+pub fn softened(system: &System, ratio: f64) -> Option<System> {
+    let floor = LOAD_RATIO * load_scale(system);
+    let mut softened = system.clone();
+    let mut changed = false;
+    for spec in &mut softened.rods {
+        let mut section = *spec.rod.section();
+        let h = spec.rod.shortest_edge();
+        let cap = (ratio * section.curvature_stiffness().min() / (h * h)).max(floor);
+        for c in [
+            &mut section.shear_stiffness_1,
+            &mut section.shear_stiffness_2,
+            &mut section.axial_stiffness,
+        ] {
+            if *c > cap {
+                *c = cap;
+                changed = true;
+            }
+        }
+        spec.rod = spec.rod.with_section(section);
+    }
+    changed.then_some(softened)
+}
+
+/// What the continuation produced.
+pub(crate) struct Stiffening {
+    /// The solution of the true system from the last step, `None` if a step failed
+    /// at the smallest growth.
+    pub solution: Option<Solution>,
+    /// Steps taken (the softened start, accepted and rejected stiffening steps).
+    pub steps: usize,
+    /// Newton iterations of every step before the final solve of the true system.
+    pub iterations: usize,
+}
+
+/// Solves `model` by stiffness continuation from `initial`.
+pub(crate) fn stiffen(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    initial: SystemState,
+    settings: &SolverSettings,
+) -> Result<Stiffening, SolveError> {
+    let bending_scale: f64 = model
+        .system()
+        .rods
+        .iter()
+        .map(|spec| spec.rod.section().curvature_stiffness().max() / spec.rod.length().powi(2))
+        .sum();
+    let step_tolerance = settings
+        .tolerance_n
+        .max(STEP_TOLERANCE * (load_scale(model.system()) + bending_scale));
+    let step_settings = SolverSettings {
+        tolerance_n: step_tolerance,
+        nested_iteration: false,
+        load_continuation: false,
+        stiffness_continuation: false,
+        escape_saddles: false,
+        max_iterations: settings.max_iterations.min(STEP_MAX_ITERATIONS),
+        ..settings.clone()
+    };
+    // The softened start may need the whole machinery (nested, load continuation).
+    let start_settings = SolverSettings {
+        tolerance_n: step_tolerance,
+        stiffness_continuation: false,
+        escape_saddles: false,
+        ..settings.clone()
+    };
+    let system = model.system();
+    let (mut steps, mut iterations) = (0, 0);
+    let final_settings = SolverSettings {
+        tolerance_n: settings.tolerance_n,
+        ..step_settings.clone()
+    };
+    let mut state = initial;
+    let mut ratio = SOFT_RATIO;
+    let mut growth = FIRST_GROWTH;
+    let mut first = true;
+    while steps < settings.max_continuation_steps {
+        steps += 1;
+        let target = if first { ratio } else { ratio * growth };
+        let Some(soft) = softened(system, target) else {
+            if first {
+                // Nothing to soften (the loads alone stiffen the rods): the direct
+                // path is the better solve.
+                break;
+            }
+            let solution = solve_at(model, constraints, state, &final_settings)?;
+            return Ok(Stiffening {
+                solution: Some(solution),
+                steps,
+                iterations,
+            });
+        };
+        let soft_model =
+            Model::try_new(soft).map_err(|e| SolveError::InitialState(e.to_string()))?;
+        let solution = solve_at(
+            &soft_model,
+            constraints,
+            state.clone(),
+            if first {
+                &start_settings
+            } else {
+                &step_settings
+            },
+        )?;
+        iterations += solution.report.iterations;
+        if std::env::var_os("STRAND_TRACE").is_some() {
+            eprintln!(
+                "strand-solve: stiffening step {steps}: C h²/EI capped at {target:.1e}: {} ({:?}) in {} iterations, residual {:.2e} N (floor {:.2e} N)",
+                if solution.report.converged {
+                    "converged"
+                } else {
+                    "failed"
+                },
+                solution.report.termination,
+                solution.report.iterations,
+                solution.report.residual.combined_n,
+                solution.report.residual_floor_n
+            );
+        }
+        if solution.report.converged {
+            if !first && solution.report.iterations <= EASY_STEP_ITERATIONS {
+                growth = (growth * growth).min(MAX_GROWTH);
+            }
+            ratio = target;
+            state = solution.state;
+            first = false;
+        } else if first {
+            break;
+        } else {
+            growth = growth.sqrt();
+            if growth < MIN_GROWTH {
+                break;
+            }
+        }
+    }
+    Ok(Stiffening {
+        solution: None,
+        steps,
+        iterations,
+    })
+}
+
+fn solve_at(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    state: SystemState,
+    settings: &SolverSettings,
+) -> Result<Solution, SolveError> {
+    let mut solver = Solver::try_new(model)?;
+    if let Some(c) = constraints {
+        solver = solver.with_constraints(c);
+    }
+    solver.solve(state, settings)
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, RodSpec, initial_state};
+
+    use super::*;
+
+    /// A 1 m rod of `segments` edges clamped at the origin along +x, free at the other
+    /// end, 0.5 kg/m, under `gravity` m/s² along −z.
+    fn cantilever(ea: f64, ei: f64, segments: usize, gravity: f64) -> System {
+        let section = Section::try_explicit(ea, ea / 3.0, ei, ei, 0.5, 0.0).unwrap();
+        System {
+            rods: vec![RodSpec {
+                name: "wire".into(),
+                rod: Rod::try_straight(section, 1.0, segments).unwrap(),
+                start: End::clamped(Vector3::zeros(), UnitQuaternion::identity()),
+                end: End::free(),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -gravity),
+        }
+    }
+
+    #[test]
+    fn softening_caps_every_strain_stiffness_and_keeps_the_rest() {
+        // h = 0.1 m, EI = 1e-2 N·m²: the cap at ratio 3 is 3 N; no load.
+        let system = cantilever(1e6, 1e-2, 10, 0.0);
+        assert!((stiffness_ratio(&system) - 1e6 * 0.01 / 1e-2).abs() < 1e-6);
+        let soft = softened(&system, 3.0).unwrap();
+        let section = soft.rods[0].rod.section();
+        for c in section.strain_stiffness().iter() {
+            assert!((c - 3.0).abs() < 1e-12, "{c}");
+        }
+        assert_eq!(
+            section.curvature_stiffness(),
+            system.rods[0].rod.section().curvature_stiffness()
+        );
+        assert_eq!(section.mass_per_length, 0.5);
+        assert_eq!(soft.rods[0].rod.edge_length(3), 0.1);
+        // A cap above every stiffness changes nothing.
+        assert!(softened(&system, 1e9).is_none());
+    }
+
+    #[test]
+    fn the_cap_never_falls_below_a_hundred_times_the_load() {
+        // Weight 0.5 kg/m · 9.81 m/s² · 1 m = 4.905 N: the cap is at least 490.5 N.
+        let system = cantilever(1e6, 1e-2, 10, 9.81);
+        assert!((load_scale(&system) - 4.905).abs() < 1e-12);
+        let soft = softened(&system, 3.0).unwrap();
+        let ea = soft.rods[0].rod.section().axial_stiffness;
+        assert!((ea - 490.5).abs() < 1e-9, "{ea}");
+    }
+
+    #[test]
+    fn continuation_reaches_the_equilibrium_of_the_direct_solve() {
+        // A stiff heavy cantilever (C h²/EI = 1e8 · 0.0025 / 1 ≈ 2.5e5) has one
+        // equilibrium; the direct solve (no continuation, a generous budget) and the
+        // default solve through the softened system must both find it.
+        let system = cantilever(1e8, 1.0, 20, 9.81);
+        let model = Model::try_new(system).unwrap();
+        let default = SolverSettings::default();
+        let direct_settings = SolverSettings {
+            stiffness_continuation: false,
+            max_iterations: 5000,
+            ..SolverSettings::default()
+        };
+        let start = initial_state(model.system());
+        let stiffened = crate::solve(&model, start.clone(), &default).unwrap();
+        let direct = crate::solve(&model, start, &direct_settings).unwrap();
+        assert!(stiffened.report.converged && direct.report.converged);
+        assert!(
+            stiffened.report.continuation_steps >= 2,
+            "{:?}",
+            stiffened.report
+        );
+        assert_eq!(direct.report.continuation_steps, 0);
+        for (a, b) in stiffened.state.rods[0]
+            .positions
+            .iter()
+            .zip(&direct.state.rods[0].positions)
+        {
+            assert!((a - b).norm() < 1e-9, "{a} vs {b}");
+        }
+    }
+}
