@@ -34,14 +34,13 @@ pub fn scaled_loads(system: &System, factor: f64) -> System {
     scaled
 }
 
-/// What a ramp produced.
+/// What a ramp (of the loads, or of the stiffness in [`crate::stiffness`]) produced.
 pub(crate) struct Ramp {
-    /// The solution of the full model from the last load step, `None` if the ramp
-    /// stalled.
+    /// The solution of the full model from the last step, `None` if the ramp stalled.
     pub solution: Option<Solution>,
-    /// Load steps taken (accepted and rejected).
+    /// Steps taken (accepted and rejected).
     pub steps: usize,
-    /// Newton iterations of the load steps (not counting the final full-load solve).
+    /// Newton iterations of the steps (not counting the final solve of the full model).
     pub iterations: usize,
 }
 
@@ -102,7 +101,8 @@ pub(crate) fn ramp(
     })
 }
 
-fn solve_at(
+/// One solve of `model` from `state` with its own [`Solver`] (contact if any).
+pub(crate) fn solve_at(
     model: &Model,
     constraints: Option<&dyn Constraints>,
     state: SystemState,

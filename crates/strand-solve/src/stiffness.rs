@@ -12,8 +12,7 @@
 use strand_system::{Model, System, SystemState};
 
 use crate::constraints::Constraints;
-use crate::newton::Solver;
-use crate::report::Solution;
+use crate::continuation::{Ramp, solve_at};
 use crate::{SolveError, SolverSettings};
 
 /// `C·h²/EI` above which a rod's start is solved by stiffness continuation.
@@ -95,24 +94,15 @@ pub fn softened(system: &System, ratio: f64) -> Option<System> {
     changed.then_some(softened)
 }
 
-/// What the continuation produced.
-pub(crate) struct Stiffening {
-    /// The solution of the true system from the last step, `None` if a step failed
-    /// at the smallest growth.
-    pub solution: Option<Solution>,
-    /// Steps taken (the softened start, accepted and rejected stiffening steps).
-    pub steps: usize,
-    /// Newton iterations of every step before the final solve of the true system.
-    pub iterations: usize,
-}
-
-/// Solves `model` by stiffness continuation from `initial`.
+/// Solves `model` by stiffness continuation from `initial`: the [`Ramp`]'s solution is
+/// that of the true system from the last step (`None` if a step failed at the smallest
+/// growth), its steps count the softened start and every stiffening step.
 pub(crate) fn stiffen(
     model: &Model,
     constraints: Option<&dyn Constraints>,
     initial: SystemState,
     settings: &SolverSettings,
-) -> Result<Stiffening, SolveError> {
+) -> Result<Ramp, SolveError> {
     let bending_scale: f64 = model
         .system()
         .rods
@@ -158,7 +148,7 @@ pub(crate) fn stiffen(
                 break;
             }
             let solution = solve_at(model, constraints, state, &final_settings)?;
-            return Ok(Stiffening {
+            return Ok(Ramp {
                 solution: Some(solution),
                 steps,
                 iterations,
@@ -207,24 +197,11 @@ pub(crate) fn stiffen(
             }
         }
     }
-    Ok(Stiffening {
+    Ok(Ramp {
         solution: None,
         steps,
         iterations,
     })
-}
-
-fn solve_at(
-    model: &Model,
-    constraints: Option<&dyn Constraints>,
-    state: SystemState,
-    settings: &SolverSettings,
-) -> Result<Solution, SolveError> {
-    let mut solver = Solver::try_new(model)?;
-    if let Some(c) = constraints {
-        solver = solver.with_constraints(c);
-    }
-    solver.solve(state, settings)
 }
 
 #[cfg(test)]
