@@ -116,8 +116,20 @@ pub trait Constraints: Sync {
     fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError>;
 
     /// Largest translation of any vertex in one step, m, so that no obstacle outside the
-    /// search margin can be reached within one step.
+    /// search margin can be reached within one step (for moves whose clearance is not
+    /// measured, see [`Constraints::advancement`]).
     fn max_translation_m(&self) -> f64;
+
+    /// The largest multiple of the straight move from `state` to `target` that cannot
+    /// reach an obstacle outside the search margin, from the clearance of every moving
+    /// part at `state` (conservative advancement; at least what
+    /// [`Constraints::max_translation_m`] allows).
+    fn advancement(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        target: &SystemState,
+    ) -> Result<f64, ConstraintError>;
 }
 
 /// The joint-limit rows at `state`: `d_i − lower_i ≥ 0` and `upper_i − d_i ≥ 0` for

@@ -14,6 +14,7 @@ use strand_system::{Model, SystemState};
 
 use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 
+mod advance;
 mod exclusion;
 mod mesh_gaps;
 mod start;
@@ -55,8 +56,9 @@ pub struct ContactForce {
 
 impl Contact {
     /// Contact against `meshes`, with pairs closer than `margin_m` (surface to surface,
-    /// m) entering as constraints. Steps are limited to half the margin, so nothing
-    /// beyond it can be reached within one step.
+    /// m) entering as constraints. Each edge moves by at most half of the larger of the
+    /// margin and its clearance in one step, so nothing beyond the margin can be
+    /// reached within one step.
     pub fn new(meshes: Vec<Arc<ObstacleMesh>>, margin_m: f64) -> Self {
         Self { meshes, margin_m }
     }
@@ -284,5 +286,14 @@ impl Constraints for Contact {
 
     fn max_translation_m(&self) -> f64 {
         0.5 * self.margin_m
+    }
+
+    fn advancement(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        target: &SystemState,
+    ) -> Result<f64, ConstraintError> {
+        Contact::advancement(self, model, state, target)
     }
 }

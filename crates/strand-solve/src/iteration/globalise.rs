@@ -31,11 +31,13 @@ impl Iteration<'_> {
         let settings = self.settings;
         let (rotation, translation) = self.model.step_size(&self.work.step);
         let max_translation = self.max_translation;
-        let fits = move |radius: f64| {
+        let advance = self.advancement(translation);
+        // The multiple of the step that fits into a trust region of `radius`.
+        let reach = move |radius: f64| {
             (radius * settings.max_rotation_step_rad / rotation.max(1e-300))
-                .min(radius * max_translation / translation.max(1e-300))
-                .min(1.0)
+                .min(radius * advance)
         };
+        let fits = move |radius: f64| reach(radius).min(1.0);
         // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
         let slope: f64 = self
             .work
@@ -61,8 +63,7 @@ impl Iteration<'_> {
         let merit = self.work.eval.energy + self.merit_weight * violation;
         // A damped step well inside the trust region (a quarter of it or less) is
         // short because of the damping: only then look for negative curvature.
-        let room = (self.radius * settings.max_rotation_step_rad / rotation.max(1e-300))
-            .min(self.radius * max_translation / translation.max(1e-300));
+        let room = reach(self.radius);
         let negative = if room >= 4.0 {
             self.negative_curvature()
         } else {
@@ -242,6 +243,22 @@ impl Iteration<'_> {
             t = fits(self.radius);
         }
         Err(Termination::LineSearchFailed)
+    }
+
+    /// The multiple of the step allowed by the translation limits: the settings' limit
+    /// on the largest vertex move (`translation`, m, at the full step) and the
+    /// conservative advancement of the constraints (the clearance of every moving
+    /// edge); the blind limit where the clearance cannot be measured.
+    fn advancement(&self, translation: f64) -> f64 {
+        let settings_limit = self.free_translation / translation.max(1e-300);
+        let Some(constraints) = self.constraints else {
+            return settings_limit;
+        };
+        let target = self.model.retract(&self.state, &self.work.step);
+        match constraints.advancement(self.model, &self.state, &target) {
+            Ok(advance) => settings_limit.min(advance),
+            Err(_) => self.max_translation / translation.max(1e-300),
+        }
     }
 
     /// Lets the positions of `trial` follow its frames: replaces it by the positions-only

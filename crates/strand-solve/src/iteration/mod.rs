@@ -128,8 +128,12 @@ pub(crate) struct Iteration<'a> {
     damping: f64,
     /// Trust radius as a fraction of the settings' step limits.
     radius: f64,
-    /// Largest translation of a vertex in one step, m.
+    /// Largest translation of a vertex in one step, m, along a direction whose
+    /// clearance is not measured (the settings' limit and the contact's blind limit).
     max_translation: f64,
+    /// Largest translation of a vertex in one step by the settings alone, m (the
+    /// Newton step's clearance is measured: [`Constraints::advancement`]).
+    free_translation: f64,
     /// The tolerance applied: the larger of the setting and the round-off floor, N.
     tolerance: f64,
     report: SolveReport,
@@ -168,7 +172,8 @@ impl<'a> Iteration<'a> {
             .iter()
             .map(|r| r.rod.length())
             .fold(0.0, f64::max);
-        let mut max_translation = settings.max_translation_step * longest_rod;
+        let free_translation = settings.max_translation_step * longest_rod;
+        let mut max_translation = free_translation;
         if let Some(c) = constraints {
             max_translation = max_translation.min(c.max_translation_m());
         }
@@ -188,6 +193,7 @@ impl<'a> Iteration<'a> {
             damping: 0.0,
             radius: 1.0,
             max_translation,
+            free_translation,
             tolerance: settings.tolerance_n.max(floor),
             report,
             history: Vec::new(),
