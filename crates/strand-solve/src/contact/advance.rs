@@ -12,8 +12,8 @@ use nalgebra::{Point3, Vector3};
 use strand_contact::{Obstacle, RodGeometry};
 use strand_system::{Model, SystemState};
 
-use super::{Contact, describe_error};
 use super::exclusion::Exclusion;
+use super::{Contact, describe_error};
 use crate::constraints::ConstraintError;
 
 /// Farthest rod–rod clearance looked for, in search margins: the rod–rod broad phase

@@ -34,8 +34,7 @@ impl Iteration<'_> {
         let advance = self.advancement(translation);
         // The multiple of the step that fits into a trust region of `radius`.
         let reach = move |radius: f64| {
-            (radius * settings.max_rotation_step_rad / rotation.max(1e-300))
-                .min(radius * advance)
+            (radius * settings.max_rotation_step_rad / rotation.max(1e-300)).min(radius * advance)
         };
         let fits = move |radius: f64| reach(radius).min(1.0);
         // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
