@@ -18,7 +18,7 @@
 //!    tried together with a direction of negative curvature (from the whole region
 //!    down, a quarter at a time);
 //! 5. **acceptance** (inside `globalise`): the ratio of achieved to predicted decrease of
-//!    the exact-penalty merit `E + μ Σ max(0, −gap)`; in the round-off regime, a
+//!    the exact-penalty merit `E + μ max(0, −gap)` (ℓ∞); in the round-off regime, a
 //!    decrease of the residual instead;
 //!    A line search that fails, or a stagnation, within 4 times the round-off floor of
 //!    the residual counts as convergence to round-off;
@@ -427,8 +427,9 @@ impl<'a> Iteration<'a> {
             .map(|(r, l)| (r.key, *l))
             .collect();
         self.multipliers.sort_by_key(|a| a.0);
-        let largest = self.multipliers.iter().fold(0.0f64, |m, (_, l)| m.max(*l));
-        self.merit_weight = self.merit_weight.max(2.0 * largest);
+        // The ℓ∞ penalty is exact above the sum of the multipliers.
+        let total: f64 = self.multipliers.iter().map(|(_, l)| l).sum();
+        self.merit_weight = self.merit_weight.max(2.0 * total);
         Ok(())
     }
 
@@ -540,9 +541,13 @@ fn valley_turn(model: &Model) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Total violation `Σ max(0, −value)` of the rows.
+/// Largest violation `max(0, −value)` of the rows (m or rad): the ℓ∞ exact penalty.
+/// Unlike the sum, it does not jump when one contact becomes two rows of equal value
+/// (an edge whose nearest points become a stretch gives a row at each end; a vertex
+/// near a crease gets one row per flank), which would make the merit discontinuous
+/// along a step and reject every trial however short.
 fn violation_of(rows: &[Row]) -> f64 {
-    rows.iter().map(|r| (-r.value).max(0.0)).sum()
+    rows.iter().map(|r| (-r.value).max(0.0)).fold(0.0, f64::max)
 }
 
 /// Ulps of strain in the round-off floor of the residual (the tolerance applied when
