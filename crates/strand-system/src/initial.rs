@@ -587,7 +587,13 @@ fn hermite_with_length(
 /// Spreads the twist between the transported last frame and a clamped end frame
 /// linearly along the rod, so that neither end starts with a concentrated twist (for a
 /// route on a helix this recovers the Frenet-type frames exactly). The twist is the
-/// shortest one, `φ₀ ∈ (−π, π]`, plus `turns` whole turns.
+/// shortest one, `φ₀ ∈ (−π, π]`, plus `turns` whole turns; a half turn is `+π` also
+/// when round-off puts it just below `−π` ([`HALF_TURN_TIE_RAD`]), so that the same
+/// input moved elsewhere (a harness 1 km from the origin) starts from the same guess.
+/// How close to `−π` (rad) a shortest twist counts as a half turn `+π`: the twist of an
+/// end frame turned by exactly half a turn is `±π` by the round-off of its inputs.
+pub(crate) const HALF_TURN_TIE_RAD: f64 = 1e-9;
+
 fn distribute_twist(
     frames: &mut [UnitQuaternion<f64>],
     end_frame: &UnitQuaternion<f64>,
@@ -597,7 +603,11 @@ fn distribute_twist(
     let last = *frames.last().expect("at least one edge");
     // Twist angle about the last edge's a3 that best aligns its a1 with the end frame's.
     let target_a1 = last.inverse() * (end_frame * Vector3::x());
-    let twist = target_a1.y.atan2(target_a1.x) + TAU * turns as f64;
+    let mut shortest = target_a1.y.atan2(target_a1.x);
+    if shortest < -std::f64::consts::PI + HALF_TURN_TIE_RAD {
+        shortest += TAU;
+    }
+    let twist = shortest + TAU * turns as f64;
     let length = *arc_lengths.last().expect("vertices");
     let n = frames.len();
     for (e, frame) in frames.iter_mut().enumerate() {
@@ -804,5 +814,37 @@ mod tests {
                 total.to_degrees()
             );
         }
+    }
+
+    #[test]
+    fn a_half_turn_of_twist_starts_the_same_whatever_its_round_off() {
+        // An end frame turned by half a turn about the rod, give or take round-off
+        // (1e-13 rad either way, as the same input 1 km from the origin), starts with
+        // +π spread along the rod, not +π once and −π the other time.
+        let section = Section::try_explicit(1e4, 1e4, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), FRAC_PI_2);
+        let twist_of = |angle: f64| {
+            let end = along_x * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle);
+            let system = System {
+                rods: vec![RodSpec {
+                    name: "rod".into(),
+                    rod: Rod::try_straight(section, 1.0, 10).unwrap(),
+                    start: End::clamped(Vector3::zeros(), along_x),
+                    end: End::clamped(Vector3::x(), end),
+                    route: None,
+                }],
+                bodies: vec![],
+                clips: vec![],
+                gravity: Vector3::zeros(),
+            };
+            let state = initial_state(&system);
+            // The twist of the middle edge relative to the clamp.
+            strand_rod::so3::log(&(along_x.inverse() * state.rods[0].frames[5])).z
+        };
+        let (below, above) = (twist_of(std::f64::consts::PI - 1e-13), twist_of(-std::f64::consts::PI + 1e-13));
+        assert!((below - above).abs() < 1e-9, "{below} vs {above}");
+        assert!(below > 0.0, "{below}");
+        // Farther from the tie than round-off, the shortest twist is still chosen.
+        assert!(twist_of(-std::f64::consts::PI + 1e-6) < 0.0);
     }
 }
