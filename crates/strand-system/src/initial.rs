@@ -841,7 +841,10 @@ mod tests {
             // The twist of the middle edge relative to the clamp.
             strand_rod::so3::log(&(along_x.inverse() * state.rods[0].frames[5])).z
         };
-        let (below, above) = (twist_of(std::f64::consts::PI - 1e-13), twist_of(-std::f64::consts::PI + 1e-13));
+        let (below, above) = (
+            twist_of(std::f64::consts::PI - 1e-13),
+            twist_of(-std::f64::consts::PI + 1e-13),
+        );
         assert!((below - above).abs() < 1e-9, "{below} vs {above}");
         assert!(below > 0.0, "{below}");
         // Farther from the tie than round-off, the shortest twist is still chosen.
