@@ -16,6 +16,7 @@ use crate::error::{CaseError, Reporter};
 use crate::nominal::{build_reference, initial_guess, nominal_end, stated_length, use_guesses};
 use crate::schema::{CaseFile, EndDef, RodDef};
 use crate::sections::{build_sections, min_bend_radii, names};
+use crate::start::Start;
 use crate::units::LengthUnit;
 
 /// Largest allowed distance between a route's first/last point and the held end it
@@ -46,6 +47,9 @@ pub struct BuiltCase {
     /// Environment meshes (OBJ files in world coordinates, m, with their BVH), in
     /// file order; shared with the case's other builds (variants, batches).
     pub environment: Vec<Arc<ObstacleMesh>>,
+    /// Which default guess `initial` is: hanging, or (when that passes through an
+    /// obstacle) bowed sideways or arched up.
+    pub start: Start,
 }
 
 /// Builds the model; `segments` overrides every rod's number of segments. Environment
@@ -121,7 +125,7 @@ pub(crate) fn build(
     // The initial guess does not depend on the loads' moment references: it is the
     // nominal state just computed (computing it again doubled the build time).
     let initial = nominal;
-    Ok(BuiltCase {
+    let mut built = BuiltCase {
         name: name.to_string(),
         origin: origin.to_string(),
         length_unit: unit,
@@ -131,7 +135,10 @@ pub(crate) fn build(
         connector_names: file.rods.iter().map(connector_names).collect(),
         min_bend_radius,
         environment,
-    })
+        start: Start::Hanging,
+    };
+    built.start = built.clear_start(&guesses);
+    Ok(built)
 }
 
 /// The connectors holding the start and end of a rod, by name.

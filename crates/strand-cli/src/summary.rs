@@ -82,6 +82,11 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
     let unit: LengthUnit = built.length_unit;
     let mut s = String::new();
     let _ = writeln!(s, "case        {} ({})", doc.case, built.origin);
+    if let Some(start) = built.start.describe()
+        && doc.variant.is_none()
+    {
+        let _ = writeln!(s, "start       {start}");
+    }
     if let Some(variant) = &doc.variant {
         let start = match doc.base_iterations {
             Some(n) if doc.warm_start => {

@@ -226,6 +226,7 @@ pub(crate) fn guide_curve(
                 b.position,
                 b.tangent.unwrap_or(direction),
                 b.s - a.s,
+                gravity_direction(loading.gravity),
             )
         });
         polyline.extend_from_slice(&piece[1..]);
@@ -245,6 +246,17 @@ pub(crate) fn guide_curve(
         polyline.extend_from_slice(&tail[1..]);
     }
     polyline
+}
+
+/// The direction a piece without a catenary bows to make up its length: along gravity
+/// (also for a weightless rod; −z without gravity).
+fn gravity_direction(gravity: Vector3<f64>) -> Vector3<f64> {
+    let g = gravity.norm();
+    if g > 0.0 && g.is_finite() {
+        gravity / g
+    } else {
+        -Vector3::z()
+    }
 }
 
 /// A free tail of `length` m leaving `origin` along the unit `direction` and hanging
@@ -529,8 +541,8 @@ fn resample(polyline: &[Vector3<f64>], arc_lengths: &[f64], length: f64) -> Vec<
 }
 
 /// A cubic Hermite curve from `a` (tangent `t0`) to `b` (tangent `t1`, both scaled by
-/// the chord length) plus a bow `β sin²(πt) n` (`n` ⟂ chord, sagging towards −z where
-/// possible), sampled densely, with `β ≥ 0` chosen by bisection so that the curve's
+/// the chord length) plus a bow `β sin²(πt) n` (`n` ⟂ chord, sagging towards the unit
+/// `down` where possible), sampled densely, with `β ≥ 0` chosen by bisection so that the curve's
 /// length is `length`.
 fn hermite_with_length(
     a: Vector3<f64>,
@@ -538,6 +550,7 @@ fn hermite_with_length(
     b: Vector3<f64>,
     t1: Vector3<f64>,
     length: f64,
+    down: Vector3<f64>,
 ) -> Vec<Vector3<f64>> {
     let chord = b - a;
     let scale = chord.norm().max(1e-3 * length);
@@ -546,7 +559,7 @@ fn hermite_with_length(
     } else {
         Vector3::x()
     };
-    let mut normal = -Vector3::z() + axis * axis.z;
+    let mut normal = down - axis * axis.dot(&down);
     if normal.norm() < 1e-6 {
         normal = axis.cross(&Vector3::x());
         if normal.norm() < 1e-6 {
@@ -754,7 +767,14 @@ mod tests {
         assert!(curve[SAMPLES / 2].z < -0.1);
         // A stiff hose between the same clamps (w L³/EI = 0.5) keeps the Hermite curve.
         let stiff = guide_curve(&stations, 1.0, &loading(10.0));
-        let hermite = hermite_with_length(Vector3::zeros(), t0, Vector3::x() * 0.8, t1, 1.0);
+        let hermite = hermite_with_length(
+            Vector3::zeros(),
+            t0,
+            Vector3::x() * 0.8,
+            t1,
+            1.0,
+            -Vector3::z(),
+        );
         assert_eq!(stiff, hermite);
     }
 

@@ -16,10 +16,15 @@ use super::exclusion::Exclusion;
 use super::{Contact, describe_error};
 use crate::constraints::ConstraintError;
 
-/// Farthest rod–rod clearance looked for, in search margins: the rod–rod broad phase
-/// costs in proportion to the neighbours within reach, so no edge moves by more than
-/// `ROD_REACH / 2` margins in one step.
+/// Farthest rod–rod clearance looked for, in search margins or ([`ROD_REACH_EDGES`])
+/// mean edge lengths, whichever is longer: the rod–rod broad phase costs in proportion
+/// to the neighbours within reach, so no edge moves by more than half of that in one
+/// step.
 const ROD_REACH: f64 = 8.0;
+
+/// Farthest rod–rod clearance looked for, in mean edge lengths: a coarse rod (a cable
+/// of 20 edges falling from upright) may move far per step for few pairs looked at.
+const ROD_REACH_EDGES: f64 = 32.0;
 
 impl Contact {
     /// The largest multiple `t` of the straight move of every vertex from `state` to
@@ -102,7 +107,12 @@ impl Contact {
         // relative move of their edges' ends: parts moving together (a falling hose)
         // do not limit each other. Pairs beyond `reach` are not looked at; each edge
         // then moves by at most half of it.
-        let reach = (2.0 * farthest).min(ROD_REACH * self.margin_m);
+        let (length, edges) = model.system().rods.iter().fold((0.0, 0), |(l, n), r| {
+            (l + r.rod.length(), n + r.rod.segments())
+        });
+        let mean_edge = length / edges.max(1) as f64;
+        let reach =
+            (2.0 * farthest).min((ROD_REACH * self.margin_m).max(ROD_REACH_EDGES * mean_edge));
         let exclusion = Exclusion::new(model, state);
         let pairs = strand_contact::rod_rod_gaps(&rods, reach, |ra, ea, rb, eb| {
             exclusion.excluded(ra, ea, rb, eb)

@@ -1,0 +1,242 @@
+//! A start that clears the environment. The default guess of a rod without a route
+//! hangs under gravity (a catenary, a sagging Hermite curve, a dangling tail); with a
+//! part under the connectors it may pass straight through it, and the solve would
+//! reject the case as "starting inside" although the user never said where the hose
+//! runs. The guess is then bowed to one of four sides (gravity turned horizontal),
+//! else arched upwards (gravity reversed), and the solve settles it where it comes to
+//! rest: an equilibrium of the case, not necessarily the one a fitter would choose
+//! (a route chooses). Laying the hanging guess over the parts instead (lifting its
+//! vertices above them) was tried: the cable then rests across the rims of a box top,
+//! which did not converge in 400 iterations; bowed sideways it comes to rest against
+//! the box in 27.
+
+use nalgebra::Vector3;
+use strand_rod::RodState;
+use strand_system::{System, initial_state};
+
+use crate::BuiltCase;
+use crate::nominal::use_guesses;
+
+impl BuiltCase {
+    /// The first of the hanging guess (`self.initial`), the guesses bowed sideways and
+    /// the guess arched upwards that clears every obstacle ([`BuiltCase::check_start`]),
+    /// with the rods' warm-start `guesses` and routes kept in each. `self.initial`
+    /// unchanged when none clears (the check then names the overlap) or the case has
+    /// no environment. Returns which start was taken.
+    pub(crate) fn clear_start(&mut self, guesses: &[Option<RodState>]) -> Start {
+        if self.environment.is_empty() || self.check_start().is_ok() {
+            return Start::Hanging;
+        }
+        let system = self.model.system();
+        let g = system.gravity;
+        // Two horizontal directions (perpendicular to gravity, or to z without it).
+        let down = if g.norm() > 0.0 {
+            g.normalize()
+        } else {
+            -Vector3::z()
+        };
+        let side = down.cross(&Vector3::x());
+        let side = if side.norm() > 0.5 {
+            side
+        } else {
+            down.cross(&Vector3::y())
+        }
+        .normalize();
+        let other = down.cross(&side);
+        let weight = g.norm().max(1.0);
+        // Sideways first: an arch is itself an (unstable) equilibrium of a clamped
+        // rod that Newton may find; a sideways bow is none and falls.
+        for (kind, gravity) in [
+            (Start::Sideways, side * weight),
+            (Start::Sideways, -side * weight),
+            (Start::Sideways, other * weight),
+            (Start::Sideways, -other * weight),
+            (Start::Arched, -down * weight),
+        ] {
+            let mut candidate = initial_state(&System {
+                gravity,
+                ..system.clone()
+            });
+            use_guesses(&mut candidate, guesses);
+            let hanging = std::mem::replace(&mut self.initial, candidate);
+            if self.check_start().is_ok() {
+                return kind;
+            }
+            self.initial = hanging;
+        }
+        Start::Hanging
+    }
+}
+
+/// Which default guess a case with an environment starts from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// Hanging under gravity (the default guess; also when nothing else clears).
+    Hanging,
+    /// The hanging shape with gravity reversed: arched up over the part below.
+    Arched,
+    /// The hanging shape with gravity turned horizontal: bowed to one side of a part
+    /// between the ends.
+    Sideways,
+}
+
+impl Start {
+    /// What the start is, for the terminal summary (`None` for the hanging guess).
+    pub fn describe(self) -> Option<&'static str> {
+        match self {
+            Start::Hanging => None,
+            Start::Sideways => Some(
+                "bowed sideways (the hanging guess passes through an obstacle; give a route to choose)",
+            ),
+            Start::Arched => Some(
+                "arched up (the hanging and sideways guesses pass through an obstacle; give a route to choose)",
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Write;
+
+    use strand_solve::contact::Contact;
+
+    use super::Start;
+    use crate::Case;
+
+    /// A closed box `x ∈ [150, 250]`, `y ∈ [−100, 100]`, `z ∈ [−200, top]` mm (OBJ).
+    fn box_obj(top: f64) -> String {
+        let mut text = String::new();
+        for x in [150.0, 250.0] {
+            for y in [-100.0, 100.0] {
+                for z in [-200.0, top] {
+                    text += &format!("v {x} {y} {z}\n");
+                }
+            }
+        }
+        // Corner index = 4 x + 2 y + z (each 0 or 1), outward-wound quads.
+        for [a, b, c, d] in [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            text += &format!(
+                "f {} {} {}\nf {} {} {}\n",
+                a + 1,
+                b + 1,
+                c + 1,
+                a + 1,
+                c + 1,
+                d + 1
+            );
+        }
+        text
+    }
+
+    /// A 6 mm cable, 500 mm long, clamped at two connectors 400 mm apart at z = 0,
+    /// over the box: its hanging guess sags about 120 mm, through the box top.
+    fn cable_over_box(top: f64) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::File::create(dir.path().join("box.obj"))
+            .unwrap()
+            .write_all(box_obj(top).as_bytes())
+            .unwrap();
+        let path = dir.path().join("cable.ron");
+        std::fs::write(
+            &path,
+            r#"(
+                units: (length: "mm"),
+                sections: { "cable6": Explicit(ea: 20e3, ga: 5e3, ei: 5e-3, gj: 3.8e-3,
+                                               mass_per_length: 0.1, outer_radius: 3) },
+                connectors: {
+                    "a": (position: (0, 0, 0), direction: (1, 0, 0), normal: (0, 0, 1)),
+                    "b": (position: (400, 0, 0), direction: (-1, 0, 0), normal: (0, 0, 1)),
+                },
+                rods: [(name: "cable", section: "cable6", length: 500, segments: 50,
+                        start: Connector("a"), end: Connector("b"))],
+                environment: [(name: "box", obj: "box.obj", unit: "mm")],
+                gravity: (0, 0, -9.81),
+            )"#,
+        )
+        .unwrap();
+        (dir, path)
+    }
+
+    #[test]
+    fn a_cable_whose_hanging_guess_passes_through_a_part_starts_beside_it_and_rests_against_it() {
+        for top in [-30.0, 20.0] {
+            let (_dir, path) = cable_over_box(top);
+            let built = Case::from_path(&path).unwrap().build(None).unwrap();
+            // The hanging guess passes through the box (the old start, rejected).
+            let hanging = strand_system::initial_state(built.model.system());
+            let contact = built.contact().unwrap();
+            let mut start = hanging.clone();
+            built.model.enforce_supports(&mut start);
+            use strand_solve::Constraints;
+            assert!(contact.check_start(&built.model, &start).is_err());
+            // The start taken clears it: `check` and `solve` accept the case.
+            assert_eq!(built.start, Start::Sideways, "top {top}");
+            built.check_start().unwrap();
+            let solution = built
+                .solve_from(built.initial.clone(), &built.settings)
+                .unwrap();
+            let report = &solution.report;
+            assert!(report.converged && report.stable, "top {top}: {report:?}");
+            // It comes to rest against the box (around its side: lower than across its
+            // top): loaded contacts, no penetration, and the box and the connectors
+            // together carry the weight.
+            let forces = contact
+                .forces(&built.model, &solution.state, &solution.constraints)
+                .unwrap();
+            let loaded: Vec<_> = forces.iter().filter(|f| f.force_n > 0.0).collect();
+            assert!(!loaded.is_empty(), "top {top}: no contact");
+            let deepest = forces
+                .iter()
+                .map(|f| f.gap.gap)
+                .fold(f64::INFINITY, f64::min);
+            assert!(deepest >= -1e-9, "top {top}: penetrates by {deepest:e} m");
+            let weight = 0.1 * 0.5 * 9.81;
+            let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
+            for f in &forces {
+                total += f.force_n * f.gap.normal.into_inner();
+            }
+            for r in built.model.reactions(&solution.state) {
+                total += r.force;
+            }
+            assert!(
+                total.norm() <= 1e-8 * weight,
+                "top {top}: imbalance {total:?}"
+            );
+            // Every vertex is outside the closed box.
+            for mesh in &built.environment {
+                for p in &solution.state.rods[0].positions {
+                    assert!(
+                        !mesh.encloses(&nalgebra::Point3::from(*p)),
+                        "top {top}: {p}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn without_an_environment_the_start_is_the_hanging_guess() {
+        let (_dir, path) = cable_over_box(-30.0);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let without = text.replace(
+            r#"environment: [(name: "box", obj: "box.obj", unit: "mm")],"#,
+            "",
+        );
+        std::fs::write(&path, without).unwrap();
+        let built = Case::from_path(&path).unwrap().build(None).unwrap();
+        assert_eq!(built.start, Start::Hanging);
+        assert_eq!(
+            built.initial,
+            strand_system::initial_state(built.model.system())
+        );
+        let _ = Contact::default_margin_m(&built.model);
+    }
+}
