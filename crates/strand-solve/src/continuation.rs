@@ -11,16 +11,6 @@ use crate::newton::Solver;
 use crate::report::Solution;
 use crate::{SolveError, SolverSettings};
 
-/// First load increment of the ramp (fraction of the full load).
-pub const FIRST_STEP: f64 = 0.125;
-/// Smallest load increment before the ramp gives up.
-pub const SMALLEST_STEP: f64 = 1.0 / 4096.0;
-/// A load step that converged in at most this many iterations doubles the next one.
-pub const EASY_STEP_ITERATIONS: usize = 12;
-
-/// Iteration budget of one load step.
-pub const STEP_MAX_ITERATIONS: usize = 40;
-
 /// The system with gravity and every dead end load scaled by `factor`.
 pub fn scaled_loads(system: &System, factor: f64) -> System {
     let mut scaled = system.clone();
@@ -56,11 +46,13 @@ pub(crate) fn ramp(
     let step_settings = SolverSettings {
         nested_iteration: false,
         load_continuation: false,
-        max_iterations: settings.max_iterations.min(STEP_MAX_ITERATIONS),
+        max_iterations: settings
+            .max_iterations
+            .min(settings.continuation_step_iterations),
         ..settings.clone()
     };
     let mut state = initial;
-    let (mut factor, mut increment) = (0.0f64, FIRST_STEP);
+    let (mut factor, mut increment) = (0.0f64, settings.continuation_first_step);
     let (mut steps, mut iterations) = (0, 0);
     while factor < 1.0 && steps < settings.max_continuation_steps {
         let target = (factor + increment).min(1.0);
@@ -81,7 +73,7 @@ pub(crate) fn ramp(
                 });
             }
             iterations += solution.report.iterations;
-            if solution.report.iterations <= EASY_STEP_ITERATIONS {
+            if solution.report.iterations <= settings.continuation_easy_iterations {
                 increment *= 2.0;
             }
             factor = target;
@@ -89,7 +81,7 @@ pub(crate) fn ramp(
         } else {
             iterations += solution.report.iterations;
             increment *= 0.25;
-            if increment < SMALLEST_STEP {
+            if increment < settings.continuation_smallest_step {
                 break;
             }
         }

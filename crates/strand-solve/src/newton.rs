@@ -149,7 +149,7 @@ impl<'m> Solver<'m> {
         if settings.stiffness_continuation
             && self.constraints.is_none()
             && !already_converged
-            && stiffness::stiffness_ratio(self.model.system()) > stiffness::STIFF_RATIO
+            && stiffness::stiffness_ratio(self.model.system()) > settings.stiffness_threshold
         {
             let stiffened =
                 stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;

@@ -80,6 +80,42 @@ pub struct SolverSettings {
     pub escape_saddles: bool,
     /// Largest number of continuation steps (accepted and rejected together).
     pub max_continuation_steps: usize,
+    /// Load continuation: the first load increment, as a fraction of the full load.
+    pub continuation_first_step: f64,
+    /// Load continuation: the smallest load increment before the ramp gives up.
+    pub continuation_smallest_step: f64,
+    /// Load continuation: a step that converged in at most this many iterations
+    /// doubles the next increment.
+    pub continuation_easy_iterations: usize,
+    /// Load continuation: the iteration budget of one load step (a failing step costs
+    /// little before it is retried at a quarter of its size).
+    pub continuation_step_iterations: usize,
+    /// Stiffness continuation: `C·h²/EI` (strain stiffness × shortest edge² / softest
+    /// bending stiffness) above which a system is solved by stiffness continuation.
+    pub stiffness_threshold: f64,
+    /// Stiffness continuation: `C·h²/EI` of the softened system it starts from.
+    pub stiffness_soft_ratio: f64,
+    /// Stiffness continuation: the cap on the strain stiffnesses is at least this
+    /// multiple of the system's load (weight plus dead end forces, N), so that the
+    /// softened rods stretch by at most about its inverse.
+    pub stiffness_load_ratio: f64,
+    /// Stiffness continuation: the first growth factor of the cap.
+    pub stiffness_first_growth: f64,
+    /// Stiffness continuation: the largest growth factor of the cap per step (the
+    /// factor is squared after an easy step).
+    pub stiffness_max_growth: f64,
+    /// Stiffness continuation: the smallest growth factor (square-rooted after a
+    /// failed step) before the continuation gives up.
+    pub stiffness_min_growth: f64,
+    /// Stiffness continuation: tolerance of the intermediate steps relative to the
+    /// system's force scale (loads plus `EI/L²` of every rod); the final solve of the
+    /// true system meets `tolerance_n`.
+    pub stiffness_step_tolerance: f64,
+    /// Stiffness continuation: a step that converged in at most this many iterations
+    /// squares the growth factor.
+    pub stiffness_easy_iterations: usize,
+    /// Stiffness continuation: the iteration budget of one stiffening step.
+    pub stiffness_step_iterations: usize,
     /// Inequality constraints (contact gaps in m, joint limits in rad or m): a converged
     /// state violates none by more than this, and every constraint that carries a force
     /// is closed to within it.
@@ -111,6 +147,19 @@ impl Default for SolverSettings {
             stiffness_continuation: true,
             escape_saddles: true,
             max_continuation_steps: 64,
+            continuation_first_step: 0.125,
+            continuation_smallest_step: 1.0 / 4096.0,
+            continuation_easy_iterations: 12,
+            continuation_step_iterations: 40,
+            stiffness_threshold: 1e3,
+            stiffness_soft_ratio: 3.0,
+            stiffness_load_ratio: 100.0,
+            stiffness_first_growth: 100.0,
+            stiffness_max_growth: 1e4,
+            stiffness_min_growth: 1.5,
+            stiffness_step_tolerance: 1e-6,
+            stiffness_easy_iterations: 6,
+            stiffness_step_iterations: 40,
             constraint_tolerance: 1e-9,
             neutral_tolerance: 1e-11,
         }
@@ -150,6 +199,41 @@ impl SolverSettings {
         positive("constraint_tolerance", self.constraint_tolerance)?;
         positive("min_damping", self.min_damping)?;
         positive("neutral_tolerance", self.neutral_tolerance)?;
+        positive("stiffness_threshold", self.stiffness_threshold)?;
+        positive("stiffness_soft_ratio", self.stiffness_soft_ratio)?;
+        positive("stiffness_load_ratio", self.stiffness_load_ratio)?;
+        positive("stiffness_step_tolerance", self.stiffness_step_tolerance)?;
+        check(
+            "continuation_first_step",
+            self.continuation_first_step,
+            self.continuation_first_step > 0.0 && self.continuation_first_step <= 1.0,
+            "must be in (0, 1]",
+        )?;
+        check(
+            "continuation_smallest_step",
+            self.continuation_smallest_step,
+            self.continuation_smallest_step > 0.0
+                && self.continuation_smallest_step <= self.continuation_first_step,
+            "must be > 0 and <= continuation_first_step",
+        )?;
+        check(
+            "stiffness_min_growth",
+            self.stiffness_min_growth,
+            self.stiffness_min_growth > 1.0,
+            "must be > 1",
+        )?;
+        check(
+            "stiffness_first_growth",
+            self.stiffness_first_growth,
+            self.stiffness_first_growth >= self.stiffness_min_growth,
+            "must be >= stiffness_min_growth",
+        )?;
+        check(
+            "stiffness_max_growth",
+            self.stiffness_max_growth,
+            self.stiffness_max_growth >= self.stiffness_first_growth,
+            "must be >= stiffness_first_growth",
+        )?;
         check(
             "max_damping",
             self.max_damping,
@@ -191,6 +275,26 @@ impl SolverSettings {
                 self.max_continuation_steps,
                 10_000,
             ),
+            (
+                "continuation_easy_iterations",
+                self.continuation_easy_iterations,
+                100_000,
+            ),
+            (
+                "continuation_step_iterations",
+                self.continuation_step_iterations,
+                100_000,
+            ),
+            (
+                "stiffness_easy_iterations",
+                self.stiffness_easy_iterations,
+                100_000,
+            ),
+            (
+                "stiffness_step_iterations",
+                self.stiffness_step_iterations,
+                100_000,
+            ),
         ] {
             if value == 0 || value > max {
                 return Err(SettingsError {
@@ -222,6 +326,41 @@ mod tests {
                     ..Default::default()
                 },
                 "tolerance_n",
+            ),
+            (
+                SolverSettings {
+                    stiffness_max_growth: 10.0,
+                    ..Default::default()
+                },
+                "stiffness_max_growth",
+            ),
+            (
+                SolverSettings {
+                    stiffness_min_growth: 1.0,
+                    ..Default::default()
+                },
+                "stiffness_min_growth",
+            ),
+            (
+                SolverSettings {
+                    continuation_smallest_step: 0.5,
+                    ..Default::default()
+                },
+                "continuation_smallest_step",
+            ),
+            (
+                SolverSettings {
+                    stiffness_step_iterations: 0,
+                    ..Default::default()
+                },
+                "stiffness_step_iterations",
+            ),
+            (
+                SolverSettings {
+                    stiffness_soft_ratio: -3.0,
+                    ..Default::default()
+                },
+                "stiffness_soft_ratio",
             ),
             (
                 SolverSettings {

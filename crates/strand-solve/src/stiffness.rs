@@ -3,10 +3,11 @@
 //! thin wire) has an energy valley so narrow and curved that Newton steps turning its
 //! frames by more than `√(8 EI/(C h²))` rad are mispredicted, and a large change of
 //! shape takes hundreds of tiny steps. The same system with the strain stiffness capped
-//! at [`SOFT_RATIO`]`·EI/h²` finds its shape in a few steps; the cap is then raised by
-//! an adaptive factor (first [`FIRST_GROWTH`], squared after an easy step, square-rooted
-//! after a failed one), each step warm-started from the last equilibrium, and the true
-//! system is solved from the last step. Near the valley's floor every step is a small
+//! at `stiffness_soft_ratio·EI/h²` finds its shape in a few steps; the cap is then
+//! raised by an adaptive factor (first `stiffness_first_growth`, squared after an easy
+//! step, square-rooted after a failed one), each step warm-started from the last
+//! equilibrium, and the true system is solved from the last step. Every constant is a
+//! field of [`SolverSettings`] (`stiffness_*`). Near the valley's floor every step is a small
 //! correction of the strains, which Newton takes in a few iterations.
 
 use strand_system::{Model, System, SystemState};
@@ -14,28 +15,6 @@ use strand_system::{Model, System, SystemState};
 use crate::constraints::Constraints;
 use crate::continuation::{Ramp, solve_at};
 use crate::{SolveError, SolverSettings};
-
-/// `C·h²/EI` above which a rod's start is solved by stiffness continuation.
-pub const STIFF_RATIO: f64 = 1e3;
-/// `C·h²/EI` of the softened system the continuation starts from.
-pub const SOFT_RATIO: f64 = 3.0;
-/// The cap is at least this multiple of the system's load (its total weight and dead
-/// end forces), so that the softened rods stretch by at most about 1 %.
-pub const LOAD_RATIO: f64 = 100.0;
-/// First growth factor of the stiffness cap.
-pub const FIRST_GROWTH: f64 = 100.0;
-/// Largest growth factor of the stiffness cap per step.
-pub const MAX_GROWTH: f64 = 1e4;
-/// Smallest growth factor before the continuation gives up.
-pub const MIN_GROWTH: f64 = 1.5;
-/// Tolerance of the intermediate steps relative to the force scale of the system (its
-/// loads plus `EI/L²` of every rod): they only need to start the next step close to its
-/// equilibrium; the final solve of the true system meets the settings' tolerance.
-pub const STEP_TOLERANCE: f64 = 1e-6;
-/// A step that converged in at most this many iterations squares the growth factor.
-pub const EASY_STEP_ITERATIONS: usize = 6;
-/// Iteration budget of one stiffening step.
-pub const STEP_MAX_ITERATIONS: usize = 40;
 
 /// The largest `C·h²/EI` of any rod of `system` (its stiffest strain component, its
 /// softest bending or twisting component and its shortest edge).
@@ -69,10 +48,10 @@ pub fn load_scale(system: &System) -> f64 {
 }
 
 /// `system` with every rod's strain stiffnesses (`GA1`, `GA2`, `EA`) capped at
-/// `ratio · EI_min / h_min²`, but not below [`LOAD_RATIO`] times the
-/// [`load_scale`]; `None` when no rod is above the cap (the system itself).
-pub fn softened(system: &System, ratio: f64) -> Option<System> {
-    let floor = LOAD_RATIO * load_scale(system);
+/// `ratio · EI_min / h_min²`, but not below `load_ratio` times the [`load_scale`];
+/// `None` when no rod is above the cap (the system itself).
+pub fn softened(system: &System, ratio: f64, load_ratio: f64) -> Option<System> {
+    let floor = load_ratio * load_scale(system);
     let mut softened = system.clone();
     let mut changed = false;
     for spec in &mut softened.rods {
@@ -111,14 +90,16 @@ pub(crate) fn stiffen(
         .sum();
     let step_tolerance = settings
         .tolerance_n
-        .max(STEP_TOLERANCE * (load_scale(model.system()) + bending_scale));
+        .max(settings.stiffness_step_tolerance * (load_scale(model.system()) + bending_scale));
     let step_settings = SolverSettings {
         tolerance_n: step_tolerance,
         nested_iteration: false,
         load_continuation: false,
         stiffness_continuation: false,
         escape_saddles: false,
-        max_iterations: settings.max_iterations.min(STEP_MAX_ITERATIONS),
+        max_iterations: settings
+            .max_iterations
+            .min(settings.stiffness_step_iterations),
         ..settings.clone()
     };
     // The softened start may need the whole machinery (nested, load continuation).
@@ -135,13 +116,13 @@ pub(crate) fn stiffen(
         ..step_settings.clone()
     };
     let mut state = initial;
-    let mut ratio = SOFT_RATIO;
-    let mut growth = FIRST_GROWTH;
+    let mut ratio = settings.stiffness_soft_ratio;
+    let mut growth = settings.stiffness_first_growth;
     let mut first = true;
     while steps < settings.max_continuation_steps {
         steps += 1;
         let target = if first { ratio } else { ratio * growth };
-        let Some(soft) = softened(system, target) else {
+        let Some(soft) = softened(system, target, settings.stiffness_load_ratio) else {
             if first {
                 // Nothing to soften (the loads alone stiffen the rods): the direct
                 // path is the better solve.
@@ -182,8 +163,8 @@ pub(crate) fn stiffen(
             );
         }
         if solution.report.converged {
-            if !first && solution.report.iterations <= EASY_STEP_ITERATIONS {
-                growth = (growth * growth).min(MAX_GROWTH);
+            if !first && solution.report.iterations <= settings.stiffness_easy_iterations {
+                growth = (growth * growth).min(settings.stiffness_max_growth);
             }
             ratio = target;
             state = solution.state;
@@ -192,7 +173,7 @@ pub(crate) fn stiffen(
             break;
         } else {
             growth = growth.sqrt();
-            if growth < MIN_GROWTH {
+            if growth < settings.stiffness_min_growth {
                 break;
             }
         }
@@ -235,7 +216,7 @@ mod tests {
         // h = 0.1 m, EI = 1e-2 N·m²: the cap at ratio 3 is 3 N; no load.
         let system = cantilever(1e6, 1e-2, 10, 0.0);
         assert!((stiffness_ratio(&system) - 1e6 * 0.01 / 1e-2).abs() < 1e-6);
-        let soft = softened(&system, 3.0).unwrap();
+        let soft = softened(&system, 3.0, 100.0).unwrap();
         let section = soft.rods[0].rod.section();
         for c in section.strain_stiffness().iter() {
             assert!((c - 3.0).abs() < 1e-12, "{c}");
@@ -247,7 +228,7 @@ mod tests {
         assert_eq!(section.mass_per_length, 0.5);
         assert_eq!(soft.rods[0].rod.edge_length(3), 0.1);
         // A cap above every stiffness changes nothing.
-        assert!(softened(&system, 1e9).is_none());
+        assert!(softened(&system, 1e9, 100.0).is_none());
     }
 
     #[test]
@@ -255,7 +236,7 @@ mod tests {
         // Weight 0.5 kg/m · 9.81 m/s² · 1 m = 4.905 N: the cap is at least 490.5 N.
         let system = cantilever(1e6, 1e-2, 10, 9.81);
         assert!((load_scale(&system) - 4.905).abs() < 1e-12);
-        let soft = softened(&system, 3.0).unwrap();
+        let soft = softened(&system, 3.0, 100.0).unwrap();
         let ea = soft.rods[0].rod.section().axial_stiffness;
         assert!((ea - 490.5).abs() < 1e-9, "{ea}");
     }
