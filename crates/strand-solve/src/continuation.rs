@@ -61,7 +61,7 @@ pub(crate) fn ramp(
             solve_at(model, constraints, state.clone(), &step_settings)?
         } else {
             let scaled = Model::try_new(scaled_loads(model.system(), target))
-                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+                .map_err(crate::InitialStateError::from)?;
             solve_at(&scaled, constraints, state.clone(), &step_settings)?
         };
         if solution.report.converged {

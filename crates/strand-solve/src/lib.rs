@@ -33,16 +33,81 @@ pub use newton::{Solver, solve, solve_constrained};
 pub use report::{Solution, SolveReport, Termination};
 pub use settings::{SettingsError, SolverSettings};
 
+/// Why the linear algebra of a solve could not run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LinearError {
+    /// Memory ran out in `stage` (ordering, factorisation, solve, stability test).
+    #[error("out of memory for the {stage}")]
+    OutOfMemory {
+        /// What was being set up.
+        stage: &'static str,
+    },
+    /// faer or clarabel rejected the problem in `stage`; `detail` is their message.
+    #[error("{stage} failed: {detail}")]
+    Failed {
+        /// What was being set up (symbolic analysis, ordering, QP set-up, …).
+        stage: &'static str,
+        /// The library's own description.
+        detail: String,
+    },
+    /// The QP of a constrained step ended without a solution.
+    #[error("the constrained step QP ended with {status}")]
+    Subproblem {
+        /// Clarabel's status.
+        status: String,
+    },
+}
+
+/// Why an initial state cannot start a solve.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InitialStateError {
+    /// The state has a different number of rods than the model.
+    #[error("{given} rod states for {expected} rods")]
+    RodCount {
+        /// Rod states given.
+        given: usize,
+        /// Rods of the model.
+        expected: usize,
+    },
+    /// A rod's state has the wrong number of vertices or frames.
+    #[error(
+        "rod '{rod}' has {vertices} vertices and {frames} frames; expected {expected_vertices} and {expected_frames}"
+    )]
+    Shape {
+        /// The rod's name.
+        rod: String,
+        /// Vertices given.
+        vertices: usize,
+        /// Frames given.
+        frames: usize,
+        /// Vertices of the rod.
+        expected_vertices: usize,
+        /// Frames (edges) of the rod.
+        expected_frames: usize,
+    },
+    /// A rod's state has a NaN or infinite coordinate.
+    #[error("rod '{rod}' has non-finite coordinates")]
+    NotFinite {
+        /// The rod's name.
+        rod: String,
+    },
+    /// A derived model (coarsened, softened, moved to local coordinates, with scaled
+    /// loads) could not be built from the model's system.
+    #[error("derived model: {0}")]
+    DerivedModel(#[from] strand_system::SystemError),
+}
+
 /// A failure that prevents solving at all (not a mere lack of convergence, which is
 /// reported in [`SolveReport`]).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SolveError {
-    /// The sparse linear algebra could not be set up.
+    /// The sparse linear algebra (ordering, factorisation, the QP of a constrained
+    /// step, the stability test) could not run.
     #[error("linear algebra: {0}")]
-    Linear(String),
+    Linear(#[from] LinearError),
     /// The initial state does not fit the model or is not finite.
     #[error("initial state: {0}")]
-    InitialState(String),
+    InitialState(#[from] InitialStateError),
     /// The settings are invalid.
     #[error(transparent)]
     Settings(#[from] SettingsError),

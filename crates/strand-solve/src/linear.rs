@@ -14,7 +14,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRe
 use faer::{Conj, MatMut, Par, Side};
 use strand_system::HessianPattern;
 
-use crate::SolveError;
+use crate::{LinearError, SolveError};
 
 /// A reusable sparse `LLᵀ` factorisation of matrices with one fixed pattern.
 pub struct SparseCholesky {
@@ -48,7 +48,10 @@ impl SparseCholesky {
                 ordering,
                 CholeskySymbolicParams::default(),
             )
-            .map_err(|e| SolveError::Linear(format!("symbolic analysis failed: {e:?}")))
+            .map_err(|e| LinearError::Failed {
+                stage: "symbolic analysis",
+                detail: format!("{e:?}"),
+            })
         };
         let mut symbolic = analyse(SymmetricOrdering::Identity)?;
         if !pattern.is_banded() {
@@ -63,10 +66,12 @@ impl SparseCholesky {
         let factor_req =
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
         let solve_req = symbolic.solve_in_place_scratch::<f64>(1, Par::Seq);
-        let factor_buffer = MemBuffer::try_new(factor_req)
-            .map_err(|_| SolveError::Linear("out of memory for factorisation".into()))?;
+        let factor_buffer =
+            MemBuffer::try_new(factor_req).map_err(|_| LinearError::OutOfMemory {
+                stage: "factorisation",
+            })?;
         let solve_buffer = MemBuffer::try_new(solve_req)
-            .map_err(|_| SolveError::Linear("out of memory for solve".into()))?;
+            .map_err(|_| LinearError::OutOfMemory { stage: "solve" })?;
         let factor_values = vec![0.0; symbolic.len_val()];
         Ok(Self {
             structure,
@@ -126,7 +131,7 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
         blocks,
         row_idx.len(),
     ))
-    .map_err(|_| SolveError::Linear("out of memory for ordering".into()))?;
+    .map_err(|_| LinearError::OutOfMemory { stage: "ordering" })?;
     amd::order_maybe_unsorted(
         &mut block_forward,
         &mut block_inverse,
@@ -134,7 +139,10 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
         amd::Control::default(),
         MemStack::new(&mut buffer),
     )
-    .map_err(|e| SolveError::Linear(format!("ordering failed: {e:?}")))?;
+    .map_err(|e| LinearError::Failed {
+        stage: "ordering",
+        detail: format!("{e:?}"),
+    })?;
     let forward: Vec<usize> = block_forward
         .iter()
         .flat_map(|&b| [3 * b, 3 * b + 1, 3 * b + 2])

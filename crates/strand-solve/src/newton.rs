@@ -10,7 +10,10 @@ use crate::constraints::Constraints;
 use crate::gauge::Gauge;
 use crate::iteration::{Iteration, Workspace};
 use crate::report::Solution;
-use crate::{SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle, stiffness};
+use crate::{
+    InitialStateError, SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle,
+    stiffness,
+};
 
 /// Systems whose held points centre farther than this from the origin (m) are solved in
 /// local coordinates (the round-off of 10 m coordinates is 2e-15 m, harmless).
@@ -119,7 +122,7 @@ impl<'m> Solver<'m> {
         let origin = self.model.system().local_origin();
         if self.constraints.is_none() && origin.norm() > LOCAL_ORIGIN_DISTANCE_M {
             let local = Model::try_new(self.model.system().translated(&-origin))
-                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+                .map_err(InitialStateError::from)?;
             let mut local_initial = initial;
             local_initial.translate(&-origin);
             let mut solution = Solver::try_new(&local)?.solve_here(local_initial, settings)?;
@@ -174,8 +177,7 @@ impl<'m> Solver<'m> {
         if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
             .filter(|_| settings.nested_iteration && !already_converged)
         {
-            let coarse_model = Model::try_new(coarse_system)
-                .map_err(|e| SolveError::InitialState(e.to_string()))?;
+            let coarse_model = Model::try_new(coarse_system).map_err(InitialStateError::from)?;
             // The coarse level only proposes a start: it gets no continuation and a
             // bounded budget, so a hard coarse problem cannot cost more than it saves.
             let coarse_settings = SolverSettings {
@@ -335,31 +337,94 @@ fn diagonal_positions(model: &Model) -> Vec<usize> {
 fn check_initial_state(model: &Model, state: &SystemState) -> Result<(), SolveError> {
     let rods = &model.system().rods;
     if state.rods.len() != rods.len() {
-        return Err(SolveError::InitialState(format!(
-            "{} rod states for {} rods",
-            state.rods.len(),
-            rods.len()
-        )));
+        return Err(InitialStateError::RodCount {
+            given: state.rods.len(),
+            expected: rods.len(),
+        }
+        .into());
     }
     for (spec, rod_state) in rods.iter().zip(&state.rods) {
         if rod_state.positions.len() != spec.rod.vertex_count()
             || rod_state.frames.len() != spec.rod.segments()
         {
-            return Err(SolveError::InitialState(format!(
-                "rod '{}' has {} vertices and {} frames; expected {} and {}",
-                spec.name,
-                rod_state.positions.len(),
-                rod_state.frames.len(),
-                spec.rod.vertex_count(),
-                spec.rod.segments()
-            )));
+            return Err(InitialStateError::Shape {
+                rod: spec.name.clone(),
+                vertices: rod_state.positions.len(),
+                frames: rod_state.frames.len(),
+                expected_vertices: spec.rod.vertex_count(),
+                expected_frames: spec.rod.segments(),
+            }
+            .into());
         }
         if !rod_state.is_finite() {
-            return Err(SolveError::InitialState(format!(
-                "rod '{}' has non-finite coordinates",
-                spec.name
-            )));
+            return Err(InitialStateError::NotFinite {
+                rod: spec.name.clone(),
+            }
+            .into());
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, Model, RodSpec, System, initial_state};
+
+    use crate::{InitialStateError, SolveError, SolverSettings, solve};
+
+    fn cantilever() -> Model {
+        let section = Section::try_explicit(1e4, 1e4, 1.0, 1.0, 0.5, 0.005).unwrap();
+        let along_x =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "rod".into(),
+                rod: Rod::try_straight(section, 1.0, 10).unwrap(),
+                start: End::clamped(Vector3::zeros(), along_x),
+                end: End::free(),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_state_that_does_not_fit_the_model_is_a_typed_error_naming_the_rod() {
+        let model = cantilever();
+        let settings = SolverSettings::default();
+        let good = initial_state(model.system());
+
+        let mut nan = good.clone();
+        nan.rods[0].set_position(3, Vector3::new(f64::NAN, 0.0, 0.0));
+        assert_eq!(
+            solve(&model, nan, &settings).unwrap_err(),
+            SolveError::InitialState(InitialStateError::NotFinite { rod: "rod".into() })
+        );
+
+        let mut short = good.clone();
+        short.rods[0].frames.pop();
+        assert!(matches!(
+            solve(&model, short, &settings).unwrap_err(),
+            SolveError::InitialState(InitialStateError::Shape {
+                frames: 9,
+                expected_frames: 10,
+                ..
+            })
+        ));
+
+        let mut none = good;
+        none.rods.clear();
+        assert_eq!(
+            solve(&model, none, &settings).unwrap_err(),
+            SolveError::InitialState(InitialStateError::RodCount {
+                given: 0,
+                expected: 1
+            })
+        );
+    }
 }

@@ -11,7 +11,7 @@ use nalgebra::{DMatrix, DVector};
 use strand_system::HessianPattern;
 
 use crate::constraints::Row;
-use crate::{SolveError, SparseCholesky};
+use crate::{LinearError, SolveError, SparseCholesky};
 
 /// A step and the multiplier of every row (≥ 0; in the row's force unit).
 pub(crate) struct ConstrainedStep {
@@ -189,15 +189,20 @@ fn solve_qp(
         verbose: false,
         ..Default::default()
     };
-    let mut solver = DefaultSolver::new(&p, gradient, &a, &b, &cones, settings)
-        .map_err(|e| SolveError::Linear(format!("QP set-up failed: {e:?}")))?;
+    let mut solver = DefaultSolver::new(&p, gradient, &a, &b, &cones, settings).map_err(|e| {
+        LinearError::Failed {
+            stage: "QP set-up",
+            detail: format!("{e:?}"),
+        }
+    })?;
     solver.solve();
     match solver.solution.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => {}
         status => {
-            return Err(SolveError::Linear(format!(
-                "the constrained step QP ended with {status:?}"
-            )));
+            return Err(LinearError::Subproblem {
+                status: format!("{status:?}"),
+            }
+            .into());
         }
     }
     let multipliers = solver.solution.z.iter().map(|&z| z.max(0.0)).collect();

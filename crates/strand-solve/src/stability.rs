@@ -32,9 +32,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Par, Side};
 use strand_system::HessianPattern;
 
-use crate::SolveError;
 use crate::constraints::Row;
 use crate::gauge::Gauge;
+use crate::{LinearError, SolveError};
 
 /// Curvature counts of the reduced Hessian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -160,7 +160,9 @@ impl<'p> Bordered<'p> {
             self.symbolic
                 .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
         )
-        .map_err(|_| SolveError::Linear("out of memory for the stability test".into()))?;
+        .map_err(|_| LinearError::OutOfMemory {
+            stage: "stability test",
+        })?;
         let matrix = SparseColMatRef::new(self.structure.as_ref(), values);
         self.symbolic
             .factorize_numeric_ldlt::<f64>(
@@ -172,7 +174,10 @@ impl<'p> Bordered<'p> {
                 MemStack::new(&mut buffer),
                 Default::default(),
             )
-            .map_err(|e| SolveError::Linear(format!("stability test: {e:?}")))?;
+            .map_err(|e| LinearError::Failed {
+                stage: "stability test",
+                detail: format!("{e:?}"),
+            })?;
         let SymbolicCholeskyRaw::Simplicial(simplicial) = self.symbolic.raw() else {
             unreachable!("simplicial analysis was forced");
         };

@@ -135,8 +135,7 @@ pub(crate) fn stiffen(
                 iterations,
             });
         };
-        let soft_model =
-            Model::try_new(soft).map_err(|e| SolveError::InitialState(e.to_string()))?;
+        let soft_model = Model::try_new(soft).map_err(crate::InitialStateError::from)?;
         let solution = solve_at(
             &soft_model,
             constraints,
