@@ -36,6 +36,7 @@ mod args;
 mod batch;
 pub mod bench;
 mod commands;
+mod progress;
 mod report;
 mod study;
 pub mod summary;

@@ -24,6 +24,7 @@ use crate::summary::{number, significant};
 
 /// Solves `built` from its own initial guess with its own settings.
 pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
+    let _progress = crate::progress::Progress::start(&built.origin);
     built
         .solve_from(built.initial.clone(), &built.settings)
         .map_err(|e| solver_failure(&built.origin, e))
@@ -41,6 +42,7 @@ pub(crate) fn solve_warm(
         nested_iteration: false,
         ..built.settings.clone()
     };
+    let _progress = crate::progress::Progress::start(&built.origin);
     built
         .solve_from(initial, &settings)
         .map_err(|e| solver_failure(&built.origin, e))

@@ -77,6 +77,11 @@ fn case(name: &str) -> PathBuf {
 /// Runs `strand ARGS` with stdin, stdout and stderr on a new 80×24 pseudo-terminal;
 /// kills it and fails the test if it has not exited after [`DEADLINE`].
 fn on_terminal(args: &[&OsStr]) -> Run {
+    on_terminal_with(args, &[])
+}
+
+/// [`on_terminal`] with extra environment variables for the child.
+fn on_terminal_with(args: &[&OsStr], env: &[(&str, &str)]) -> Run {
     let command = format!(
         "strand {}",
         args.iter()
@@ -107,6 +112,7 @@ fn on_terminal(args: &[&OsStr]) -> Run {
         .args(args)
         .env_remove("RUST_BACKTRACE")
         .env("TERM", "xterm-256color")
+        .envs(env.iter().copied())
         .stdin(stdio())
         .stdout(stdio())
         .stderr(stdio())
@@ -233,4 +239,31 @@ fn solve_on_a_terminal_finishes() {
     run.assert_success();
     run.assert_shows("written");
     assert!(dir.join("result.json").is_file(), "no result.json");
+}
+
+#[test]
+fn a_solve_on_a_terminal_shows_its_progress_and_clears_it() {
+    // The line appears after a second; at once with STRAND_PROGRESS_DELAY_MS=0.
+    let tmp = tempfile::tempdir().expect("temporary directory");
+    let dir = tmp.path().join("solve");
+    let hanging = case("hanging_cable.ron");
+    let run = on_terminal_with(
+        &[
+            OsStr::new("solve"),
+            hanging.as_os_str(),
+            OsStr::new("--out"),
+            dir.as_os_str(),
+        ],
+        &[("STRAND_PROGRESS_DELAY_MS", "0")],
+    );
+    run.assert_success();
+    run.assert_shows("solving ");
+    run.assert_shows(" iterations, residual ");
+    // Cleared before the summary: the erase sequence follows the last progress line.
+    let last = run.screen.rfind("solving ").expect("progress line");
+    let cleared = run.screen[last..]
+        .find("\r\x1b[2K")
+        .expect("line not cleared");
+    let summary = run.screen.rfind("converged").expect("summary");
+    assert!(last + cleared < summary, "{}", run.screen.escape_debug());
 }

@@ -12,6 +12,7 @@
 //! [`Solution`] says whether it converged and classifies its stability from the inertia
 //! of the reduced Hessian ([`stability`]).
 
+mod activity;
 mod constraints;
 pub mod contact;
 pub mod continuation;
@@ -27,6 +28,7 @@ mod sqp;
 pub mod stability;
 pub mod stiffness;
 
+pub use activity::{Activity, activity};
 pub use constraints::{ConstraintError, Constraints, Row, RowKey, limit_rows};
 pub use linear::SparseCholesky;
 pub use newton::{Solver, solve, solve_constrained};

@@ -232,6 +232,7 @@ impl<'a> Iteration<'a> {
                 break Termination::MaxIterations;
             }
             self.report.iterations += 1;
+            crate::activity::record(residual.combined_n);
             if let Err(stop) = self.factor_damped() {
                 break stop;
             }

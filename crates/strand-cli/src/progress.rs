@@ -1,0 +1,79 @@
+//! A progress line for long solves on a terminal: after a second, stderr shows
+//! `solving: N iterations, residual R N, T s`, refreshed twice a second, and the line
+//! is cleared when the solve ends. Nothing is drawn when stderr is not a terminal.
+//! `STRAND_PROGRESS_DELAY_MS` sets the delay before the first line (0: at once; the
+//! terminal tests use it).
+
+use std::io::{IsTerminal, Write};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// Delay before the line first appears: short solves print nothing.
+const FIRST_DRAW: Duration = Duration::from_secs(1);
+/// Refresh interval of the line.
+const REFRESH: Duration = Duration::from_millis(500);
+/// How often the drawing thread looks whether the solve has ended.
+const POLL: Duration = Duration::from_millis(50);
+
+/// Draws the progress line while alive (see the module docs).
+pub(crate) struct Progress {
+    done: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Progress {
+    /// Starts the line for `what` (e.g. the case file) when stderr is a terminal.
+    pub(crate) fn start(what: &str) -> Self {
+        let done = Arc::new(AtomicBool::new(false));
+        if !std::io::stderr().is_terminal() {
+            return Self { done, thread: None };
+        }
+        let flag = Arc::clone(&done);
+        let what = what.to_string();
+        let thread = std::thread::spawn(move || {
+            let started = Instant::now();
+            let before = strand_solve::activity().iterations;
+            let mut drawn = false;
+            let delay = std::env::var("STRAND_PROGRESS_DELAY_MS")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .map_or(FIRST_DRAW, Duration::from_millis);
+            let mut next = started + delay;
+            while !flag.load(Ordering::Relaxed) || (delay.is_zero() && !drawn) {
+                if Instant::now() < next {
+                    std::thread::sleep(POLL);
+                    continue;
+                }
+                next += REFRESH;
+                let activity = strand_solve::activity();
+                // One write per line, without holding the stderr lock in between.
+                let line = format!(
+                    "\r\x1b[2Ksolving {what}: {} iterations, residual {:.2e} N, {:.0} s",
+                    activity.iterations - before,
+                    activity.residual_n,
+                    started.elapsed().as_secs_f64()
+                );
+                let _ = std::io::stderr().write_all(line.as_bytes());
+                drawn = true;
+            }
+            if drawn {
+                let _ = std::io::stderr().write_all(b"\r\x1b[2K");
+            }
+        });
+        Self {
+            done,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.done.store(true, Ordering::Relaxed);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
