@@ -111,21 +111,8 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
-        let centrelines: Vec<Vec<Point3<f64>>> = state
-            .rods
-            .iter()
-            .map(|r| r.positions.iter().map(|p| Point3::from(*p)).collect())
-            .collect();
-        let rods: Vec<RodGeometry> = model
-            .system()
-            .rods
-            .iter()
-            .zip(&centrelines)
-            .map(|(spec, vertices)| RodGeometry {
-                vertices,
-                radius: spec.rod.section().outer_radius,
-            })
-            .collect();
+        let centrelines = centrelines(state);
+        let rods = rod_geometries(model, &centrelines);
         let mut gaps = Vec::new();
         for (rod, geometry) in rods.iter().enumerate() {
             for (index, mesh) in self.meshes.iter().enumerate() {
@@ -190,6 +177,29 @@ impl Contact {
             Obstacle::Rod { rod, .. } => model.system().rods[*rod].name.clone(),
         }
     }
+}
+
+/// Every rod's centreline at `state` (vertex positions, m).
+fn centrelines(state: &SystemState) -> Vec<Vec<Point3<f64>>> {
+    state
+        .rods
+        .iter()
+        .map(|r| r.positions.iter().map(|p| Point3::from(*p)).collect())
+        .collect()
+}
+
+/// Every rod as capsules of its outer radius along `centrelines`.
+fn rod_geometries<'a>(model: &Model, centrelines: &'a [Vec<Point3<f64>>]) -> Vec<RodGeometry<'a>> {
+    model
+        .system()
+        .rods
+        .iter()
+        .zip(centrelines)
+        .map(|(spec, vertices)| RodGeometry {
+            vertices,
+            radius: spec.rod.section().outer_radius,
+        })
+        .collect()
 }
 
 /// A gap error in the rods' names, lengths in mm.

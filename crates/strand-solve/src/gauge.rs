@@ -129,14 +129,16 @@ impl Gauge {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use nalgebra::{UnitQuaternion, Vector3};
     use strand_rod::{Rod, Section};
     use strand_system::{End, RodSpec, System};
 
     use super::*;
 
-    fn rod_between(start: End, end: End, section: Section) -> Model {
+    /// A 1 m rod "r" of 8 edges between `start` and `end` under gravity (also used by
+    /// other modules' tests).
+    pub(crate) fn rod_between(start: End, end: End, section: Section) -> Model {
         Model::try_new(System {
             rods: vec![RodSpec {
                 name: "r".into(),

@@ -369,28 +369,21 @@ fn check_initial_state(model: &Model, state: &SystemState) -> Result<(), SolveEr
 #[cfg(test)]
 mod tests {
     use nalgebra::{UnitQuaternion, Vector3};
-    use strand_rod::{Rod, Section};
-    use strand_system::{End, Model, RodSpec, System, initial_state};
+    use strand_rod::Section;
+    use strand_system::{End, Model, initial_state};
 
+    use crate::gauge::tests::rod_between;
     use crate::{InitialStateError, SolveError, SolverSettings, solve};
 
     fn cantilever() -> Model {
         let section = Section::try_explicit(1e4, 1e4, 1.0, 1.0, 0.5, 0.005).unwrap();
         let along_x =
             UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
-        Model::try_new(System {
-            rods: vec![RodSpec {
-                name: "rod".into(),
-                rod: Rod::try_straight(section, 1.0, 10).unwrap(),
-                start: End::clamped(Vector3::zeros(), along_x),
-                end: End::free(),
-                route: None,
-            }],
-            bodies: vec![],
-            clips: vec![],
-            gravity: Vector3::new(0.0, 0.0, -9.81),
-        })
-        .unwrap()
+        rod_between(
+            End::clamped(Vector3::zeros(), along_x),
+            End::free(),
+            section,
+        )
     }
 
     #[test]
@@ -403,7 +396,7 @@ mod tests {
         nan.rods[0].set_position(3, Vector3::new(f64::NAN, 0.0, 0.0));
         assert_eq!(
             solve(&model, nan, &settings).unwrap_err(),
-            SolveError::InitialState(InitialStateError::NotFinite { rod: "rod".into() })
+            SolveError::InitialState(InitialStateError::NotFinite { rod: "r".into() })
         );
 
         let mut short = good.clone();
@@ -411,8 +404,8 @@ mod tests {
         assert!(matches!(
             solve(&model, short, &settings).unwrap_err(),
             SolveError::InitialState(InitialStateError::Shape {
-                frames: 9,
-                expected_frames: 10,
+                frames: 7,
+                expected_frames: 8,
                 ..
             })
         ));

@@ -8,12 +8,12 @@
 //! move, not their own, counts. A hose falling through free space thus moves by half
 //! its clearance per step, not by half the margin.
 
-use nalgebra::{Point3, Vector3};
-use strand_contact::{Obstacle, RodGeometry};
+use nalgebra::Vector3;
+use strand_contact::Obstacle;
 use strand_system::{Model, SystemState};
 
 use super::exclusion::Exclusion;
-use super::{Contact, describe_error};
+use super::{Contact, centrelines, describe_error, rod_geometries};
 use crate::constraints::ConstraintError;
 
 /// Farthest rod–rod clearance looked for, in search margins or ([`ROD_REACH_EDGES`])
@@ -67,11 +67,7 @@ impl Contact {
                 f64::INFINITY
             });
         }
-        let centrelines: Vec<Vec<Point3<f64>>> = state
-            .rods
-            .iter()
-            .map(|r| r.positions.iter().map(|p| Point3::from(*p)).collect())
-            .collect();
+        let centrelines = centrelines(state);
         // Clearance of every edge, m, looked for up to twice its move (beyond that it
         // does not limit the step).
         let mut clearance: Vec<Vec<f64>> = moves
@@ -93,16 +89,7 @@ impl Contact {
                 }
             }
         }
-        let rods: Vec<RodGeometry> = model
-            .system()
-            .rods
-            .iter()
-            .zip(&centrelines)
-            .map(|(spec, vertices)| RodGeometry {
-                vertices,
-                radius: spec.rod.section().outer_radius,
-            })
-            .collect();
+        let rods = rod_geometries(model, &centrelines);
         // Two rods (or two parts of one) close their gap by at most the largest
         // relative move of their edges' ends: parts moving together (a falling hose)
         // do not limit each other. Pairs beyond `reach` are not looked at; each edge
