@@ -104,64 +104,21 @@ mod tests {
     use super::Start;
     use crate::Case;
 
-    /// A closed box `x ∈ [150, 250]`, `y ∈ [−100, 100]`, `z ∈ [−200, top]` mm (OBJ).
-    fn box_obj(top: f64) -> String {
-        let mut text = String::new();
-        for x in [150.0, 250.0] {
-            for y in [-100.0, 100.0] {
-                for z in [-200.0, top] {
-                    text += &format!("v {x} {y} {z}\n");
-                }
-            }
-        }
-        // Corner index = 4 x + 2 y + z (each 0 or 1), outward-wound quads.
-        for [a, b, c, d] in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            text += &format!(
-                "f {} {} {}\nf {} {} {}\n",
-                a + 1,
-                b + 1,
-                c + 1,
-                a + 1,
-                c + 1,
-                d + 1
-            );
-        }
-        text
-    }
-
-    /// A 6 mm cable, 500 mm long, clamped at two connectors 400 mm apart at z = 0,
-    /// over the box: its hanging guess sags about 120 mm, through the box top.
+    /// The bundled `cases/cable_over_box.ron` in a temporary directory, with its box's
+    /// top at `top` mm (−30 in the bundled one): its hanging guess sags about 120 mm,
+    /// through the box top.
     fn cable_over_box(top: f64) -> (tempfile::TempDir, std::path::PathBuf) {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let dir = tempfile::tempdir().unwrap();
+        let obj = std::fs::read_to_string(root.join("assets/parts/box.obj")).unwrap();
+        let obj = obj.replace(" -30\n", &format!(" {top}\n"));
         std::fs::File::create(dir.path().join("box.obj"))
             .unwrap()
-            .write_all(box_obj(top).as_bytes())
+            .write_all(obj.as_bytes())
             .unwrap();
+        let text = std::fs::read_to_string(root.join("cases/cable_over_box.ron")).unwrap();
         let path = dir.path().join("cable.ron");
-        std::fs::write(
-            &path,
-            r#"(
-                units: (length: "mm"),
-                sections: { "cable6": Explicit(ea: 20e3, ga: 5e3, ei: 5e-3, gj: 3.8e-3,
-                                               mass_per_length: 0.1, outer_radius: 3) },
-                connectors: {
-                    "a": (position: (0, 0, 0), direction: (1, 0, 0), normal: (0, 0, 1)),
-                    "b": (position: (400, 0, 0), direction: (-1, 0, 0), normal: (0, 0, 1)),
-                },
-                rods: [(name: "cable", section: "cable6", length: 500, segments: 50,
-                        start: Connector("a"), end: Connector("b"))],
-                environment: [(name: "box", obj: "box.obj", unit: "mm")],
-                gravity: (0, 0, -9.81),
-            )"#,
-        )
-        .unwrap();
+        std::fs::write(&path, text.replace("../assets/parts/box.obj", "box.obj")).unwrap();
         (dir, path)
     }
 
@@ -226,10 +183,8 @@ mod tests {
     fn without_an_environment_the_start_is_the_hanging_guess() {
         let (_dir, path) = cable_over_box(-30.0);
         let text = std::fs::read_to_string(&path).unwrap();
-        let without = text.replace(
-            r#"environment: [(name: "box", obj: "box.obj", unit: "mm")],"#,
-            "",
-        );
+        let without = text.replace(r#"(name: "box", obj: "box.obj", unit: "mm"),"#, "");
+        assert_ne!(without, text, "the environment entry was not found");
         std::fs::write(&path, without).unwrap();
         let built = Case::from_path(&path).unwrap().build(None).unwrap();
         assert_eq!(built.start, Start::Hanging);

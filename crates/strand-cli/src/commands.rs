@@ -197,6 +197,9 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
         system.rods.len(),
         built.model.dofs().len()
     );
+    if let Some(start) = built.start.describe() {
+        let _ = writeln!(out, "start       {start}");
+    }
     let diagnostics: Vec<_> = built
         .environment
         .iter()
