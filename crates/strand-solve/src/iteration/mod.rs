@@ -178,6 +178,7 @@ impl<'a> Iteration<'a> {
             max_translation = max_translation.min(c.max_translation_m());
         }
         let floor = residual_floor(model);
+        let valley_turn = valley_turn(model);
         let mut report = SolveReport::new(model.dofs().len(), settings.tolerance_n);
         report.residual_floor_n = floor;
         report.gauge_freedoms = work.gauge.held().len();
@@ -198,8 +199,8 @@ impl<'a> Iteration<'a> {
             report,
             history: Vec::new(),
             trace: std::env::var_os("STRAND_TRACE").is_some(),
-            valley_turn: valley_turn(model),
-            stiff: valley_turn(model) < (8.0 / FOLLOW_RATIO).sqrt(),
+            valley_turn,
+            stiff: valley_turn < (8.0 / FOLLOW_RATIO).sqrt(),
             indefinite: false,
             try_undamped: false,
             curvature_direction: Vec::new(),
@@ -528,18 +529,7 @@ const FOLLOW_RATIO: f64 = 100.0;
 /// bending energy it makes (`EI θ² / h`): `C` the stiffest strain stiffness, `EI` the
 /// softest bending or twisting one, `h` the shortest edge.
 fn valley_turn(model: &Model) -> f64 {
-    model
-        .system()
-        .rods
-        .iter()
-        .map(|r| {
-            let section = r.rod.section();
-            let strain = section.strain_stiffness().max();
-            let bending = section.curvature_stiffness().min();
-            let h = r.rod.shortest_edge();
-            (8.0 * bending / (strain * h * h)).sqrt()
-        })
-        .fold(f64::INFINITY, f64::min)
+    (8.0 / crate::stiffness::stiffness_ratio(model.system())).sqrt()
 }
 
 /// Largest violation `max(0, −value)` of the rows (m or rad): the ℓ∞ exact penalty.
