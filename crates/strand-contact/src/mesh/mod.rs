@@ -13,6 +13,7 @@
 
 mod convert;
 mod diagnostics;
+mod edge_uses;
 mod encloses;
 mod error;
 mod from_triangles;

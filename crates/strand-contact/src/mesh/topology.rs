@@ -1,11 +1,10 @@
 //! Topology of the kept triangles: welded vertices, edge use, smooth patches and the
 //! [`MeshDiagnostics`].
 
-use std::collections::HashMap;
-
 use nalgebra::{Point3, Vector3};
 
 use super::diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
+use super::edge_uses::{EdgeUses, weld};
 
 /// Largest turn of the normal across a shared edge inside one smooth patch, rad (30°):
 /// a tessellated plane or a finely faceted cylinder is one patch, the two flanks of a
@@ -28,51 +27,35 @@ pub(crate) fn analyse(
     degenerate_skipped: usize,
     bounding_box_m: [Point3<f64>; 2],
 ) -> Topology {
-    // Weld vertices at exactly the same position (−0 and +0 alike).
-    let mut first_at: HashMap<[u64; 3], u32> = HashMap::with_capacity(vertices.len());
-    let welded: Vec<u32> = vertices
+    let (welded, distinct) = weld(vertices);
+    let duplicate_vertices = vertices.len() - distinct;
+
+    let mut slivers = 0;
+    let normals: Vec<Vector3<f64>> = triangles
         .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let bits = [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
-            *first_at.entry(bits).or_insert(i as u32)
+        .map(|indices| {
+            let [a, b, c] = indices.map(|i| vertices[i as usize]);
+            let cross = (b - a).cross(&(c - a));
+            let longest2 = [(b - a), (c - a), (c - b)]
+                .iter()
+                .map(Vector3::norm_squared)
+                .fold(0.0, f64::max);
+            if cross.norm() < SLIVER_RELATIVE_AREA * longest2 {
+                slivers += 1;
+            }
+            cross.normalize()
         })
         .collect();
-    let duplicate_vertices = vertices.len() - first_at.len();
-
-    // Per undirected welded edge: the triangles using it and whether they run min → max.
-    let mut edges: HashMap<(u32, u32), Vec<(u32, bool)>> =
-        HashMap::with_capacity(triangles.len() * 3 / 2);
-    let mut slivers = 0;
-    let mut normals = Vec::with_capacity(triangles.len());
-    for (t, indices) in triangles.iter().enumerate() {
-        let w = indices.map(|i| welded[i as usize]);
-        let [a, b, c] = indices.map(|i| vertices[i as usize]);
-        let cross = (b - a).cross(&(c - a));
-        let longest2 = [(b - a), (c - a), (c - b)]
-            .iter()
-            .map(Vector3::norm_squared)
-            .fold(0.0, f64::max);
-        if cross.norm() < SLIVER_RELATIVE_AREA * longest2 {
-            slivers += 1;
-        }
-        normals.push(cross.normalize());
-        for k in 0..3 {
-            let (u, v) = (w[k], w[(k + 1) % 3]);
-            edges
-                .entry((u.min(v), u.max(v)))
-                .or_default()
-                .push((t as u32, u < v));
-        }
-    }
+    let edges = EdgeUses::new(&welded, triangles);
 
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let (mut boundary_edges, mut non_manifold_edges, mut misoriented_edges) = (0, 0, 0);
     let smooth = SMOOTH_PATCH_ANGLE_RAD.cos();
-    for users in edges.values() {
-        match users.as_slice() {
+    for users in edges.groups() {
+        match users {
             [_] => boundary_edges += 1,
-            [(t1, f1), (t2, f2)] => {
+            [first, second] => {
+                let ((t1, f1), (t2, f2)) = (first.user(), second.user());
                 // Consistent winding traverses the edge in opposite directions; compare
                 // the normals as if it did.
                 let sign = if f1 == f2 {
@@ -81,8 +64,8 @@ pub(crate) fn analyse(
                 } else {
                     1.0
                 };
-                if sign * normals[*t1 as usize].dot(&normals[*t2 as usize]) >= smooth {
-                    union(&mut parent, *t1, *t2);
+                if sign * normals[t1 as usize].dot(&normals[t2 as usize]) >= smooth {
+                    union(&mut parent, t1, t2);
                 }
             }
             _ => non_manifold_edges += 1,
@@ -90,11 +73,16 @@ pub(crate) fn analyse(
     }
     // Name each patch by its smallest triangle: the root of a triangle is found before
     // any larger one of its patch.
-    let mut name: HashMap<u32, u32> = HashMap::new();
+    let mut name = vec![u32::MAX; triangles.len()];
+    let mut patches = 0;
     let patch: Vec<u32> = (0..triangles.len() as u32)
         .map(|t| {
-            let root = find(&mut parent, t);
-            *name.entry(root).or_insert(t)
+            let root = find(&mut parent, t) as usize;
+            if name[root] == u32::MAX {
+                name[root] = t;
+                patches += 1;
+            }
+            name[root]
         })
         .collect();
     let closed = !triangles.is_empty()
@@ -113,7 +101,7 @@ pub(crate) fn analyse(
             non_manifold_edges,
             misoriented_edges,
             closed,
-            patches: name.len(),
+            patches,
             bounding_box_m,
         },
     }
