@@ -119,6 +119,75 @@ fn rod_rod_gaps_match_brute_force_over_all_edge_pairs() {
     }
 }
 
+/// The solver's near-neighbour rule (closer than an arc length along the rod) on
+/// coiled rods of many short edges: the broad phase skips the excluded run of each
+/// edge without listing it and still finds every pair past it, as brute force does.
+#[test]
+fn rod_rod_gaps_with_an_arc_length_exclusion_match_brute_force() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let polylines: Vec<Vec<P>> = (0..3)
+        .map(|k| {
+            // A coil of 1.5 turns (radius 40 mm, pitch 15 mm) with jittered vertices.
+            let n = 150 + 50 * k;
+            (0..=n)
+                .map(|j| {
+                    let a = 3.0 * std::f64::consts::PI * j as f64 / n as f64;
+                    let jitter = random_point(&mut rng, 0.001).coords;
+                    P::new(0.04 * a.cos() + 0.1 * k as f64, 0.04 * a.sin(), 0.0024 * a) + jitter
+                })
+                .collect()
+        })
+        .collect();
+    let rods: Vec<RodGeometry> = polylines
+        .iter()
+        .map(|v| RodGeometry {
+            vertices: v,
+            radius: 0.004,
+        })
+        .collect();
+    let arc: Vec<Vec<f64>> = polylines
+        .iter()
+        .map(|v| {
+            let mut s = vec![0.0];
+            for w in v.windows(2) {
+                s.push(s.last().unwrap() + (w[1] - w[0]).norm());
+            }
+            s
+        })
+        .collect();
+    let exclude = |ra: usize, ea: usize, rb: usize, eb: usize| {
+        ra == rb && arc[ra][eb] - arc[ra][ea + 1] < 0.03
+    };
+    let margin = 0.01;
+    let gaps = rod_rod_gaps(&rods, margin, exclude).unwrap();
+    let mut expected = Vec::new();
+    for ra in 0..rods.len() {
+        for ea in 0..rods[ra].vertices.len() - 1 {
+            for rb in ra..rods.len() {
+                for eb in 0..rods[rb].vertices.len() - 1 {
+                    if (rb == ra && eb <= ea + 1) || exclude(ra, ea, rb, eb) {
+                        continue;
+                    }
+                    let (a, b) = (rods[ra].vertices, rods[rb].vertices);
+                    let c = closest_segment_segment(&a[ea], &a[ea + 1], &b[eb], &b[eb + 1]);
+                    if c.distance - rods[ra].radius - rods[rb].radius <= margin {
+                        expected.push((ra, ea, rb, eb));
+                    }
+                }
+            }
+        }
+    }
+    assert!(expected.len() > 100, "only {} pairs", expected.len());
+    let found: Vec<_> = gaps
+        .iter()
+        .map(|g| match g.with {
+            Obstacle::Rod { rod, edge, .. } => (g.rod, g.edge, rod, edge),
+            Obstacle::Mesh(_) => panic!("not a rod pair: {g:?}"),
+        })
+        .collect();
+    assert_eq!(found, expected);
+}
+
 /// A straight rod above the flat floor z = 0 at height `h`: every edge gaps at `h − r`.
 #[test]
 fn a_rod_above_a_floor_has_the_closed_form_gaps() {

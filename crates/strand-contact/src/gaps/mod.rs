@@ -19,6 +19,7 @@
 //! [`require_clearance`] with its location, never pushed through.
 
 mod broad_phase;
+mod edge_tree;
 mod mesh_gaps;
 mod rod_rod_gaps;
 
@@ -189,3 +190,6 @@ fn validate(rods: &[RodGeometry]) -> Result<(), GapError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod rod_rod_tests;

@@ -1,6 +1,7 @@
 //! Rod–rod gaps: capsule–capsule distances between edges of all rods.
 
-use super::broad_phase::{Aabb, overlapping_pairs};
+use super::broad_phase::Aabb;
+use super::edge_tree::EdgeTree;
 use super::mesh_gaps::check_margin;
 use super::{Gap, GapError, Obstacle, RodGeometry, validate};
 use crate::closest::{TIE_TOLERANCE, closest_segment_segment};
@@ -10,13 +11,21 @@ use nalgebra::Unit;
 /// most `margin` (m), over all rods including each rod with itself.
 ///
 /// Each pair appears once: `rod`/`edge` is the lower `(rod, edge)` of the two, `with`
-/// the other (`Obstacle::Rod` with its parameter `t`). Edges sharing a vertex
-/// (consecutive edges of one rod) are always skipped; `exclude(rod_a, edge_a, rod_b,
-/// edge_b)` skips further pairs (e.g. edges close along the same rod, or rod ends
-/// held together by a junction), called with `(rod_a, edge_a) < (rod_b, edge_b)`.
+/// the other (`Obstacle::Rod` with its parameter `t`); gaps come sorted by
+/// `(rod, edge, with)`. Edges sharing a vertex (consecutive edges of one rod) are
+/// always skipped; `exclude(rod_a, edge_a, rod_b, edge_b)` skips further pairs (e.g.
+/// edges close along the same rod, or rod ends held together by a junction), called
+/// with `(rod_a, edge_a) < (rod_b, edge_b)`.
 ///
-/// Candidates come from a sweep-and-prune broad phase over the edges' capsule boxes
-/// grown by half the margin.
+/// **Contract on `exclude` along one rod:** the excluded partners further along the
+/// same rod form one run next to the edge: if `exclude(r, a, r, c)` with `c > a + 1`,
+/// then `exclude(r, a, r, b)` for every `a + 1 < b < c` (true of any rule "closer than
+/// some arc length", which is what near neighbours are). The end of that run is found
+/// by a galloping search (`O(log)` calls per edge) and the edges inside it are never
+/// enumerated; every pair past it is still asked about.
+///
+/// Candidates come from a bounding-box tree over the edges' capsule boxes grown by
+/// half the margin (`O(edges · log edges)` plus the pairs whose boxes overlap).
 pub fn rod_rod_gaps(
     rods: &[RodGeometry],
     margin: f64,
@@ -33,48 +42,93 @@ pub fn rod_rod_gaps(
             boxes.push(Aabb::of_segment(&ends[0], &ends[1], grow));
         }
     }
+    let tree = EdgeTree::new(&boxes);
     let mut gaps = Vec::new();
-    for (first, second) in overlapping_pairs(&boxes) {
-        // Edges are listed in (rod, edge) order, so `first` is the lower one.
-        let ((rod_a, edge_a), (rod_b, edge_b)) = (edges[first], edges[second]);
-        if rod_a == rod_b && edge_b <= edge_a + 1 {
-            continue;
-        }
-        if exclude(rod_a, edge_a, rod_b, edge_b) {
-            continue;
-        }
-        let (a, b) = (&rods[rod_a], &rods[rod_b]);
-        let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
-        let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
-        let closest = closest_segment_segment(a0, a1, b0, b1);
-        let gap = closest.distance - a.radius - b.radius;
-        if gap > margin {
-            continue;
-        }
-        let size = (a1 - a0).norm().max((b1 - b0).norm());
-        let direction = closest.point_on_first - closest.point_on_second;
-        if closest.distance <= TIE_TOLERANCE * size {
-            return Err(GapError::CentrelineTouches {
+    let mut candidates = Vec::new();
+    for (first, &(rod_a, edge_a)) in edges.iter().enumerate() {
+        // The first partner along the own rod that is not excluded; past the rod's end
+        // (`segments`), the next rod's first edge.
+        let segments = rods[rod_a].vertices.len() - 1;
+        let along = first_partner(edge_a, segments, |b| exclude(rod_a, edge_a, rod_a, b));
+        candidates.clear();
+        tree.overlapping_from(&boxes[first], first + (along - edge_a), |second| {
+            candidates.push(second);
+        });
+        for &second in &candidates {
+            // Edges are listed in (rod, edge) order, so `first` is the lower one.
+            let (rod_b, edge_b) = edges[second];
+            if rod_a == rod_b && edge_b <= edge_a + 1 {
+                continue;
+            }
+            if exclude(rod_a, edge_a, rod_b, edge_b) {
+                continue;
+            }
+            let (a, b) = (&rods[rod_a], &rods[rod_b]);
+            let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
+            let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
+            let closest = closest_segment_segment(a0, a1, b0, b1);
+            let gap = closest.distance - a.radius - b.radius;
+            if gap > margin {
+                continue;
+            }
+            let size = (a1 - a0).norm().max((b1 - b0).norm());
+            let direction = closest.point_on_first - closest.point_on_second;
+            if closest.distance <= TIE_TOLERANCE * size {
+                return Err(GapError::CentrelineTouches {
+                    rod: rod_a,
+                    edge: edge_a,
+                    what: format!("crosses rod {rod_b} edge {edge_b}"),
+                    point: closest.point_on_second,
+                });
+            }
+            gaps.push(Gap {
                 rod: rod_a,
                 edge: edge_a,
-                what: format!("crosses rod {rod_b} edge {edge_b}"),
-                point: closest.point_on_second,
+                s: closest.s,
+                with: Obstacle::Rod {
+                    rod: rod_b,
+                    edge: edge_b,
+                    t: closest.t,
+                },
+                point: closest.point_on_first,
+                witness: closest.point_on_second,
+                normal: Unit::new_normalize(direction),
+                gap,
             });
         }
-        gaps.push(Gap {
-            rod: rod_a,
-            edge: edge_a,
-            s: closest.s,
-            with: Obstacle::Rod {
-                rod: rod_b,
-                edge: edge_b,
-                t: closest.t,
-            },
-            point: closest.point_on_first,
-            witness: closest.point_on_second,
-            normal: Unit::new_normalize(direction),
-            gap,
-        });
     }
     Ok(gaps)
+}
+
+/// The first edge `b ≥ edge + 2` of a rod of `segments` edges with `excluded(b)`
+/// false, or `segments` if there is none, assuming the excluded ones form a run from
+/// `edge + 2` (see [`rod_rod_gaps`]): a galloping search, `O(log run)` calls.
+fn first_partner(edge: usize, segments: usize, mut excluded: impl FnMut(usize) -> bool) -> usize {
+    let start = edge + 2;
+    if start >= segments || !excluded(start) {
+        return start.min(segments);
+    }
+    // `low` is excluded; find `high` that is not (or the end), doubling the step.
+    let (mut low, mut step) = (start, 1);
+    let mut high = loop {
+        let probe = low + step;
+        if probe >= segments {
+            break segments;
+        }
+        if !excluded(probe) {
+            break probe;
+        }
+        low = probe;
+        step *= 2;
+    };
+    // Bisect: `low` excluded, `high` not (or the end).
+    while high - low > 1 {
+        let middle = low + (high - low) / 2;
+        if excluded(middle) {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    high
 }

@@ -1,0 +1,81 @@
+//! A bounding-box tree over the edges of all rods in their (rod, edge) order, for the
+//! rod–rod broad phase.
+//!
+//! Rods are chains, so a run of consecutive edges is spatially compact: the tree is an
+//! implicit complete binary tree over the edge list (node `k` has children `2k` and
+//! `2k + 1`, leaves from `size`), built bottom-up in `O(edges)` without sorting. A
+//! query skips every node whose edges all come before a given index, which is how the
+//! near neighbours along a rod (excluded from contact) are never enumerated: at fine
+//! discretisations they are hundreds per edge, and listing them made every contact
+//! evaluation quadratic in the segments.
+
+use super::broad_phase::Aabb;
+use nalgebra::Point3;
+
+#[cfg(test)]
+thread_local! {
+    /// Tree nodes visited by queries on this thread (a work counter for the test that
+    /// the broad phase costs `O(edges · log edges + pairs)`).
+    pub(crate) static NODES_VISITED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// The boxes of a list of edges in a complete binary tree.
+pub(crate) struct EdgeTree {
+    /// Number of leaves (a power of two ≥ the number of edges).
+    size: usize,
+    /// Number of edges.
+    edges: usize,
+    /// `boxes[k]` bounds the boxes of node `k`'s leaves (`boxes[0]` is unused; padding
+    /// leaves are empty boxes that overlap nothing).
+    boxes: Vec<Aabb>,
+}
+
+impl EdgeTree {
+    /// The tree of `boxes` (one per edge, in order).
+    pub(crate) fn new(leaves: &[Aabb]) -> Self {
+        let size = leaves.len().next_power_of_two().max(1);
+        let empty = Aabb {
+            min: Point3::from([f64::INFINITY; 3]),
+            max: Point3::from([f64::NEG_INFINITY; 3]),
+        };
+        let mut boxes = vec![empty; 2 * size];
+        boxes[size..size + leaves.len()].copy_from_slice(leaves);
+        for k in (1..size).rev() {
+            let (a, b) = (boxes[2 * k], boxes[2 * k + 1]);
+            boxes[k] = Aabb {
+                min: a.min.inf(&b.min),
+                max: a.max.sup(&b.max),
+            };
+        }
+        Self {
+            size,
+            edges: leaves.len(),
+            boxes,
+        }
+    }
+
+    /// Calls `found(j)` for every edge `j ≥ from` whose box overlaps `query` (touching
+    /// counts), in increasing `j`.
+    pub(crate) fn overlapping_from(&self, query: &Aabb, from: usize, mut found: impl FnMut(usize)) {
+        if from >= self.edges {
+            return;
+        }
+        // (node, first leaf, leaf count)
+        let mut stack = vec![(1usize, 0usize, self.size)];
+        while let Some((node, first, count)) = stack.pop() {
+            #[cfg(test)]
+            NODES_VISITED.with(|c| c.set(c.get() + 1));
+            if first + count <= from || first >= self.edges || !self.boxes[node].overlaps(query) {
+                continue;
+            }
+            if count == 1 {
+                found(first);
+                continue;
+            }
+            let half = count / 2;
+            // Right child first: the left one is popped, and reported, first.
+            stack.push((2 * node + 1, first + half, half));
+            stack.push((2 * node, first, half));
+        }
+    }
+}
