@@ -16,9 +16,11 @@
 //!   [`TriangleMesh::distance_to_point`] (brute force, exact point–triangle distance);
 //! - OBJ files: [`write_obj`] (atomic, optional `o name` objects, a header comment,
 //!   unit scaling) and [`read_obj`] (the `v`/`f`/`o` subset this crate writes);
-//! - the engine compartment of the cooler-hose case: [`engine_bay`].
+//! - the engine compartment of the cooler-hose case: [`engine_bay`]; the single parts
+//!   of the other bundled cases (a box, a V-groove): [`parts`].
 //!
-//! The `strand-assets` binary writes the engine-bay OBJ files (`engine-bay --out DIR`)
+//! The `strand-assets` binary writes the engine-bay OBJ files (`engine-bay --out DIR`),
+//! the bundled parts (`parts --out DIR`)
 //! and large benchmark surfaces (`surface --triangles N --out FILE`); `clearance`
 //! measures how far solved hoses stay from a set of OBJ files.
 //!
@@ -36,6 +38,7 @@ pub mod engine_bay;
 mod error;
 mod mesh;
 mod obj;
+pub mod parts;
 mod primitives;
 
 pub use error::AssetError;

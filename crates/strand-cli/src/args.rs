@@ -136,6 +136,11 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         /// per case, and totals/medians against the targets (see below).
         #[arg(long, conflicts_with_all = ["case", "segments", "repeats"])]
         grid: bool,
+        /// Run the bundled contact cases (cases/cooler_hose_contact.ron,
+        /// cable_over_box.ron, hose_in_groove.ron; from the current folder) instead of
+        /// CASE, each at its own discretisation: iterations, active rows, median time.
+        #[arg(long, conflicts_with_all = ["case", "segments", "grid"])]
+        contact: bool,
         /// Number of convergence-map cases to run (with --grid).
         #[arg(long, value_name = "N", requires = "grid", default_value_t = crate::bench::grid::DEFAULT_CASES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000))]
         cases: usize,

@@ -3,8 +3,10 @@
 //! repeated solves on whatever machine runs it).
 //!
 //! [`grid`] is the convergence map of issue 9 (`strand bench --grid`): its cases, the
-//! system of each, and the table of iterations and times per case.
+//! system of each, and the table of iterations and times per case; [`contact`] the
+//! bundled contact cases (`strand bench --contact`).
 
+pub mod contact;
 pub mod grid;
 
 use std::path::Path;

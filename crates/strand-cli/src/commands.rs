@@ -96,6 +96,27 @@ pub(crate) fn execute(
             grid: true, cases, ..
         } => Ok(bench_grid(*cases, out)),
         Command::Bench {
+            contact: true,
+            repeats,
+            ..
+        } => {
+            use crate::bench::contact::{format_contact_table, run_contact};
+            let rows = run_contact(Path::new("cases"), *repeats).map_err(|e| Failure {
+                exit: Exit::InvalidInput,
+                message: format!("{e}\n  hint: run `strand bench --contact` from the repository root (it reads cases/)"),
+            })?;
+            let _ = write!(
+                out,
+                "contact cases, median of {repeats} solves each\n{}",
+                format_contact_table(&rows)
+            );
+            Ok(if rows.iter().all(|r| r.converged) {
+                Exit::Success
+            } else {
+                Exit::NotConverged
+            })
+        }
+        Command::Bench {
             case,
             segments,
             repeats,

@@ -85,3 +85,61 @@ fn check_and_solve_agree_on_a_start_bowed_around_a_part() {
     assert!(out.contains(start), "{out}");
     assert!(out.contains("converged   yes"), "{out}");
 }
+
+#[test]
+fn the_bundled_groove_case_rests_on_both_flanks_in_balance() {
+    // cases/hose_in_groove.ron: a 2 kg/m, r = 10 mm hose, 1.06 m, hanging from two
+    // connectors into a 90° V-groove (crease along x at y = z = 0). Checked from
+    // result.json alone, against statics and the groove's geometry.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    let (code, out, err) = strand(&[
+        "solve",
+        &case("hose_in_groove.ron"),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let text = std::fs::read_to_string(dir.join("result.json")).unwrap();
+    let result: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(result["converged"], true);
+    let vector = |v: &serde_json::Value| -> [f64; 3] {
+        let a = v.as_array().unwrap();
+        [0, 1, 2].map(|i| a[i].as_f64().unwrap())
+    };
+    // Connectors (forces on the rod) + contacts (force along the normal, on the rod)
+    // balance the weight 2 kg/m · 1.06 m · 9.81 m/s².
+    let weight = 2.0 * 1.06 * 9.81;
+    let mut total = [0.0, 0.0, -weight];
+    for reaction in result["reactions"].as_array().unwrap() {
+        let f = vector(&reaction["force_N"]);
+        (0..3).for_each(|i| total[i] += f[i]);
+    }
+    let (mut left, mut right) = (0.0, 0.0);
+    for contact in result["contacts"].as_array().unwrap() {
+        let n = vector(&contact["normal"]);
+        let f = contact["force_N"].as_f64().unwrap();
+        (0..3).for_each(|i| total[i] += f * n[i]);
+        // Every contact is on a flank: normal (0, ±sin 45°, cos 45°).
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(n[0].abs() < 1e-9 && (n[1].abs() - s).abs() < 1e-9 && (n[2] - s).abs() < 1e-9);
+        if n[1] > 0.0 {
+            left += f;
+        } else {
+            right += f;
+        }
+    }
+    for (i, t) in total.iter().enumerate() {
+        assert!(t.abs() <= 1e-9 * weight, "net force {i}: {t} N");
+    }
+    // Both flanks carry load, equally (the case is mirror-symmetric about y = 0).
+    assert!(left > 0.1 * weight, "{left} N");
+    assert!((left - right).abs() <= 1e-9 * left, "{left} N vs {right} N");
+    // No centreline vertex closer than the radius to either flank's plane.
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    for p in result["rods"][0]["position_m"].as_array().unwrap() {
+        let p = vector(p);
+        let nearest = ((p[1] + p[2]) * s).min((p[2] - p[1]) * s);
+        assert!(nearest >= 0.01 - 1e-12, "{p:?} is {nearest} m from a flank");
+    }
+}

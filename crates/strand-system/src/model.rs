@@ -731,6 +731,36 @@ impl Model {
         self.place_clipped_vertices(out);
     }
 
+    /// Moves `gradient`, evaluated at `retract(state, scale · step)`, into the chart of
+    /// `state`: every rotation block `g` (edge frames, ball-clip joints, body
+    /// orientations, all retracted as `q ⊗ exp(θ)`) becomes `J_r(scale · θ)ᵀ g`;
+    /// positions and joint angles are unchanged. Differences of pulled-back gradients
+    /// along a step are then derivatives of one function (the energy pulled back to
+    /// `state`), as a second-order correction of the step needs.
+    pub fn pull_back_gradient(&self, step: &[f64], scale: f64, gradient: &mut [f64]) {
+        let mut pull = |b: usize| {
+            let theta = scale * Vector3::new(step[3 * b], step[3 * b + 1], step[3 * b + 2]);
+            let g = Vector3::new(gradient[3 * b], gradient[3 * b + 1], gradient[3 * b + 2]);
+            let pulled = so3::right_jacobian(&theta).transpose() * g;
+            gradient[3 * b..3 * b + 3].copy_from_slice(pulled.as_slice());
+        };
+        for (r, spec) in self.system.rods.iter().enumerate() {
+            for e in 0..spec.rod.segments() {
+                pull(self.dofs.edge(r, e));
+            }
+        }
+        for (c, clip) in self.system.clips.iter().enumerate() {
+            if let (Joint::Spherical, Some(b)) = (&clip.joint, self.dofs.clip(c)) {
+                pull(b);
+            }
+        }
+        for b in 0..self.system.bodies.len() {
+            if let Some((_, rotation)) = self.dofs.body(b) {
+                pull(rotation);
+            }
+        }
+    }
+
     /// How `direction · r` changes with the unknowns, for the position `r` of vertex
     /// `vertex` of rod `rod` at `state`: `(unknown index, ∂(direction · r)/∂unknown)`.
     /// Empty for a vertex fixed in space; through the body or clip for a held vertex.

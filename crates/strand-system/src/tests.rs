@@ -3,7 +3,6 @@
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_rod::so3::right_jacobian;
 use strand_rod::{Rod, Section};
 
 use crate::*;
@@ -347,16 +346,9 @@ fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVect
     let moved = model.retract(state, x.as_slice());
     let mut eval = model.new_evaluation();
     model.evaluate(&moved, &mut eval, false);
-    let mut g = DVector::from_vec(eval.gradient);
-    for b in 0..model.dofs().block_count() {
-        if model.dofs().kind(b) == BlockKind::Rotation {
-            let local = g.fixed_rows::<3>(3 * b).into_owned();
-            let jr = right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned());
-            g.fixed_rows_mut::<3>(3 * b)
-                .copy_from(&(jr.transpose() * local));
-        }
-    }
-    g
+    let mut g = eval.gradient;
+    model.pull_back_gradient(x.as_slice(), 1.0, &mut g);
+    DVector::from_vec(g)
 }
 
 fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {

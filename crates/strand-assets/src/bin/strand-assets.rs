@@ -32,6 +32,12 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Write the single-part OBJ files of the bundled cases (mm): box, V-groove.
+    Parts {
+        /// Output directory (created if missing), e.g. assets/parts.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Write a wavy benchmark surface with exactly N triangles (not for committing).
     Surface {
         /// Number of triangles, e.g. 1000000.
@@ -127,6 +133,12 @@ fn run(command: Command) -> Result<(), String> {
                     "written {} ({triangles} triangles, {bytes} bytes)",
                     path.display()
                 );
+            }
+            Ok(())
+        }
+        Command::Parts { out } => {
+            for path in strand_assets::parts::write_parts(&out).map_err(|e| e.to_string())? {
+                println!("written {}", path.display());
             }
             Ok(())
         }

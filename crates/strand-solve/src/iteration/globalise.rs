@@ -1,7 +1,7 @@
 //! Globalisation and acceptance of a Newton/SQP step: the trust region in physical
 //! units, the ratio of achieved to predicted decrease of the merit function, the
-//! positions-only correction of every trial of a stiff rod, the extension of exact
-//! steps and the steps along a direction of negative curvature.
+//! second-order correction and the positions-only correction of mispredicted trials,
+//! the extension of exact steps and the steps along a direction of negative curvature.
 
 use strand_system::SystemState;
 
@@ -72,10 +72,22 @@ impl Iteration<'_> {
         let mut trial = self.state.clone();
         let mut trial_rows: Vec<Row> = Vec::new();
         let mut t = fits(self.radius);
+        // The second-order correction of the first trial (at `first_t`), once computed:
+        // shorter trials follow the parabola `t·d + (t/first_t)²·c`.
+        let first_t = t;
+        let mut correction: Option<Vec<f64>> = None;
         for attempt in 0..=settings.max_line_search_steps {
-            self.model
-                .retract_into(&self.state, &self.work.step, t, &mut trial);
             let full = attempt == 0;
+            // The quadratic model's decrease along the trial's step (energy only).
+            let mut model_decrease = -(t * slope + 0.5 * t * t * curvature);
+            if let Some(c) = &correction {
+                let bent = curved_step(&self.work.step, t, c, (t / first_t).powi(2));
+                model_decrease = -self.quadratic_model(&bent);
+                self.model.retract_into(&self.state, &bent, 1.0, &mut trial);
+            } else {
+                self.model
+                    .retract_into(&self.state, &self.work.step, t, &mut trial);
+            }
             // Whether `work.trial_eval` holds the trial's gradient and Hessian.
             let mut evaluated = full;
             let mut energy = if full {
@@ -84,14 +96,33 @@ impl Iteration<'_> {
             } else {
                 self.model.energy(&trial)
             };
-            if self.rows.is_empty() && self.stiff {
+            if self.rows.is_empty() {
                 // A stiff rod's positions follow its frames when the turn is large
                 // enough to strain it at second order (the positions moved along
                 // straight lines), or when the model mispredicted the step.
-                let predicted_energy = self.work.eval.energy + t * slope + 0.5 * t * t * curvature;
-                let surprising = energy - self.work.eval.energy
-                    > settings.trust_ratio * (predicted_energy - self.work.eval.energy);
-                if surprising || t * rotation > FOLLOW_TURN * self.valley_turn {
+                let surprising =
+                    self.work.eval.energy - energy < settings.trust_ratio * model_decrease;
+                if full && surprising {
+                    // The second-order correction: the remainder of the gradient at the
+                    // trial beyond the model, solved with this iteration's factor.
+                    if let Some((bent, c)) = self.second_order_correction(t) {
+                        let bent_energy = self.model.energy(&bent);
+                        if self.trace {
+                            eprintln!(
+                                "strand-solve:   second-order correction: energy {bent_energy:.9e} J (straight trial {energy:.9e} J)"
+                            );
+                        }
+                        if bent_energy < energy {
+                            model_decrease =
+                                -self.quadratic_model(&curved_step(&self.work.step, t, &c, 1.0));
+                            trial = bent;
+                            energy = bent_energy;
+                            evaluated = false;
+                            correction = Some(c);
+                        }
+                    }
+                }
+                if surprising || (self.stiff && t * rotation > FOLLOW_TURN * self.valley_turn) {
                     energy = self.follow(&mut trial, &mut evaluated);
                 }
             }
@@ -102,8 +133,7 @@ impl Iteration<'_> {
                 f64::INFINITY
             };
             // The linearised rows close the violation in proportion to t.
-            let predicted =
-                -(t * slope + 0.5 * t * t * curvature) + self.merit_weight * violation * t;
+            let predicted = model_decrease + self.merit_weight * violation * t;
             let achieved = merit - trial_merit;
             let noise = ENERGY_NOISE * self.work.eval.energy.abs().max(energy.abs()).max(1e-12);
             let mut accepted = trial_merit.is_finite()
@@ -244,6 +274,60 @@ impl Iteration<'_> {
         Err(Termination::LineSearchFailed)
     }
 
+    /// The second-order correction of the trial `retract(state, t·step)` (whose
+    /// gradient is in `work.trial_eval`): `c = −K⁻¹ (ĝ(t·d) − g − t·H d)` with this
+    /// iteration's factor `K`, `ĝ` the trial's gradient pulled back to the current
+    /// chart. It bends the step along a curved valley (a rod turning as a whole moves
+    /// its vertices on circles, not on the tangent lines of the linear step). Returns
+    /// the corrected trial and `c`; `None` when `c` is larger than the step itself (the
+    /// expansion does not hold).
+    fn second_order_correction(&mut self, t: f64) -> Option<(SystemState, Vec<f64>)> {
+        let work = &mut *self.work;
+        // `work.product` may hold the product with a direction of negative curvature.
+        symmetric_product(
+            self.model.pattern(),
+            &work.eval.hessian,
+            &work.step,
+            &mut work.product,
+        );
+        work.rhs.copy_from_slice(&work.trial_eval.gradient);
+        self.model.pull_back_gradient(&work.step, t, &mut work.rhs);
+        for ((r, g), hd) in work
+            .rhs
+            .iter_mut()
+            .zip(&work.eval.gradient)
+            .zip(&work.product)
+        {
+            *r -= g + t * hd;
+        }
+        work.gauge.fix_vector(&mut work.rhs);
+        work.cholesky.solve_in_place(&mut work.rhs);
+        let c: Vec<f64> = work.rhs.iter().map(|r| -r).collect();
+        let (c_rotation, c_translation) = self.model.step_size(&c);
+        let (rotation, translation) = self.model.step_size(&work.step);
+        if c_rotation > t * rotation && c_translation > t * translation {
+            return None;
+        }
+        let bent = curved_step(&work.step, t, &c, 1.0);
+        Some((self.model.retract(&self.state, &bent), c))
+    }
+
+    /// The quadratic model `gᵀp + ½ pᵀHp` (J) of the energy change along `p`.
+    fn quadratic_model(&self, p: &[f64]) -> f64 {
+        let mut product = vec![0.0; p.len()];
+        symmetric_product(
+            self.model.pattern(),
+            &self.work.eval.hessian,
+            p,
+            &mut product,
+        );
+        p.iter()
+            .zip(&self.work.eval.gradient)
+            .zip(&product)
+            .map(|((p, g), hp)| p * g + 0.5 * p * hp)
+            .sum()
+    }
+
     /// The multiple of the step allowed by the translation limits: the settings' limit
     /// on the largest vertex move (`translation`, m, at the full step) and the
     /// conservative advancement of the constraints (the clearance of every moving
@@ -323,4 +407,12 @@ impl Iteration<'_> {
             self.damping = (self.damping * settings.damping_increase).max(settings.min_damping);
         }
     }
+}
+
+/// `t·step + w·correction`: a point on the parabola of a corrected step.
+fn curved_step(step: &[f64], t: f64, correction: &[f64], w: f64) -> Vec<f64> {
+    step.iter()
+        .zip(correction)
+        .map(|(d, c)| t * d + w * c)
+        .collect()
 }

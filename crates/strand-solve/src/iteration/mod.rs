@@ -11,10 +11,13 @@
 //!    QP of the linearised inequalities (contact, joint limits);
 //! 4. **globalisation** ([`Iteration::globalise`]): a trust region in physical units
 //!    (largest rotation in rad, largest translation in m), shrunk on rejection, grown on
-//!    success; on a stiff rod (`C·h²/EI` above 100) a trial that turns the frames by
-//!    more than a tenth of the valley turn `√(8 EI/(C h²))`, or that the model
-//!    mispredicted, first gets a positions-only correction (the positions follow the
-//!    frames); an exact step is extended, and a short step of an indefinite iteration is
+//!    success; a first trial that the model mispredicted (without constraint rows) gets
+//!    a second-order correction (the gradient's remainder at the trial, solved with the
+//!    same factor: the step bends along a curved valley) and then a positions-only
+//!    correction (the positions follow the frames), which a stiff rod (`C·h²/EI` above
+//!    100) also gets whenever a trial turns its frames by more than a tenth of the
+//!    valley turn `√(8 EI/(C h²))`; an exact step is extended, and a short step of an
+//!    indefinite iteration is
 //!    tried together with a direction of negative curvature (from the whole region
 //!    down, a quarter at a time);
 //! 5. **acceptance** (inside `globalise`): the ratio of achieved to predicted decrease of
