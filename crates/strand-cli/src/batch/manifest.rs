@@ -8,6 +8,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use strand_case::Case;
 
+use super::checksum::fnv1a;
 use super::plan::Plan;
 
 /// One varied parameter as recorded.
@@ -53,16 +54,6 @@ pub(crate) struct Manifest {
     pub variants: Vec<Entry>,
 }
 
-/// FNV-1a (64 bit) of `bytes`, as 16 hex digits.
-fn fnv1a(bytes: &[u8]) -> String {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in bytes {
-        hash ^= u64::from(*b);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    format!("{hash:016x}")
-}
-
 impl Manifest {
     /// The manifest of `plan` on `case`.
     pub(crate) fn new(case: &Case, plan: &Plan, segments: Option<usize>) -> Self {
@@ -104,6 +95,16 @@ impl Manifest {
             origin: String::new(),
             ..other.clone()
         }
+    }
+
+    /// The batch's identity: FNV-1a of the manifest without the case's path (what
+    /// [`Manifest::same_batch`] compares), as held in the directory's lock files.
+    pub(crate) fn identity(&self) -> String {
+        let bare = Manifest {
+            origin: String::new(),
+            ..self.clone()
+        };
+        fnv1a(&serde_json::to_vec(&bare).unwrap_or_default())
     }
 
     /// Reads `DIR/batch.json` (`Ok(None)` if there is none).

@@ -3,7 +3,8 @@
 //! Every `DIR` must hold the same batch (`batch.json`). Each variant is taken from the
 //! first `DIR` where it is finished (`result.json`, else `failed.json`) and copied
 //! into the output directory (default: the first `DIR`; nothing is copied when the
-//! shards shared one directory). When every variant is there, `summary.csv` and
+//! shards shared one directory); a copy whose files fail their integrity check
+//! ([`super::integrity`]) is never taken. When every variant is there, `summary.csv` and
 //! `summary.svg` are written exactly as an unsharded batch writes them; otherwise
 //! the missing variants are listed and nothing is written.
 
@@ -12,8 +13,10 @@ use std::path::{Path, PathBuf};
 
 use strand_report::write_atomic;
 
+use super::integrity::{Stored, clear, inspect};
+use super::lock::{self, Role};
 use super::manifest::Manifest;
-use super::{invalid, io_failure, list_failures, write_summary};
+use super::{invalid, io_failure, list_failures, lock_failure, write_summary};
 use crate::Exit;
 use crate::commands::Failure;
 
@@ -86,6 +89,9 @@ pub(crate) fn run(
         )));
     }
     let target = out_dir.unwrap_or(first_dir);
+    // No shard may still be writing into the target while it is merged.
+    let mut held =
+        lock::acquire(target, Role::Merge, &manifest.identity()).map_err(lock_failure)?;
     if Manifest::read(target).map_err(invalid)?.is_none() {
         std::fs::create_dir_all(target)
             .map_err(|e| io_failure(format!("cannot create {}: {e}", target.display())))?;
@@ -101,31 +107,57 @@ pub(crate) fn run(
             target.display()
         )));
     }
+    super::cleanup::remove_stale_temporaries(target, None).map_err(io_failure)?;
+    held.release_plan();
     let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
         (Ok(a), Ok(b)) => a == b,
         _ => a == b,
     };
     let mut missing = Vec::new();
     let mut copied = 0;
+    let mut damaged = Vec::new();
     for entry in &manifest.variants {
-        let in_dir =
-            |dir: &Path, name: &str| dir.join("variants").join(&entry.id).join(name).is_file();
-        let source = ["result.json", "failed.json"]
-            .iter()
-            .find_map(|name| dirs.iter().find(|d| in_dir(d, name)));
+        // Each copy checked (integrity): a damaged one is never taken.
+        let status = |dir: &Path| inspect(&dir.join("variants").join(&entry.id), &entry.id);
+        let statuses: Vec<Stored> = dirs.iter().map(|d| status(d)).collect();
+        let source = [Stored::Solved, Stored::Failed].iter().find_map(|want| {
+            dirs.iter()
+                .zip(&statuses)
+                .find(|(_, s)| *s == want)
+                .map(|(d, _)| d)
+        });
+        if source.is_none()
+            && let Some((dir, Stored::Damaged(d))) = dirs
+                .iter()
+                .zip(&statuses)
+                .find(|(_, s)| matches!(s, Stored::Damaged(_)))
+        {
+            damaged.push(format!(
+                "{} ({d})",
+                dir.join("variants").join(&entry.id).display()
+            ));
+        }
         match source {
-            None if !in_dir(target, "result.json") && !in_dir(target, "failed.json") => {
+            None if !matches!(status(target), Stored::Solved | Stored::Failed) => {
                 missing.push(entry.id.as_str());
             }
             Some(dir) if !same(dir, target) => {
                 let to = target.join("variants").join(&entry.id);
-                if !to.join("result.json").is_file() {
+                if status(target) != Stored::Solved {
+                    clear(&to).map_err(io_failure)?;
                     copy_variant(&dir.join("variants").join(&entry.id), &to)?;
                     copied += 1;
                 }
             }
             _ => {}
         }
+    }
+    if !damaged.is_empty() {
+        let _ = writeln!(
+            err,
+            "warning: damaged variant files, not merged: {}; run their shard again (it repairs them)",
+            damaged.join(", ")
+        );
     }
     if !missing.is_empty() {
         let shown: Vec<&str> = missing.iter().take(5).copied().collect();

@@ -17,6 +17,10 @@
 //! - [`run`]: parallel execution, progress bar, resume;
 //! - [`merge`]: combining shard directories.
 
+mod checksum;
+mod cleanup;
+mod integrity;
+mod lock;
 mod manifest;
 pub(crate) mod merge;
 mod plan;
@@ -36,6 +40,7 @@ use strand_report::write_atomic;
 
 use crate::Exit;
 use crate::commands::Failure;
+use lock::Role;
 use manifest::Manifest;
 use plan::Plan;
 use run::{Runner, Start};
@@ -64,6 +69,14 @@ pub(crate) fn invalid(message: impl Into<String>) -> Failure {
     Failure {
         exit: Exit::InvalidInput,
         message: message.into(),
+    }
+}
+
+/// A directory that cannot be locked: exit 2 when another run holds it, else 1.
+pub(crate) fn lock_failure(e: lock::LockError) -> Failure {
+    match e {
+        lock::LockError::Busy { .. } => invalid(e.to_string()),
+        lock::LockError::Io { .. } => io_failure(e.to_string()),
     }
 }
 
@@ -150,20 +163,34 @@ pub(crate) fn run(
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let base = case.build(options.segments)?;
-
     let manifest = Manifest::new(&case, &plan, options.segments);
-    std::fs::create_dir_all(options.out.join("variants")).map_err(|e| {
-        io_failure(format!(
-            "cannot create {}: {e}",
-            options.out.join("variants").display()
-        ))
-    })?;
+
+    let base_solution = base
+        .solve_from(base.initial.clone(), &base.settings)
+        .map_err(|e| crate::commands::solver_failure(&base.origin, e))?;
+
+    // Nothing is written before this point: bad input leaves no trace.
+    let role = match shard {
+        Some((i, n)) => Role::Shard(i, n),
+        None => Role::Whole,
+    };
+    let mut held = lock::acquire(options.out, role, &manifest.identity()).map_err(lock_failure)?;
     match Manifest::read(options.out).map_err(invalid)? {
         Some(existing) if !existing.same_batch(&manifest) => {
+            let by: Vec<String> = lock::recorded_holders(options.out)
+                .iter()
+                .filter(|h| h.batch == existing.identity())
+                .map(ToString::to_string)
+                .collect();
             return Err(invalid(format!(
-                "{} holds another batch ({}); use another --out, or delete it to start over",
+                "{} holds another batch ({}{}); use another --out, or delete it to start over",
                 options.out.display(),
-                existing.describe()
+                existing.describe(),
+                if by.is_empty() {
+                    String::new()
+                } else {
+                    format!("; last run by {}", by.join(", "))
+                }
             )));
         }
         Some(_) => {}
@@ -174,10 +201,31 @@ pub(crate) fn run(
                 .map_err(|e| io_failure(format!("batch plan not written: {e}")))?;
         }
     }
+    std::fs::create_dir_all(options.out.join("variants")).map_err(|e| {
+        io_failure(format!(
+            "cannot create {}: {e}",
+            options.out.join("variants").display()
+        ))
+    })?;
+    let owned = plan.owned(shard);
+    let owned_ids: Option<std::collections::HashSet<&str>> = shard.map(|_| {
+        plan.variants
+            .iter()
+            .zip(&owned)
+            .filter(|(_, o)| **o)
+            .map(|(v, _)| v.id.as_str())
+            .collect()
+    });
+    let cleaned =
+        cleanup::remove_stale_temporaries(options.out, owned_ids.as_ref()).map_err(io_failure)?;
+    held.release_plan();
+    if cleaned > 0 {
+        let _ = writeln!(
+            out,
+            "cleaned     {cleaned} temporary file(s) left by an interrupted run"
+        );
+    }
 
-    let base_solution = base
-        .solve_from(base.initial.clone(), &base.settings)
-        .map_err(|e| crate::commands::solver_failure(&base.origin, e))?;
     let start = if base_solution.report.converged {
         Some(Start::base(base, base_solution.state))
     } else {
@@ -188,7 +236,6 @@ pub(crate) fn run(
         );
         None
     };
-    let owned = plan.owned(shard);
     let runner = Runner::new(
         &case,
         &plan,
@@ -196,14 +243,28 @@ pub(crate) fn run(
         options.out,
         owned.clone(),
         options.retry_failed,
-    );
+    )
+    .map_err(io_failure)?;
     let counts = runner.run(start, jobs).map_err(io_failure)?;
 
     let (outcomes, written) = if shard.is_none() {
         let (outcomes, paths) = write_summary(options.out, &manifest)?;
         (outcomes, Some(paths))
     } else {
-        (read_outcomes(options.out, &manifest)?, None)
+        // Other shards' variants are only counted when listing this shard's failures:
+        // a damaged one of theirs is their shard's to repair, not an error here.
+        let variants = options.out.join("variants");
+        let outcomes = manifest
+            .variants
+            .iter()
+            .zip(&owned)
+            .map(|(v, mine)| match read_outcome(&variants.join(&v.id)) {
+                Ok(outcome) => Ok(outcome),
+                Err(_) if !mine => Ok(Outcome::Missing),
+                Err(e) => Err(io_failure(e)),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        (outcomes, None)
     };
     let owned_count = owned.iter().filter(|o| **o).count();
     let _ = writeln!(
@@ -237,6 +298,15 @@ pub(crate) fn run(
         counts.iterations,
         started.elapsed().as_secs_f64()
     );
+    for (id, damage) in &counts.repaired {
+        let _ = writeln!(out, "repaired    {id} ({damage}): solved again");
+    }
+    for (id, damage) in &counts.foreign_damaged {
+        let _ = writeln!(
+            err,
+            "warning: variant '{id}' of another shard is damaged ({damage}); solved here as a warm start only — run its shard again to repair it"
+        );
+    }
     let failed = list_failures(&manifest, &outcomes, &owned, out);
     match written {
         Some([csv, svg]) => {

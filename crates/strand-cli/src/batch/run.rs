@@ -2,9 +2,12 @@
 //! built, solved, written to `DIR/variants/<id>/` and counted on the progress bar.
 //!
 //! A variant is **finished** when its directory holds `result.json` (written last,
-//! atomically, after `state.json` and the rod CSVs) or `failed.json`. A re-run skips
-//! finished variants and warm-starts their children from the stored `state.json`
-//! (bit-exact), so resuming gives the same numbers as an uninterrupted run.
+//! atomically, after `state.json` and the rod CSVs) or `failed.json`, and they pass
+//! their checks ([`super::integrity`]). A re-run skips finished variants and
+//! warm-starts their children from the stored `state.json` (bit-exact), so resuming
+//! gives the same numbers as an uninterrupted run. A damaged variant of this run's
+//! share is solved again (and reported as repaired), and so are its dependants'
+//! starts.
 //! `failed.json` variants are finished too (their failure is deterministic); pass
 //! `--retry-failed` to solve them again.
 
@@ -20,6 +23,7 @@ use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, w
 use strand_solve::{Solution, SolverSettings};
 use strand_system::SystemState;
 
+use super::integrity::{Damage, Stored, clear, inspect};
 use super::plan::Plan;
 use super::predict::{Solved, predicted_start};
 use super::state::{FailedVariant, StoredState};
@@ -71,7 +75,7 @@ impl Start {
 }
 
 /// Counts of one run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Counts {
     /// Owned variants solved (or built and failed) in this run.
     pub computed: usize,
@@ -83,6 +87,12 @@ pub(crate) struct Counts {
     pub helpers: usize,
     /// Newton iterations of the variants computed in this run.
     pub iterations: usize,
+    /// Owned variants whose stored files were damaged and that were solved again,
+    /// in grid order, with what was wrong.
+    pub repaired: Vec<(String, Damage)>,
+    /// Other shards' variants with damaged files (not touched here; their own
+    /// shard repairs them).
+    pub foreign_damaged: Vec<(String, Damage)>,
 }
 
 /// What a run needs to know, shared by the parallel tasks.
@@ -96,6 +106,11 @@ pub(crate) struct Runner<'a> {
     pub needed: Vec<bool>,
     /// Whether a variant or one of its descendants has to be solved in this run.
     pending: Vec<bool>,
+    /// What the directory of each needed variant held when the run started (damaged
+    /// owned variants cleared and `Missing`).
+    stored: Vec<Stored>,
+    /// Damaged variants: owned ones (repaired) and other shards' ones, by variant.
+    damage: Mutex<Vec<(usize, Damage)>>,
     pub retry_failed: bool,
     progress: ProgressBar,
     computed: AtomicUsize,
@@ -135,7 +150,9 @@ fn progress_bar(total: usize) -> ProgressBar {
 }
 
 impl<'a> Runner<'a> {
-    /// A runner for the variants `owned` (and their ancestors).
+    /// A runner for the variants `owned` (and their ancestors). Checks the stored
+    /// files of every needed variant and removes those of damaged owned variants
+    /// (the error names a file that cannot be removed).
     pub(crate) fn new(
         case: &'a Case,
         plan: &'a Plan,
@@ -143,19 +160,35 @@ impl<'a> Runner<'a> {
         dir: &Path,
         owned: Vec<bool>,
         retry_failed: bool,
-    ) -> Self {
+    ) -> Result<Self, String> {
         let needed = plan.needed(&owned);
         let total = owned.iter().filter(|o| **o).count();
         let variants_dir = dir.join("variants");
+        let mut stored = vec![Stored::Missing; owned.len()];
+        let mut damage = Vec::new();
+        for (n, variant) in plan.variants.iter().enumerate() {
+            if !needed[n] {
+                continue;
+            }
+            let here = variant_dir(&variants_dir, &variant.id);
+            match inspect(&here, &variant.id) {
+                Stored::Damaged(d) => {
+                    if owned[n] {
+                        clear(&here)?;
+                    }
+                    damage.push((n, d));
+                }
+                other => stored[n] = other,
+            }
+        }
         // Children after their parents in `order`: walk it backwards.
         let mut pending = vec![false; owned.len()];
         for &n in plan.order.iter().rev() {
-            let here = variant_dir(&variants_dir, &plan.variants[n].id);
-            let finished = here.join("result.json").is_file()
-                || (here.join("failed.json").is_file() && !retry_failed);
+            let finished =
+                stored[n] == Stored::Solved || (stored[n] == Stored::Failed && !retry_failed);
             pending[n] = needed[n] && (!finished || plan.children[n].iter().any(|&c| pending[c]));
         }
-        Self {
+        Ok(Self {
             case,
             plan,
             segments,
@@ -163,6 +196,8 @@ impl<'a> Runner<'a> {
             owned,
             needed,
             pending,
+            stored,
+            damage: Mutex::new(damage),
             retry_failed,
             progress: progress_bar(total),
             computed: AtomicUsize::new(0),
@@ -171,7 +206,7 @@ impl<'a> Runner<'a> {
             helpers: AtomicUsize::new(0),
             iterations: AtomicUsize::new(0),
             io_error: Mutex::new(None),
-        }
+        })
     }
 
     /// Walks the tree from its roots (started from `base`, the solved case, or cold
@@ -196,12 +231,25 @@ impl<'a> Runner<'a> {
         if let Some(e) = self.io_error.lock().map(|e| e.clone()).unwrap_or(None) {
             return Err(e);
         }
+        let mut damage = self.damage.lock().map(|d| d.clone()).unwrap_or_default();
+        damage.sort_by_key(|(n, _)| *n);
+        let named = |(n, d): &(usize, Damage)| (self.plan.variants[*n].id.clone(), d.clone());
         Ok(Counts {
             computed: self.computed.load(Ordering::Relaxed),
             skipped: self.skipped.load(Ordering::Relaxed),
             failed: self.failed.load(Ordering::Relaxed),
             helpers: self.helpers.load(Ordering::Relaxed),
             iterations: self.iterations.load(Ordering::Relaxed),
+            repaired: damage
+                .iter()
+                .filter(|(n, _)| self.owned[*n])
+                .map(named)
+                .collect(),
+            foreign_damaged: damage
+                .iter()
+                .filter(|(n, _)| !self.owned[*n])
+                .map(named)
+                .collect(),
         })
     }
 
@@ -243,19 +291,34 @@ impl<'a> Runner<'a> {
         let id = &self.plan.variants[n].id;
         let dir = variant_dir(&self.variants_dir, id);
         let owned = self.owned[n];
-        let finished = dir.join("result.json").is_file();
-        let failed_before = dir.join("failed.json").is_file() && !self.retry_failed;
-        if finished || failed_before {
+        let finished = self.stored[n] == Stored::Solved;
+        let failed_before = self.stored[n] == Stored::Failed && !self.retry_failed;
+        let wanted = self.plan.children[n].iter().any(|&c| self.pending[c]);
+        // A finished variant whose state cannot start its children (it does not fit
+        // the model) is solved again like a damaged one.
+        let loaded = if finished && wanted {
+            let loaded = self.load(n, &dir, start);
+            if loaded.is_none()
+                && let Ok(mut damage) = self.damage.lock()
+            {
+                damage.push((
+                    n,
+                    Damage {
+                        file: "state.json",
+                        reason: "does not fit the variant's model".into(),
+                    },
+                ));
+            }
+            loaded
+        } else {
+            None
+        };
+        if (finished && (!wanted || loaded.is_some())) || failed_before {
             if owned {
                 self.skipped.fetch_add(1, Ordering::Relaxed);
                 self.tick(!finished);
             }
-            let wanted = self.plan.children[n].iter().any(|&c| self.pending[c]);
-            return if finished && wanted {
-                self.load(n, &dir, start)
-            } else {
-                None
-            };
+            return loaded;
         }
         let started = Instant::now();
         let changes: Vec<_> = self
@@ -369,10 +432,13 @@ impl<'a> Runner<'a> {
             ..Timing::default()
         };
         let doc = result_doc(id, built, solution, warm, timing);
-        let stored = StoredState::from_state(&solution.state);
         let written = std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
-            .and_then(|()| serde_json::to_vec(&stored).map_err(|e| e.to_string()))
+            // `result.json` is exactly these bytes (`write_results` writes them), so
+            // `state.json` can record their checksum before they are written.
+            .and_then(|()| serde_json::to_vec_pretty(&doc).map_err(|e| e.to_string()))
+            .map(|result_json| StoredState::from_state(&solution.state, &result_json))
+            .and_then(|stored| serde_json::to_vec(&stored).map_err(|e| e.to_string()))
             .and_then(|json| {
                 write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
             })

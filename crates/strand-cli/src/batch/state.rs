@@ -1,11 +1,18 @@
 //! The files of one variant besides its results: `state.json`, the solved state bit
 //! for bit (so a resumed batch warm-starts the next variant exactly as an
 //! uninterrupted one would), and `failed.json`, why a variant has no result.
+//!
+//! `state.json` carries two checksums (FNV-1a, [`super::checksum`]): `checksum`, over
+//! its own numbers, and `result_json`, over the exact bytes of the variant's
+//! `result.json`. A resumed batch checks both ([`super::integrity`]), so a truncated
+//! or altered file of either kind is found and the variant solved again.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use strand_rod::RodState;
 use strand_system::{JointState, Pose, SystemState};
+
+use super::checksum::{Fnv, fnv1a};
 
 /// A [`SystemState`] as the IEEE-754 bit patterns of its numbers (exact in JSON).
 #[derive(Debug, Serialize, Deserialize)]
@@ -16,6 +23,24 @@ pub(crate) struct StoredState {
     bodies: Vec<[u64; 7]>,
     /// Per clip: value and rotation (w, i, j, k).
     clips: Vec<[u64; 5]>,
+    /// FNV-1a of the bytes of the variant's `result.json` (absent in files written
+    /// before checksums existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    result_json: Option<String>,
+    /// FNV-1a of the numbers above and `result_json` ([`StoredState::digest`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    checksum: Option<String>,
+}
+
+/// Why a stored state or result does not pass its checksums.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum ChecksumError {
+    /// `state.json`'s own numbers do not match its `checksum`.
+    #[error("its checksum does not match its content")]
+    State,
+    /// `result.json` is not the file `state.json` was written with.
+    #[error("its checksum does not match the one recorded in state.json")]
+    Result,
 }
 
 fn bits(values: &[f64]) -> Vec<u64> {
@@ -28,10 +53,11 @@ fn quaternion(b: &[u64]) -> UnitQuaternion<f64> {
 }
 
 impl StoredState {
-    /// The exact bit patterns of `state`.
-    pub(crate) fn from_state(state: &SystemState) -> Self {
+    /// The exact bit patterns of `state`, with the checksum of `result_json` (the
+    /// bytes of the `result.json` written with it) and its own.
+    pub(crate) fn from_state(state: &SystemState, result_json: &[u8]) -> Self {
         let q = |q: &UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
-        Self {
+        let mut stored = Self {
             rods: state
                 .rods
                 .iter()
@@ -57,7 +83,49 @@ impl StoredState {
                     [c.value, w, i, j, k].map(f64::to_bits)
                 })
                 .collect(),
+            result_json: Some(fnv1a(result_json)),
+            checksum: None,
+        };
+        stored.checksum = Some(stored.digest());
+        stored
+    }
+
+    /// FNV-1a over every number (with the list lengths) and `result_json`.
+    fn digest(&self) -> String {
+        let mut h = Fnv::default();
+        h.word(self.rods.len() as u64);
+        for (p, f) in &self.rods {
+            h.word(p.len() as u64);
+            p.iter().for_each(|w| _ = h.word(*w));
+            h.word(f.len() as u64);
+            f.iter().for_each(|w| _ = h.word(*w));
         }
+        h.word(self.bodies.len() as u64);
+        self.bodies.iter().flatten().for_each(|w| _ = h.word(*w));
+        h.word(self.clips.len() as u64);
+        self.clips.iter().flatten().for_each(|w| _ = h.word(*w));
+        h.bytes(self.result_json.as_deref().unwrap_or("").as_bytes());
+        h.hex()
+    }
+
+    /// Checks the state's own checksum and, when `result_json` (the bytes of the
+    /// variant's `result.json`) is given, that it is the file written with it. A
+    /// state without checksums (an older batch) passes.
+    pub(crate) fn verify(&self, result_json: Option<&[u8]>) -> Result<(), ChecksumError> {
+        if self.checksum.as_ref().is_some_and(|c| *c != self.digest()) {
+            return Err(ChecksumError::State);
+        }
+        match (&self.result_json, result_json) {
+            (Some(recorded), Some(bytes)) if *recorded != fnv1a(bytes) => {
+                Err(ChecksumError::Result)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the file carries checksums (written by this version).
+    pub(crate) fn has_checksums(&self) -> bool {
+        self.checksum.is_some() && self.result_json.is_some()
     }
 
     /// The state back, if its shape fits `like` (a state of the same model).
