@@ -17,6 +17,7 @@ use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 mod advance;
 mod exclusion;
 mod mesh_gaps;
+mod rod_minima;
 mod start;
 #[cfg(test)]
 mod tests;
@@ -87,9 +88,11 @@ impl Contact {
     /// tessellated plane) — and an edge adds a gap of its own only where its nearest
     /// point on a patch lies strictly inside it and nearer than both its vertices (the
     /// edge crosses a convex feature of the mesh). An edge lying flat on a surface is
-    /// thus held at its vertices, where its weight is lumped. Between rods, each pair
-    /// of edges within the margin gives one gap, except near neighbours along one rod
-    /// (by the current centreline length, see `Exclusion`).
+    /// thus held at its vertices, where its weight is lumped. Between rods, a pair of
+    /// edges within the margin gives a gap where it is a local minimum along the other
+    /// rod's edges (one per crossing, one per edge and side of hoses lying along each
+    /// other), except near neighbours along one rod (by the current centreline length,
+    /// see `Exclusion`).
     pub fn gaps(
         &self,
         model: &Model,
@@ -126,7 +129,11 @@ impl Contact {
         };
         let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
             .map_err(|e| describe_error(model, e))?;
-        gaps.extend(between_rods.into_iter().map(|gap| (gap, Tag::new(0, 0))));
+        gaps.extend(
+            rod_minima::local_minima(between_rods)
+                .into_iter()
+                .map(|gap| (gap, Tag::new(0, 0))),
+        );
         // The positions' low-order parts (compensated summation), to first order: a gap
         // then resolves the vertex positions beyond double precision, as the elastic
         // forces do, and stiff rods in contact converge to the force tolerance.
