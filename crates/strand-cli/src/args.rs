@@ -13,6 +13,29 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// `strand batch --keep`: which files a solved variant keeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Keep {
+    /// `state.json` and a `result.json` thinned to what `summary.csv` reads.
+    Summary,
+    /// `result.json` and `state.json`.
+    Results,
+    /// Every file: also one CSV per rod, `rods.vtp` and `tubes.obj`.
+    #[default]
+    All,
+}
+
+impl Keep {
+    /// The option value as written.
+    pub fn name(self) -> &'static str {
+        match self {
+            Keep::Summary => "summary",
+            Keep::Results => "results",
+            Keep::All => "all",
+        }
+    }
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -61,9 +84,21 @@ pub enum Command {
         /// Output directory (re-running with the same options resumes it).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
-        /// Worker threads [default: the available cores].
+        /// Worker threads [default: the available cores; more are capped at them
+        /// unless --force-jobs; at most 1024].
         #[arg(long, value_name = "N")]
         jobs: Option<usize>,
+        /// Use the --jobs given even above the available cores.
+        #[arg(long)]
+        force_jobs: bool,
+        /// Start a batch estimated above 10 GB or 100 000 variants.
+        #[arg(long)]
+        yes: bool,
+        /// Files kept per solved variant: `all` (result.json, state.json, rod CSVs,
+        /// rods.vtp, tubes.obj), `results` (result.json, state.json) or `summary`
+        /// (state.json and a result.json thinned to the summary's peaks).
+        #[arg(long, value_enum, default_value_t = Keep::All)]
+        keep: Keep,
         /// Run only the I-th of N deterministic shares of the variants (1-based);
         /// combine the shards with `strand merge`.
         #[arg(long, value_name = "I/N")]

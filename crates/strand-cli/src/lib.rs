@@ -11,6 +11,7 @@
 //!                                                solve variants; DIR/study.svg, DIR/study.csv,
 //!                                                DIR/<variant>/result.json
 //! strand batch CASE --vary ITEM=A..B:STEP [--vary …] --out DIR [--jobs N] [--shard I/N]
+//!              [--keep all|results|summary] [--yes] [--force-jobs] [--retry-failed]
 //!                                                every combination, parallel, warm-started,
 //!                                                resumable; DIR/summary.csv, DIR/summary.svg
 //! strand merge DIR… [--out DIR]                  combine the shards of a batch

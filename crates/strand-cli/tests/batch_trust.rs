@@ -382,3 +382,82 @@ fn a_killed_batch_leaves_no_temporary_files_after_its_resume() {
         vec![other_dir.join(".strand-live01.tmp")]
     );
 }
+
+#[test]
+fn limits_are_checked_before_anything_is_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    // More threads than cores: capped, with a note.
+    let dir = tmp.path().join("capped");
+    let mut args = GRID.to_vec();
+    args.extend(["--jobs", "100000"]);
+    let (code, out, err) = batch(&dir, &args);
+    assert_eq!(code, Some(0), "{out}{err}");
+    assert!(err.contains("note: --jobs 100000 capped at the"), "{err}");
+    assert!(
+        out.starts_with("plan        15 variant(s), about "),
+        "{out}"
+    );
+    // Forced beyond the hard maximum, a 1000 × 1000 grid: refused, nothing written.
+    let refused = tmp.path().join("refused");
+    let mut args = GRID.to_vec();
+    args.extend(["--jobs", "100000", "--force-jobs"]);
+    let (code, _, err) = batch(&refused, &args);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("at most 1024 worker threads"), "{err}");
+    let huge = [
+        "--vary",
+        "hose2.length=+0mm..+999mm:1mm",
+        "--vary",
+        "tee.mass=1g..1000g:1g",
+    ];
+    let (code, _, err) = batch(&refused, &huge);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("1000000 variant(s) ×") && err.contains("pass --yes to go ahead"),
+        "{err}"
+    );
+    assert!(err.contains("--keep summary for about"), "{err}");
+    assert!(!refused.exists());
+}
+
+#[test]
+fn kept_files_shrink_but_the_summary_stays_the_same() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut summaries = Vec::new();
+    for keep in ["all", "results", "summary"] {
+        let dir = tmp.path().join(keep);
+        let mut args = GRID.to_vec();
+        args.extend(["--keep", keep]);
+        let (code, out, err) = batch(&dir, &args);
+        assert_eq!(code, Some(0), "{out}{err}");
+        assert!(out.contains(&format!("--keep {keep})")), "{out}");
+        let variant = dir
+            .join("variants")
+            .join("hose2.length_p10mm__tee.mass_1.5kg");
+        let mut files: Vec<String> = std::fs::read_dir(&variant)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .collect();
+        files.sort();
+        let expected: &[&str] = match keep {
+            "all" => &[
+                "hose1.csv",
+                "hose2.csv",
+                "hose3.csv",
+                "result.json",
+                "rods.vtp",
+                "state.json",
+                "tubes.obj",
+            ],
+            _ => &["result.json", "state.json"],
+        };
+        assert_eq!(files, expected, "{keep}");
+        summaries.push(timeless(&dir));
+        // A resume trusts the kept files (their checksums pass).
+        let (code, out, _) = batch(&dir, &args);
+        assert_eq!(code, Some(0));
+        assert!(out.contains("computed 0, skipped 15"), "{keep}: {out}");
+    }
+    assert_eq!(summaries[1], summaries[0]);
+    assert_eq!(summaries[2], summaries[0]);
+}

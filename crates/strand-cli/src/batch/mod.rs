@@ -4,6 +4,7 @@
 //! ```text
 //! strand batch CASE --vary hose2.length=+0mm..+100mm:10mm [--vary …] --out DIR
 //!              [--jobs N] [--shard I/N] [--segments N] [--retry-failed]
+//!              [--keep all|results|summary] [--yes] [--force-jobs]
 //! strand merge DIR… [--out DIR]
 //! ```
 //!
@@ -19,7 +20,9 @@
 
 mod checksum;
 mod cleanup;
+pub(crate) mod estimate;
 mod integrity;
+mod keep;
 mod lock;
 mod manifest;
 pub(crate) mod merge;
@@ -57,6 +60,12 @@ pub(crate) struct BatchOptions<'a> {
     pub out: &'a Path,
     /// Worker threads (default: the available cores).
     pub jobs: Option<usize>,
+    /// Use `jobs` even above the available cores.
+    pub force_jobs: bool,
+    /// Go ahead above the size thresholds ([`estimate`]).
+    pub yes: bool,
+    /// Files kept per solved variant.
+    pub keep: crate::args::Keep,
     /// `--shard I/N`.
     pub shard: Option<&'a str>,
     /// `--segments N`.
@@ -157,17 +166,56 @@ pub(crate) fn run(
         .map(parse_shard)
         .transpose()
         .map_err(invalid)?;
-    let jobs = match options.jobs {
-        Some(0) => return Err(invalid("--jobs: give 1 or more worker threads")),
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    let available = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (jobs, capped) = estimate::jobs(options.jobs, available, options.force_jobs)
+        .map_err(|e| invalid(e.to_string()))?;
+    if capped {
+        let _ = writeln!(
+            err,
+            "note: --jobs {} capped at the {available} available core(s) (--force-jobs to use more threads)",
+            options.jobs.unwrap_or(0)
+        );
+    }
     let base = case.build(options.segments)?;
     let manifest = Manifest::new(&case, &plan, options.segments);
 
     let base_solution = base
         .solve_from(base.initial.clone(), &base.settings)
         .map_err(|e| crate::commands::solver_failure(&base.origin, e))?;
+
+    let owned = plan.owned(shard);
+    let owned_count = owned.iter().filter(|o| **o).count();
+    let sizes = {
+        let doc = run::result_doc("estimate", &base, &base_solution, false, Default::default());
+        let full_json = serde_json::to_vec_pretty(&doc).map_or(0, |v| v.len());
+        let state_bytes = serde_json::to_vec(&state::StoredState::from_state(
+            &base_solution.state,
+            &vec![0; full_json],
+        ))
+        .map_or(0, |v| v.len());
+        [options.keep, crate::args::Keep::Summary]
+            .map(|keep| keep::variant_bytes(&doc, state_bytes, keep))
+    };
+    let total = estimate::check_size(
+        &options.out.display().to_string(),
+        owned_count,
+        sizes[0],
+        sizes[1],
+        options.keep,
+        options.yes,
+    )
+    .map_err(|e| invalid(e.to_string()))?;
+    let _ = writeln!(
+        out,
+        "plan        {} variant(s){}, about {} on disk ({} per variant, --keep {}), {jobs} thread(s)",
+        plan.variants.len(),
+        shard
+            .map(|(i, n)| format!(" (shard {i}/{n}: {owned_count} of them)"))
+            .unwrap_or_default(),
+        estimate::human(total),
+        estimate::human(sizes[0]),
+        options.keep.name()
+    );
 
     // Nothing is written before this point: bad input leaves no trace.
     let role = match shard {
@@ -207,7 +255,6 @@ pub(crate) fn run(
             options.out.join("variants").display()
         ))
     })?;
-    let owned = plan.owned(shard);
     let owned_ids: Option<std::collections::HashSet<&str>> = shard.map(|_| {
         plan.variants
             .iter()
@@ -243,6 +290,7 @@ pub(crate) fn run(
         options.out,
         owned.clone(),
         options.retry_failed,
+        options.keep,
     )
     .map_err(io_failure)?;
     let counts = runner.run(start, jobs).map_err(io_failure)?;
@@ -266,7 +314,6 @@ pub(crate) fn run(
             .collect::<Result<Vec<_>, _>>()?;
         (outcomes, None)
     };
-    let owned_count = owned.iter().filter(|o| **o).count();
     let _ = writeln!(
         out,
         "batch       {} ({}): {} variant(s){}",

@@ -24,9 +24,11 @@ use strand_solve::{Solution, SolverSettings};
 use strand_system::SystemState;
 
 use super::integrity::{Damage, Stored, clear, inspect};
+use super::keep::kept_doc;
 use super::plan::Plan;
 use super::predict::{Solved, predicted_start};
 use super::state::{FailedVariant, StoredState};
+use crate::args::Keep;
 
 /// What the children of a variant start from: the nearest solved variant on the way
 /// to the case and the solved ones before it (nearest first, at most
@@ -112,6 +114,8 @@ pub(crate) struct Runner<'a> {
     /// Damaged variants: owned ones (repaired) and other shards' ones, by variant.
     damage: Mutex<Vec<(usize, Damage)>>,
     pub retry_failed: bool,
+    /// Which files a solved variant keeps.
+    keep: Keep,
     progress: ProgressBar,
     computed: AtomicUsize,
     skipped: AtomicUsize,
@@ -160,6 +164,7 @@ impl<'a> Runner<'a> {
         dir: &Path,
         owned: Vec<bool>,
         retry_failed: bool,
+        keep: Keep,
     ) -> Result<Self, String> {
         let needed = plan.needed(&owned);
         let total = owned.iter().filter(|o| **o).count();
@@ -199,6 +204,7 @@ impl<'a> Runner<'a> {
             stored,
             damage: Mutex::new(damage),
             retry_failed,
+            keep,
             progress: progress_bar(total),
             computed: AtomicUsize::new(0),
             skipped: AtomicUsize::new(0),
@@ -431,7 +437,7 @@ impl<'a> Runner<'a> {
             total: time,
             ..Timing::default()
         };
-        let doc = result_doc(id, built, solution, warm, timing);
+        let doc = kept_doc(result_doc(id, built, solution, warm, timing), self.keep);
         let written = std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
             // `result.json` is exactly these bytes (`write_results` writes them), so
@@ -442,10 +448,16 @@ impl<'a> Runner<'a> {
             .and_then(|json| {
                 write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
             })
-            .and_then(|()| {
-                write_results(dir, &doc)
+            .and_then(|()| match self.keep {
+                Keep::All => write_results(dir, &doc)
                     .map(|_| ())
+                    .map_err(|e| e.to_string()),
+                // The same bytes `write_results` writes, without the other files.
+                Keep::Results | Keep::Summary => serde_json::to_vec_pretty(&doc)
                     .map_err(|e| e.to_string())
+                    .and_then(|json| {
+                        write_atomic(&dir.join("result.json"), &json).map_err(|e| e.to_string())
+                    }),
             });
         if let Err(e) = written {
             self.record_io(format!("variant '{id}': results not written: {e}"));
