@@ -6,6 +6,7 @@
 mod balance;
 mod batch;
 mod buckling;
+mod cad;
 mod cantilever;
 mod catenary;
 mod cli;

@@ -1,4 +1,5 @@
-//! Environment meshes of a case: OBJ files placed in the world, loaded once and shared.
+//! Environment meshes of a case: OBJ or STL files placed in the world, loaded once and
+//! shared.
 //!
 //! ```ron
 //! environment: [
@@ -6,6 +7,11 @@
 //!      position: (0, 0, 0), rotation: (axis: (0, 0, 1), angle_deg: 0)),
 //! ],
 //! ```
+//!
+//! `obj` (or its aliases `stl`, `mesh`) names a Wavefront OBJ or a binary or ASCII STL
+//! file; the format is told from the content
+//! ([`strand_contact::mesh::stl::detect_format`]), and STL corners are welded by
+//! position (see [`strand_contact::STL_WELD_RELATIVE_TOLERANCE`]).
 //!
 //! A file coordinate `x` becomes the world point `R (unit · scale · x) + position`
 //! (`position` in the case's length unit, `R` the rotation by `angle_deg` about
@@ -32,9 +38,12 @@ use crate::units::LengthUnit;
 pub struct EnvironmentDef {
     /// Unique name (used in messages and results).
     pub name: String,
-    /// Path of the Wavefront OBJ file, relative to the case file's folder (or absolute).
+    /// Path of the mesh file (Wavefront OBJ, binary or ASCII STL, told apart by
+    /// content), relative to the case file's folder (or absolute). Also accepted as
+    /// `stl:` or `mesh:`.
+    #[serde(alias = "stl", alias = "mesh")]
     pub obj: String,
-    /// Length unit of the coordinates in the OBJ file: `"mm"` or `"m"` (independent of
+    /// Length unit of the coordinates in the mesh file: `"mm"` or `"m"` (independent of
     /// the case's unit).
     pub unit: String,
     /// Extra scale factor applied to the file's coordinates (default 1).
@@ -167,7 +176,7 @@ pub(crate) fn load_environment(
                 format!("{item}.unit"),
                 format!("unknown length unit \"{}\"", def.unit),
                 format!(
-                    "use {} (the unit of the OBJ file's coordinates)",
+                    "use {} (the unit of the mesh file's coordinates)",
                     LengthUnit::ACCEPTED
                 ),
             )
@@ -193,7 +202,7 @@ pub(crate) fn load_environment(
             meshes.push(Arc::clone(mesh));
             continue;
         }
-        let mesh = ObstacleMesh::load_obj(&path, scale_to_metres, &pose)
+        let mesh = ObstacleMesh::load(&path, scale_to_metres, &pose)
             .map_err(|e| {
                 let text = e.to_string();
                 let (message, hint) = text.split_once("\n  hint: ").unwrap_or((&text, ""));

@@ -144,3 +144,52 @@ fn bad_entries_are_errors_naming_the_file_the_item_and_the_path() {
         "{message}"
     );
 }
+
+#[test]
+fn stl_entries_load_like_obj_and_broken_ones_name_the_entry_and_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = [
+        [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+        ],
+        [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ],
+    ];
+    let mut binary = Vec::new();
+    strand_contact::write_binary_stl(&mut binary, "square", &square).unwrap();
+    std::fs::write(dir.path().join("square.stl"), &binary).unwrap();
+    write(dir.path(), "square.obj", SQUARE);
+    let path = write(
+        dir.path(),
+        "c.ron",
+        &case_text(
+            r#"[(name: "a", stl: "square.stl", unit: "m", position: (0, 0, -10)),
+                (name: "b", obj: "square.obj", unit: "m", position: (0, 0, -10))]"#,
+        ),
+    );
+    let built = Case::from_path(&path).unwrap().build(None).unwrap();
+    let (a, b) = (&built.environment[0], &built.environment[1]);
+    assert_eq!(a.bounding_box(), b.bounding_box());
+    assert_eq!(
+        a.diagnostics().boundary_edges,
+        b.diagnostics().boundary_edges
+    );
+    assert_eq!(a.vertex_count(), 4);
+
+    let cut = String::from_utf8_lossy(&binary[..100]).into_owned();
+    let message = error_of(
+        r#"[(name: "e", mesh: "cut.stl", unit: "mm")]"#,
+        &[("cut.stl", cut.as_str())],
+    );
+    assert!(
+        message.contains("environment[0].obj")
+            && message.contains("cut.stl")
+            && message.contains("truncated binary STL"),
+        "{message}"
+    );
+}

@@ -24,7 +24,8 @@ pub use closest::{
 pub mod mesh;
 
 pub use mesh::{
-    LocalContact, MeshDiagnostics, MeshError, ObstacleMesh, Proximity, SMOOTH_PATCH_ANGLE_RAD,
+    LocalContact, MeshDiagnostics, MeshError, MeshFormat, ObstacleMesh, Proximity,
+    SMOOTH_PATCH_ANGLE_RAD, STL_WELD_RELATIVE_TOLERANCE, write_ascii_stl, write_binary_stl,
 };
 pub mod gaps;
 

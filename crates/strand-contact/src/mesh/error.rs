@@ -7,8 +7,8 @@ use std::path::PathBuf;
 /// and says how to fix the problem.
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
-    /// The OBJ file could not be read (missing, no permission, …).
-    #[error("{}: cannot read the OBJ file: {source}\n  hint: check the path (relative paths are resolved against the case file's folder) and that the file is readable", path.display())]
+    /// The mesh file (OBJ or STL) could not be read (missing, no permission, …).
+    #[error("{}: cannot read the mesh file: {source}\n  hint: check the path (relative paths are resolved against the case file's folder) and that the file is readable", path.display())]
     Read {
         /// The file.
         path: PathBuf,
@@ -81,5 +81,16 @@ pub enum MeshError {
     InvalidPose {
         /// The mesh's file path or name.
         mesh: String,
+    },
+    /// The STL file is broken: truncated, inconsistent with its header, malformed
+    /// ASCII, or with non-finite coordinates.
+    #[error("{}: {problem}\n  hint: {hint}", path.display())]
+    Stl {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong (with the triangle or line where it applies).
+        problem: String,
+        /// How to fix it.
+        hint: String,
     },
 }

@@ -22,6 +22,7 @@ mod local_contacts;
 mod obstacle_mesh;
 mod segment_box;
 mod segment_proximity;
+pub mod stl;
 mod topology;
 
 pub(crate) use convert::to_glam;
@@ -31,4 +32,5 @@ pub use from_triangles::DEGENERATE_RELATIVE_AREA;
 pub use local_contacts::LocalContact;
 pub use obstacle_mesh::ObstacleMesh;
 pub use segment_proximity::Proximity;
+pub use stl::{MeshFormat, STL_WELD_RELATIVE_TOLERANCE, write_ascii_stl, write_binary_stl};
 pub use topology::SMOOTH_PATCH_ANGLE_RAD;
