@@ -24,6 +24,7 @@ mod harness;
 mod heavy_cantilever;
 mod helix;
 mod junction;
+mod moulded_clips;
 mod predeformed;
 mod report;
 mod start_checks;

@@ -4,16 +4,19 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 use strand_contact::ObstacleMesh;
-use strand_rod::{RodState, Section};
+use strand_rod::{NominalRod, RodState, Section};
 use strand_solve::SolverSettings;
 use strand_system::{Model, RodSpec, System, SystemState, initial_state};
 
 use crate::attach::{Attachments, build_attachments, check_reach};
-use crate::clips::{clip_specs, place_clips, resolve_clips};
+use crate::centreline::read_centreline;
+use crate::clips::{clip_specs, clips_on_rod, place_clips, project_clip_points, resolve_clips};
 use crate::ends::build_end;
 use crate::environment::{EnvironmentCache, load_environment};
 use crate::error::{CaseError, Reporter};
-use crate::nominal::{build_reference, initial_guess, nominal_end, stated_length, use_guesses};
+use crate::nominal::{
+    build_reference, initial_guess, nominal_end, nominal_shape, stated_length, use_guesses,
+};
 use crate::schema::{CaseFile, EndDef, RodDef};
 use crate::sections::{build_sections, min_bend_radii, names};
 use crate::start::Start;
@@ -50,6 +53,9 @@ pub struct BuiltCase {
     /// Which default guess `initial` is: hanging, or (when that passes through an
     /// obstacle) bowed sideways or arched up.
     pub start: Start,
+    /// Clips placed by `at_point`: their names and the distance (m) from the given point
+    /// to the nominal centreline it was projected onto, in file order.
+    pub clip_projections: Vec<(String, f64)>,
 }
 
 /// Builds the model; `segments` overrides every rod's number of segments. Environment
@@ -78,6 +84,7 @@ pub(crate) fn build(
     }
     let mut rods = Vec::with_capacity(file.rods.len());
     let mut guesses = Vec::with_capacity(file.rods.len());
+    let mut projections = Vec::new();
     for (i, def) in file.rods.iter().enumerate() {
         let item = format!("rods[{i}] '{}'", def.name);
         check_name(&report, i, &def.name)?;
@@ -88,8 +95,39 @@ pub(crate) fn build(
                 "give every rod a unique name",
             ));
         }
-        let (rod, guess) = build_rod(&report, &item, unit, &sections, &attachments, def, segments)?;
-        rods.push(place_clips(&report, &item, unit, i, def, rod, &mut clips)?);
+        if let (Some(nominal), Some((_, section))) = (
+            &def.nominal,
+            sections.iter().find(|(n, _)| *n == def.section),
+        ) && clips_on_rod(&clips, i).iter().any(|s| s.is_nan())
+        {
+            let shape = nominal_shape(&report, &format!("{item}.nominal"), unit, nominal)?;
+            let radius = section.outer_radius;
+            projections.extend(project_clip_points(
+                &report, unit, i, &shape, radius, &mut clips,
+            )?);
+        }
+        let stations = clips_on_rod(&clips, i);
+        let (rod, guess, nominal) = build_rod(
+            &report,
+            &item,
+            unit,
+            &sections,
+            &attachments,
+            def,
+            segments,
+            &stations,
+        )?;
+        let rod = place_clips(
+            &report,
+            &item,
+            unit,
+            i,
+            def,
+            rod,
+            nominal.as_ref(),
+            &mut clips,
+        )?;
+        rods.push(rod);
         guesses.push(guess);
     }
     attachments.check_usage(&report, file)?;
@@ -136,6 +174,7 @@ pub(crate) fn build(
         min_bend_radius,
         environment,
         start: Start::Hanging,
+        clip_projections: projections,
     };
     built.start = built.clear_start(&guesses);
     Ok(built)
@@ -169,7 +208,8 @@ fn build_rod(
     attachments: &Attachments,
     def: &RodDef,
     segments_override: Option<usize>,
-) -> Result<(RodSpec, Option<RodState>), CaseError> {
+    clip_stations: &[f64],
+) -> Result<(RodSpec, Option<RodState>, Option<NominalRod>), CaseError> {
     let section = sections
         .iter()
         .find(|(n, _)| *n == def.section)
@@ -199,7 +239,16 @@ fn build_rod(
             hint,
         ));
     }
-    let (rod, nominal) = build_reference(report, item, unit, section, def, length, segments)?;
+    let (rod, nominal) = build_reference(
+        report,
+        item,
+        unit,
+        section,
+        def,
+        length,
+        segments,
+        clip_stations,
+    )?;
     let length = rod.length();
     let at_nominal_end = |at_end| nominal_end(nominal.as_ref(), at_end);
     let (start_item, end_item) = (format!("{item}.start"), format!("{item}.end"));
@@ -228,7 +277,23 @@ fn build_rod(
         }
         end.twist_turns = def.twist_turns;
     }
-    let route = match &def.route {
+    let file_route = match (&def.route, &def.route_file) {
+        (Some(_), Some(_)) => {
+            return Err(report.invalid(
+                format!("{item}.route_file"),
+                "both `route` and `route_file` are given",
+                "give the route either inline (`route`) or from a file (`route_file`)",
+            ));
+        }
+        (None, Some(file)) => Some(
+            read_centreline(report, &format!("{item}.route_file"), file)?
+                .iter()
+                .map(|p| (p / unit.metres()).into())
+                .collect::<Vec<[f64; 3]>>(),
+        ),
+        _ => None,
+    };
+    let route = match def.route.as_ref().or(file_route.as_ref()) {
         None => None,
         Some(points) => Some(build_route(
             report,
@@ -242,8 +307,9 @@ fn build_rod(
     };
     // Without a route, a moulded rod starts from its nominal shape.
     let guess = nominal
+        .as_ref()
         .filter(|_| route.is_none())
-        .map(|n| initial_guess(&n, &start, &end));
+        .map(|n| initial_guess(n, &start, &end));
     let spec = RodSpec {
         name: def.name.clone(),
         rod,
@@ -251,7 +317,7 @@ fn build_rod(
         end,
         route,
     };
-    Ok((spec, guess))
+    Ok((spec, guess, nominal))
 }
 
 /// Converts a route to m and snaps its first/last point onto held ends.

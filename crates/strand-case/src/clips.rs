@@ -24,7 +24,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
-use strand_rod::Rod;
+use strand_rod::{NominalRod, Rod};
 use strand_system::{BodyHandle, ClipSpec, Joint, Pose, RodHandle, RodSpec};
 
 use crate::ends::frame_from_tangent_normal;
@@ -34,6 +34,11 @@ use crate::units::LengthUnit;
 
 /// Largest deviation of a joint axis from unit length.
 pub const AXIS_UNIT_TOLERANCE: f64 = 1e-6;
+
+/// Largest distance of a clip's `at_point` from the nominal centreline, as a fraction
+/// of the rod's length, for a section without an outer radius (otherwise the outer
+/// radius is the limit).
+pub const CLIP_POINT_TOLERANCE: f64 = 1e-3;
 
 /// A frame as written in a clip: origin, `a3` along `direction`, `a1` along `normal`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -73,8 +78,18 @@ pub enum JointDef {
 pub struct ClipDef {
     /// Name of the rod held.
     pub rod: String,
-    /// Arc length along the rod (from its start) where the clip holds it, length unit.
-    pub at: f64,
+    /// Arc length along the rod (from its start) where the clip holds it, length unit
+    /// (on a moulded rod: along its nominal centreline). Give `at` or `at_point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<f64>,
+    /// Instead of `at`, for a moulded rod: a point (length unit, world) projected onto
+    /// the nominal centreline; the clip holds the rod at the nearest point of the
+    /// centreline. Refused when that is farther than the section's outer radius (the
+    /// point must lie inside the hose as moulded; [`CLIP_POINT_TOLERANCE`] of the rod's
+    /// length for a section without radius). The distance is reported in
+    /// [`crate::BuiltCase::clip_projections`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_point: Option<Vec3>,
     /// The junction or the earlier clip that carries this clip's base, if any: the base
     /// (and with it the joint axes) is then given in that junction's body frame, or in
     /// that clip's output frame, and moves with it: a clip mounted on a T-piece; on a
@@ -83,7 +98,11 @@ pub struct ClipDef {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub on: Option<String>,
     /// The base frame: in the world, or in the body frame of the junction `on`.
-    pub base: ClipFrameDef,
+    /// May be omitted for a clip on a moulded rod (one with a `nominal` shape) held in
+    /// space: the base is then the rod's nominal frame at `at`
+    /// ([`strand_rod::NominalRod::clip_frame`]), where the clip holds it stress-free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<ClipFrameDef>,
     /// The joint.
     pub joint: JointDef,
     /// Limits `(lower, upper)` of a revolute (rad) or prismatic (length unit) joint,
@@ -102,6 +121,10 @@ pub(crate) struct PendingClip {
     spec: ClipSpec,
     at_m: f64,
     at_file: f64,
+    /// `at_point` in m, projected onto the nominal centreline when the rod is built.
+    at_point: Option<Vector3<f64>>,
+    /// The base is the rod's nominal frame at the clip (no `base` given).
+    nominal_base: bool,
 }
 
 fn valid_name(name: &str) -> bool {
@@ -221,8 +244,59 @@ pub(crate) fn resolve_clips(
                 }
             }
         };
-        let at_file = report.finite(&format!("{item}.at"), def.at, &format!(" {unit}"))?;
-        let base = pose(report, &format!("{item}.base"), unit, &def.base)?;
+        let (at_file, at_point) = match (def.at, &def.at_point) {
+            (Some(at), None) => (
+                report.finite(&format!("{item}.at"), at, &format!(" {unit}"))?,
+                None,
+            ),
+            (None, Some(point)) if file.rods[rod].nominal.is_some() => {
+                let p = report.finite3(&format!("{item}.at_point"), point, &format!(" {unit}"))?;
+                (f64::NAN, Some(p * unit.metres()))
+            }
+            (None, Some(_)) => {
+                return Err(report.invalid(
+                    format!("{item}.at_point"),
+                    format!(
+                        "rod '{}' has no nominal centreline to project the point onto",
+                        def.rod
+                    ),
+                    "give the clip's arc length `at` (points are projected onto a moulded \
+                     rod's `nominal` centreline only)",
+                ));
+            }
+            (Some(_), Some(_)) => {
+                return Err(report.invalid(
+                    format!("{item}.at_point"),
+                    "both `at` and `at_point` are given",
+                    "give the clip's place once: an arc length `at` or a point `at_point`",
+                ));
+            }
+            (None, None) => {
+                return Err(report.invalid(
+                    format!("{item}.at"),
+                    "missing field `at`",
+                    "give the arc length `at` from the rod's start to the clip (length unit), \
+                     or for a moulded rod a point `at_point` near its nominal centreline",
+                ));
+            }
+        };
+        let nominal_base = def.base.is_none();
+        let base = match &def.base {
+            Some(base) => pose(report, &format!("{item}.base"), unit, base)?,
+            None if file.rods[rod].nominal.is_some() && def.on.is_none() => Pose {
+                position: Vector3::zeros(),
+                orientation: UnitQuaternion::identity(),
+            },
+            None => {
+                return Err(report.invalid(
+                    format!("{item}.base"),
+                    "missing field `base`",
+                    "give the clip's base frame (position, direction, normal); only a clip \
+                     held in space on a rod with a `nominal` shape may omit it (its base is \
+                     then the nominal frame at `at`)",
+                ));
+            }
+        };
         let offset = match &def.offset {
             None => Pose {
                 position: Vector3::zeros(),
@@ -290,10 +364,97 @@ pub(crate) fn resolve_clips(
             },
             at_m: at_file * unit.metres(),
             at_file,
+            at_point,
             item,
+            nominal_base,
         });
     }
     Ok(out)
+}
+
+/// Projects the `at_point` of every clip on rod `rod` onto its nominal centreline
+/// `shape` (m), setting the clip's station; returns `(clip name, distance m)` per
+/// projected clip. `outer_radius` (m) bounds the distance (see [`ClipDef::at_point`]).
+pub(crate) fn project_clip_points(
+    report: &Reporter,
+    unit: LengthUnit,
+    rod: usize,
+    shape: &strand_rod::NominalShape,
+    outer_radius: f64,
+    clips: &mut [PendingClip],
+) -> Result<Vec<(String, f64)>, CaseError> {
+    let mut out = Vec::new();
+    for clip in clips.iter_mut().filter(|c| c.spec.rod.0 == rod) {
+        let Some(point) = clip.at_point else { continue };
+        let (station, distance) = shape.project(&point).map_err(|e| {
+            report.invalid(
+                format!("{}.at_point", clip.item),
+                e.to_string(),
+                "correct the rod's nominal shape",
+            )
+        })?;
+        let length = shape.arc_length().unwrap_or(station);
+        let limit = if outer_radius > 0.0 {
+            outer_radius
+        } else {
+            CLIP_POINT_TOLERANCE * length
+        };
+        let m = unit.metres();
+        if distance > limit {
+            return Err(report.invalid(
+                format!("{}.at_point", clip.item),
+                format!(
+                    "the point is {:.6} {unit} from the nominal centreline (nearest at arc length \
+                     {:.6} {unit}), more than the allowed {:.6} {unit}",
+                    distance / m,
+                    station / m,
+                    limit / m
+                ),
+                "give a point on (or inside the hose around) the rod's nominal centreline, or the \
+                 arc length `at`",
+            ));
+        }
+        clip.at_m = station;
+        clip.at_file = station / m;
+        out.push((clip.spec.name.clone(), distance));
+    }
+    Ok(out)
+}
+
+/// The arc lengths (m) of the clips on rod `rod`, in file order.
+pub(crate) fn clips_on_rod(clips: &[PendingClip], rod: usize) -> Vec<f64> {
+    clips
+        .iter()
+        .filter(|c| c.spec.rod.0 == rod)
+        .map(|c| c.at_m)
+        .collect()
+}
+
+/// Vertex stations (m along a nominal curve of arc length `total`) for `segments`
+/// edges with a vertex at every clip station: the pieces between clips get edges in
+/// proportion to their lengths ([`allocate`]), equal in arc length within a piece.
+/// `None` when the stations cannot all get an interior vertex (then
+/// [`place_clips`] reports why).
+pub(crate) fn station_targets(stations: &[f64], total: f64, segments: usize) -> Option<Vec<f64>> {
+    let mut inner = stations.to_vec();
+    inner.sort_by(f64::total_cmp);
+    let margin = 1e-9 * total;
+    let inside = inner.iter().all(|&s| s > margin && s < total - margin);
+    let distinct = inner.windows(2).all(|w| w[1] - w[0] > margin);
+    if !inside || !distinct || segments < inner.len() + 1 {
+        return None;
+    }
+    let mut bounds = vec![0.0];
+    bounds.extend(inner);
+    bounds.push(total);
+    let pieces: Vec<f64> = bounds.windows(2).map(|w| w[1] - w[0]).collect();
+    let counts = allocate(&pieces, segments);
+    let mut targets = vec![0.0];
+    for (w, &n) in bounds.windows(2).zip(&counts) {
+        targets.extend((1..n).map(|k| w[0] + (w[1] - w[0]) * k as f64 / n as f64));
+        targets.push(w[1]);
+    }
+    Some(targets)
 }
 
 /// Splits `segments` edges between pieces of the given lengths in proportion to them,
@@ -366,6 +527,7 @@ pub(crate) fn place_clips(
     index: usize,
     def: &RodDef,
     mut spec: RodSpec,
+    nominal: Option<&NominalRod>,
     clips: &mut [PendingClip],
 ) -> Result<RodSpec, CaseError> {
     let mut on_rod: Vec<usize> = (0..clips.len())
@@ -374,18 +536,11 @@ pub(crate) fn place_clips(
     if on_rod.is_empty() {
         return Ok(spec);
     }
-    let first = &clips[on_rod[0]];
-    if def.nominal.is_some() {
-        return Err(report.invalid(
-            &first.item,
-            format!(
-                "rod '{}' has a nominal (moulded) shape: clips on moulded rods are not supported yet",
-                def.name
-            ),
-            "hold the moulded rod at its ends only, or give it a `length` instead of a `nominal` shape",
-        ));
-    }
-    let length = spec.rod.length();
+    // A moulded rod's clips sit at arc lengths along its nominal curve.
+    let length = match nominal {
+        Some(n) => *n.stations.last().expect("a rod has vertices"),
+        None => spec.rod.length(),
+    };
     let m = unit.metres();
     for &c in &on_rod {
         let clip = &clips[c];
@@ -439,12 +594,27 @@ pub(crate) fn place_clips(
     stations.push(length);
     let pieces: Vec<f64> = stations.windows(2).map(|w| w[1] - w[0]).collect();
     let counts = allocate(&pieces, segments);
-    let edges = edge_lengths(&stations, &counts);
     let mut vertex = 0;
     for (&c, &n) in on_rod.iter().zip(&counts) {
         vertex += n;
         clips[c].spec.vertex = vertex;
     }
+    if let Some(nominal) = nominal {
+        // Built with a vertex at every clip (`station_targets`, the same allocation).
+        for &c in &on_rod {
+            let clip = &mut clips[c];
+            let v = clip.spec.vertex;
+            debug_assert!((nominal.stations[v] - clip.at_m).abs() <= 1e-9 * length);
+            if clip.nominal_base {
+                clip.spec.base = Pose {
+                    position: nominal.state.positions[v],
+                    orientation: nominal.clip_frame(v),
+                };
+            }
+        }
+        return Ok(spec);
+    }
+    let edges = edge_lengths(&stations, &counts);
     spec.rod = Rod::try_new(
         *spec.rod.section(),
         edges,
@@ -713,7 +883,7 @@ mod tests {
     }
 
     #[test]
-    fn too_few_segments_and_moulded_rods_are_rejected() {
+    fn too_few_segments_are_rejected_and_moulded_rods_take_clips() {
         let clips = [
             clip("a", "other", 100.0, "Fixed", ""),
             clip("b", "other", 200.0, "Fixed", ""),
@@ -732,10 +902,29 @@ mod tests {
             "length: 1000, segments: 20,",
             "segments: 20, nominal: (points: [(0, 0, 0), (1000, 0, 0)]),",
         );
-        let message = err(&moulded);
+        let built = build(&moulded, None).unwrap();
+        let held = &built.model.system().clips[0];
+        let vertex = held.vertex;
+        let rod = &built.model.system().rods[held.rod.0].rod;
+        // A straight nominal line: the station is the arc length along the rod.
+        assert!((rod.arc_lengths()[vertex] - 0.25).abs() < 1e-12);
+        // Without a base, a clip needs a moulded rod (its nominal frame)...
+        let no_base = |text: &str| {
+            let start = text.find("base: (").unwrap();
+            let end = start + text[start..].find("), joint").unwrap() + 3;
+            format!("{}{}", &text[..start], &text[end..])
+        };
+        let message = err(&no_base(&case(&clip("a", "hose", 250.0, "Fixed", ""))));
         assert!(
-            message.contains("clips 'a'") && message.contains("moulded rods are not supported"),
+            message.contains("clips 'a'.base") && message.contains("nominal"),
             "{message}"
+        );
+        // ...and then takes the nominal frame at `at` (here along x, at x = 250 mm).
+        let built = build(&no_base(&moulded), None).unwrap();
+        let base = built.model.system().clips[0].base;
+        assert!((base.position - nalgebra::Vector3::new(0.25, 0.0, 0.0)).norm() < 1e-12);
+        assert!(
+            (base.orientation * nalgebra::Vector3::z() - nalgebra::Vector3::x()).norm() < 1e-12
         );
     }
 }

@@ -34,6 +34,7 @@
 
 mod attach;
 mod build;
+pub mod centreline;
 mod clips;
 mod ends;
 mod environment;

@@ -11,6 +11,7 @@ use strand_rod::so3::frame_with_tangent;
 use strand_rod::{NominalError, NominalRod, NominalShape, Rod, RodState, Section};
 use strand_system::End;
 
+use crate::centreline::{CentrelineFileDef, read_centreline};
 use crate::ends::frame_from_tangent_normal;
 use crate::error::{CaseError, Reporter};
 use crate::schema::{NominalDef, RodDef};
@@ -52,6 +53,7 @@ pub(crate) fn build_reference(
     def: &RodDef,
     length_m: Option<f64>,
     segments: usize,
+    clip_stations: &[f64],
 ) -> Result<(Rod, Option<NominalRod>), CaseError> {
     let Some(shape) = &def.nominal else {
         let length = length_m.expect("stated_length requires a length without a nominal shape");
@@ -67,6 +69,7 @@ pub(crate) fn build_reference(
         section,
         shape,
         segments,
+        clip_stations,
     )?;
     let nominal_m = nominal.rod.length();
     if let Some(stated) = length_m
@@ -97,18 +100,96 @@ fn build_nominal(
     section: Section,
     def: &NominalDef,
     segments: usize,
+    clip_stations: &[f64],
 ) -> Result<NominalRod, CaseError> {
+    let shape = nominal_shape(report, item, unit, def)?;
+    // With clips, a vertex at every clip's station (when the stations are valid; if not,
+    // `place_clips` says why).
+    let targets = match shape.arc_length() {
+        Ok(total) if !clip_stations.is_empty() => {
+            crate::clips::station_targets(clip_stations, total, segments)
+        }
+        _ => None,
+    };
+    let built = match targets {
+        Some(targets) => Rod::try_from_nominal_stations(section, &shape, &targets),
+        None => Rod::try_from_nominal(section, &shape, segments),
+    };
+    built.map_err(|e| {
+        let (at, hint) = match &e {
+            NominalError::TooFewPoints(_) => (
+                format!("{item}.points"),
+                "give at least the two end points of the centreline".to_string(),
+            ),
+            NominalError::NotFinite { what, index } => (
+                format!("{item}.{what}[{index}]"),
+                "replace NaN/inf by a number".to_string(),
+            ),
+            NominalError::RepeatedPoint { index } => (
+                format!("{item}.points[{index}]"),
+                "remove the repeated point".to_string(),
+            ),
+            NominalError::FrameCount { .. } => (
+                format!("{item}.frames"),
+                "give one frame per point, or omit `frames`".to_string(),
+            ),
+            NominalError::FrameAgainstCentreline { index, .. } => (
+                format!("{item}.frames[{index}]"),
+                "the tangent must point along the centreline, towards its end".to_string(),
+            ),
+            NominalError::Stations { .. } | NominalError::Rod(_) => (
+                item.to_string(),
+                "check the nominal points and the number of segments".to_string(),
+            ),
+        };
+        report.invalid(at, e.to_string(), hint)
+    })
+}
+
+/// The nominal shape of `def` in m (`item` is e.g. `rods[0] 'hose'.nominal`): its
+/// `points`, or the centreline in its `file`, with its frames.
+pub(crate) fn nominal_shape(
+    report: &Reporter,
+    item: &str,
+    unit: LengthUnit,
+    def: &NominalDef,
+) -> Result<NominalShape, CaseError> {
     let u = format!(" {unit}");
-    let points = def
-        .points
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            report
-                .finite3(&format!("{item}.points[{k}]"), p, &u)
-                .map(|v| v * unit.metres())
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let points = match (&def.file, def.points.is_empty()) {
+        (Some(file), true) => read_centreline(
+            report,
+            item,
+            &CentrelineFileDef {
+                file: file.clone(),
+                object: def.object.clone(),
+                unit: def.unit.clone(),
+            },
+        )?,
+        (Some(_), false) => {
+            return Err(report.invalid(
+                format!("{item}.file"),
+                "both `points` and `file` are given",
+                "give the centreline either inline (`points`) or from a file (`file`)",
+            ));
+        }
+        (None, _) if def.object.is_some() || def.unit.is_some() => {
+            return Err(report.invalid(
+                item,
+                "`object` and `unit` belong to a centreline `file`",
+                "add `file: \"….obj\"` or remove `object` and `unit`",
+            ));
+        }
+        (None, _) => def
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                report
+                    .finite3(&format!("{item}.points[{k}]"), p, &u)
+                    .map(|v| v * unit.metres())
+            })
+            .collect::<Result<Vec<_>, _>>()?,
+    };
     let frames = match &def.frames {
         None => None,
         Some(frames) => Some(
@@ -131,36 +212,7 @@ fn build_nominal(
                 .collect::<Result<Vec<_>, _>>()?,
         ),
     };
-    let shape = NominalShape { points, frames };
-    Rod::try_from_nominal(section, &shape, segments).map_err(|e| {
-        let (at, hint) = match &e {
-            NominalError::TooFewPoints(_) => (
-                format!("{item}.points"),
-                "give at least the two end points of the centreline".to_string(),
-            ),
-            NominalError::NotFinite { what, index } => (
-                format!("{item}.{what}[{index}]"),
-                "replace NaN/inf by a number".to_string(),
-            ),
-            NominalError::RepeatedPoint { index } => (
-                format!("{item}.points[{index}]"),
-                "remove the repeated point".to_string(),
-            ),
-            NominalError::FrameCount { .. } => (
-                format!("{item}.frames"),
-                "give one frame per point, or omit `frames`".to_string(),
-            ),
-            NominalError::FrameAgainstCentreline { index, .. } => (
-                format!("{item}.frames[{index}]"),
-                "the tangent must point along the centreline, towards its end".to_string(),
-            ),
-            NominalError::Rod(_) => (
-                item.to_string(),
-                "check the nominal points and the number of segments".to_string(),
-            ),
-        };
-        report.invalid(at, e.to_string(), hint)
-    })
+    Ok(NominalShape { points, frames })
 }
 
 /// Where a `NominalClamp` end is held: the nominal end position and frame.

@@ -169,6 +169,10 @@ pub struct RodDef {
     /// it must start and end at the held end positions.
     #[serde(default)]
     pub route: Option<Vec<Vec3>>,
+    /// The initial-guess polyline from a CSV or OBJ file instead of `route`:
+    /// `(file: "routes.obj", object: "hose1", unit: "mm")` (see [`crate::centreline`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub route_file: Option<crate::centreline::CentrelineFileDef>,
     /// Optional nominal (stress-free, moulded) shape: the rod is pre-deformed, its
     /// reference strains and curvatures are those of this centreline.
     #[serde(default)]
@@ -196,8 +200,21 @@ fn is_zero(turns: &i32) -> bool {
 pub struct NominalDef {
     /// Points along the centreline in the case's length unit, from the rod's start to
     /// its end (at least 2; consecutive points distinct). A smooth curve is laid
-    /// through them (exact on straight runs and circular bends).
+    /// through them (exact on straight runs and circular bends). Leave out when the
+    /// points come from `file`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<Vec3>,
+    /// The centreline from a file instead of `points`: a CSV of points whose header
+    /// names the unit (`x_mm,y_mm,z_mm`), or an OBJ polyline (with `object` and `unit`);
+    /// see [`crate::centreline`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// For an OBJ `file`: the object whose `l` elements are the centreline.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
+    /// For an OBJ `file`: the unit of its coordinates (`"mm"` or `"m"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
     /// Optional section frames at the points, one per point: they fix the tangents and
     /// the twist of the nominal shape. Without them the section is not twisted along
     /// the centreline (parallel transport).

@@ -57,6 +57,64 @@ impl NominalShape {
             frames: None,
         }
     }
+
+    /// The point of the smooth curve through the points nearest to `point` (m): its arc
+    /// length from the start (m) and its distance from `point` (m). Found by sampling
+    /// every sub-interval of the curve and refining the best sample by golden-section
+    /// search on its neighbourhood (to ~1e-12 of the curve's length).
+    pub fn project(&self, point: &Vector3<f64>) -> Result<(f64, f64), NominalError> {
+        let spline = Spline::try_new(self)?;
+        const SAMPLES: usize = 8;
+        let intervals = spline.table.len() - 1;
+        let parameter = |k: usize, t: f64| {
+            let (segment, sub) = (k / SUBINTERVALS, k % SUBINTERVALS);
+            (segment, (sub as f64 + t) / SUBINTERVALS as f64)
+        };
+        let distance = |k: usize, t: f64| {
+            let (segment, u) = parameter(k, t);
+            (spline.point(segment, u) - point).norm()
+        };
+        let mut best = (0, 0.0, f64::INFINITY);
+        for k in 0..intervals {
+            for j in 0..=SAMPLES {
+                let t = j as f64 / SAMPLES as f64;
+                let d = distance(k, t);
+                if d < best.2 {
+                    best = (k, t, d);
+                }
+            }
+        }
+        // Golden-section search on the best sample's interval and its neighbours.
+        let golden = |k: usize| {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            let g = 0.5 * (5f64.sqrt() - 1.0);
+            for _ in 0..80 {
+                let (a, b) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if distance(k, a) < distance(k, b) {
+                    hi = b;
+                } else {
+                    lo = a;
+                }
+            }
+            let t = 0.5 * (lo + hi);
+            (k, t, distance(k, t))
+        };
+        let (k, t, _) = (best.0.saturating_sub(1)..=(best.0 + 1).min(intervals - 1))
+            .map(golden)
+            .chain([best])
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .expect("at least the best sample");
+        let (segment, u) = parameter(k, t);
+        let u0 = (k % SUBINTERVALS) as f64 / SUBINTERVALS as f64;
+        let station = spline.table[k] + spline.arc(segment, u0, u);
+        Ok((station, distance(k, t)))
+    }
+
+    /// Arc length in m of the smooth curve through the points (the curve the rod's
+    /// vertices are placed on; slightly longer than the rod's polygon).
+    pub fn arc_length(&self) -> Result<f64, NominalError> {
+        Ok(Spline::try_new(self)?.length())
+    }
 }
 
 /// A pre-deformed rod built from a [`NominalShape`].
@@ -73,6 +131,9 @@ pub struct NominalRod {
     pub start_frame: UnitQuaternion<f64>,
     /// The nominal frame at vertex N: clamp the end here to mount the rod as moulded.
     pub end_frame: UnitQuaternion<f64>,
+    /// Arc length of every vertex along the nominal curve in m (`0` … the curve's
+    /// length; the rod's own arc lengths, along its polygon, are slightly shorter).
+    pub stations: Vec<f64>,
 }
 
 impl NominalRod {
@@ -89,6 +150,16 @@ impl NominalRod {
     /// The nominal start position `r_0` in m (the first point).
     pub fn start_position(&self) -> Vector3<f64> {
         self.state.positions[0]
+    }
+
+    /// The nominal frame at interior vertex `vertex` (`0 < vertex < N`) in which a clip
+    /// holds the rod without stress: `q_{j−1/2} exp(h_{j−1}/2 · K0_j)`, a half-cell of
+    /// rest curvature `K0_j` past the frame of the edge before it. The half-cells on both
+    /// sides of a clip there (weights `h_{j−1}/2` and `h_j/2`) are then exactly at their
+    /// rest curvature `K0_j`, as the unclipped vertex is.
+    pub fn clip_frame(&self, vertex: usize) -> UnitQuaternion<f64> {
+        let half = 0.5 * self.rod.edge_length(vertex - 1);
+        self.state.frames[vertex - 1] * exp(&(half * self.rod.rest_curvature(vertex)))
     }
 
     /// The nominal end position `r_N` in m (the last point).
@@ -139,6 +210,17 @@ pub enum NominalError {
         /// Index of the neighbouring point.
         neighbour: usize,
     },
+    /// Vertex stations that do not run strictly upwards from 0 to the curve's length.
+    #[error(
+        "nominal stations: expected at least 2 arc lengths increasing strictly from 0 to the \
+         curve's length {length} m, got {count}"
+    )]
+    Stations {
+        /// The curve's arc length in m.
+        length: f64,
+        /// Number of stations given.
+        count: usize,
+    },
     /// The rod could not be built (segments, or a degenerate edge).
     #[error(transparent)]
     Rod(#[from] RodError),
@@ -157,12 +239,50 @@ impl Rod {
             return Err(RodError::Segments(0).into());
         }
         let spline = Spline::try_new(shape)?;
-        let n = segments;
         let total = spline.length();
-
         // Vertices at equal arc length; the ends exactly at the first and last points.
-        let mut targets: Vec<f64> = (0..=n).map(|j| total * j as f64 / n as f64).collect();
-        targets[n] = total;
+        let mut targets: Vec<f64> = (0..=segments)
+            .map(|j| total * j as f64 / segments as f64)
+            .collect();
+        targets[segments] = total;
+        Self::nominal_at(section, shape, &spline, targets)
+    }
+
+    /// As [`Rod::try_from_nominal`], but with the vertices at the given arc lengths
+    /// `stations` (m along the nominal curve, see [`NominalShape::arc_length`]):
+    /// strictly increasing from `0` to the curve's length (the last one is snapped onto
+    /// the end; at least 2). Used to put a vertex exactly at every clip.
+    pub fn try_from_nominal_stations(
+        section: Section,
+        shape: &NominalShape,
+        stations: &[f64],
+    ) -> Result<NominalRod, NominalError> {
+        let spline = Spline::try_new(shape)?;
+        let total = spline.length();
+        let increasing = stations.windows(2).all(|w| w[1] > w[0]);
+        let ends = stations.first() == Some(&0.0)
+            && stations
+                .last()
+                .is_some_and(|&s| (s - total).abs() <= 1e-9 * total);
+        if stations.len() < 2 || !increasing || !ends {
+            return Err(NominalError::Stations {
+                length: total,
+                count: stations.len(),
+            });
+        }
+        let mut targets = stations.to_vec();
+        *targets.last_mut().expect("≥ 2 stations") = total;
+        Self::nominal_at(section, shape, &spline, targets)
+    }
+
+    /// The nominal rod with its vertices at arc lengths `targets` (0 … total).
+    fn nominal_at(
+        section: Section,
+        shape: &NominalShape,
+        spline: &Spline,
+        targets: Vec<f64>,
+    ) -> Result<NominalRod, NominalError> {
+        let n = targets.len() - 1;
         let mut positions = Vec::with_capacity(n + 1);
         positions.push(shape.points[0]);
         for &s in &targets[1..n] {
@@ -247,6 +367,7 @@ impl Rod {
             state,
             start_frame,
             end_frame,
+            stations: targets,
         })
     }
 }
@@ -782,5 +903,37 @@ mod tests {
                 neighbour: 0
             }
         );
+    }
+
+    #[test]
+    fn stations_place_vertices_and_points_project_onto_the_curve() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        // A quarter circle of radius 0.2 m (centre (0, 0.2, 0)), given every 15°.
+        let shape = NominalShape::from_points(arc_points(0.2, FRAC_PI_2, 7));
+        let total = shape.arc_length().unwrap();
+        assert!((total - 0.1 * PI).abs() < 1e-6 * total, "{total}");
+        let stations = [0.0, 0.1 * total, 0.15 * total, 0.6 * total, total];
+        let nominal = Rod::try_from_nominal_stations(section(), &shape, &stations).unwrap();
+        assert_eq!(nominal.rod.segments(), 4);
+        assert_eq!(nominal.stations, stations);
+        for (j, s) in stations.iter().enumerate() {
+            // The vertex at arc length s of the circle: angle s / R.
+            let phi = s / total * FRAC_PI_2;
+            let expected = Vector3::new(0.2 * phi.sin(), 0.2 * (1.0 - phi.cos()), 0.0);
+            assert!((nominal.state.positions[j] - expected).norm() < 1e-6, "{j}");
+        }
+        // The clip frame halves the bend of the vertex cell: its tangent is the circle's.
+        let phi = 0.15 * FRAC_PI_2;
+        let tangent = nominal.clip_frame(2) * Vector3::z();
+        assert!((tangent - Vector3::new(phi.cos(), phi.sin(), 0.0)).norm() < 1e-3);
+        // A point 10 mm outside the circle at 30° projects back to 30°.
+        let phi = PI / 6.0;
+        let outside = Vector3::new(0.21 * phi.sin(), 0.2 - 0.21 * phi.cos(), 0.0);
+        let (station, distance) = shape.project(&outside).unwrap();
+        assert!((distance - 0.01).abs() < 1e-6, "{distance}");
+        assert!((station - total / 3.0).abs() < 1e-6, "{station}");
+        // Stations must run from 0 to the length, strictly increasing.
+        let bad = Rod::try_from_nominal_stations(section(), &shape, &[0.0, 0.5, 0.4, total]);
+        assert!(matches!(bad, Err(NominalError::Stations { .. })));
     }
 }

@@ -32,3 +32,6 @@ pub use system::{
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod moulded_clip_tests;
