@@ -1,8 +1,9 @@
-//! Load continuation: when a direct solve fails, gravity and the dead end loads are
-//! ramped up from zero with an adaptive step, each step warm-started from the previous
-//! equilibrium, and the full model is finally solved from the last step (DESIGN §3,
-//! robustness). A step that does not converge is retried at a quarter of its size; a
-//! step that converges quickly doubles the next one.
+//! Load and support continuation: when a direct solve fails, gravity and the dead end
+//! loads are ramped up from zero, or the supports moved from where a start from another
+//! design holds the ends, with an adaptive step, each step warm-started from the
+//! previous equilibrium, and the full model is finally solved from the last step
+//! (DESIGN §3, robustness). A step that does not converge is retried at a quarter of
+//! its size; a step that converges quickly doubles the next one.
 
 use strand_system::{Model, System, SystemState};
 
@@ -41,11 +42,42 @@ pub(crate) fn ramp(
     initial: SystemState,
     settings: &SolverSettings,
 ) -> Result<Ramp, SolveError> {
+    ramp_systems(model, constraints, initial, settings, |factor| {
+        scaled_loads(model.system(), factor)
+    })
+}
+
+/// Ramps the supports from where `initial` holds the rod ends (and fixed bodies) to
+/// where `model` holds them ([`System::supports_from`]), and solves `model` from the
+/// last ramp step: continuation in prescribed end positions, for a start taken from
+/// another design.
+pub(crate) fn ramp_supports(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    initial: SystemState,
+    settings: &SolverSettings,
+) -> Result<Ramp, SolveError> {
+    let start = initial.clone();
+    ramp_systems(model, constraints, initial, settings, |factor| {
+        model.system().supports_from(&start, factor)
+    })
+}
+
+/// The adaptive ramp over the systems `system_at(factor)`, `factor` from 0 to 1 (the
+/// last step solves `model` itself), each step warm-started from the last equilibrium.
+fn ramp_systems(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    initial: SystemState,
+    settings: &SolverSettings,
+    system_at: impl Fn(f64) -> System,
+) -> Result<Ramp, SolveError> {
     // A load step that needs many iterations is better split: each gets a bounded
     // budget, so a failing step costs little before it is retried at a quarter size.
     let step_settings = SolverSettings {
         nested_iteration: false,
         load_continuation: false,
+        support_continuation: false,
         max_iterations: settings
             .max_iterations
             .min(settings.continuation_step_iterations),
@@ -60,8 +92,8 @@ pub(crate) fn ramp(
         let solution = if target >= 1.0 {
             solve_at(model, constraints, state.clone(), &step_settings)?
         } else {
-            let scaled = Model::try_new(scaled_loads(model.system(), target))
-                .map_err(crate::InitialStateError::from)?;
+            let scaled =
+                Model::try_new(system_at(target)).map_err(crate::InitialStateError::from)?;
             solve_at(&scaled, constraints, state.clone(), &step_settings)?
         };
         if solution.report.converged {
@@ -138,5 +170,88 @@ mod tests {
         assert_eq!(half.rods[0].end.load.moment, Vector3::new(0.25, 0.0, -0.5));
         assert_eq!(half.rods[0].rod, system.rods[0].rod);
         assert_eq!(half.rods[0].start.support, system.rods[0].start.support);
+    }
+}
+
+#[cfg(test)]
+mod support_tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, RodSpec, initial_state};
+
+    use super::*;
+
+    /// A 1.2 m rubber hose, 1 kg/m, clamped at the origin along +x and at `end`
+    /// with boundary frame `frame`, under gravity.
+    fn hose(end: Vector3<f64>, frame: UnitQuaternion<f64>) -> Model {
+        let section = Section::try_explicit(2e4, 1e4, 0.05, 0.04, 1.0, 0.0).unwrap();
+        let along_x =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "hose".into(),
+                rod: Rod::try_straight(section, 1.2, 40).unwrap(),
+                start: End::clamped(Vector3::zeros(), along_x),
+                end: End::clamped(end, frame),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_support_ramp_from_another_design_reaches_the_cold_solution() {
+        let along_x =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        let settings = SolverSettings::default();
+        // Design A: the far end 1 m along x. Design B: moved by 0.64 m and turned by
+        // 120° about z (the hose now arrives from the side).
+        let a = hose(Vector3::new(1.0, 0.0, 0.0), along_x);
+        let turned =
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 2.0 * std::f64::consts::FRAC_PI_3)
+                * along_x;
+        let b = hose(Vector3::new(0.6, 0.5, 0.15), turned);
+        let solved_a = crate::solve(&a, initial_state(a.system()), &settings).unwrap();
+        assert!(solved_a.report.converged);
+        let cold_b = crate::solve(&b, initial_state(b.system()), &settings).unwrap();
+        assert!(
+            cold_b.report.converged && cold_b.report.stable,
+            "{:?}",
+            cold_b.report
+        );
+        let (offset_m, offset_rad) = b.system().support_offset(&solved_a.state);
+        assert!(
+            offset_m > 0.6 && offset_rad > 2.0,
+            "{offset_m} m, {offset_rad} rad"
+        );
+        let ramped = ramp_supports(&b, None, solved_a.state.clone(), &settings).unwrap();
+        let solution = ramped.solution.expect("the ramp reaches the end");
+        assert!(solution.report.converged, "{:?}", solution.report);
+        assert!(ramped.steps >= 2, "{} steps", ramped.steps);
+        for (p, q) in solution.state.rods[0]
+            .positions
+            .iter()
+            .zip(&cold_b.state.rods[0].positions)
+        {
+            assert!((p - q).norm() < 1e-8, "{p} vs {q}");
+        }
+        // Through the solver: the warm start from design A (ends away from B's
+        // supports) converges to the same state, whichever path it takes.
+        let warm = crate::solve(&b, solved_a.state, &settings).unwrap();
+        println!(
+            "warm start from A: {:?}",
+            (warm.report.iterations, warm.report.continuation_steps)
+        );
+        assert!(warm.report.converged);
+        for (p, q) in warm.state.rods[0]
+            .positions
+            .iter()
+            .zip(&cold_b.state.rods[0].positions)
+        {
+            assert!((p - q).norm() < 1e-8, "{p} vs {q}");
+        }
     }
 }

@@ -19,6 +19,16 @@ use crate::{
 /// local coordinates (the round-off of 10 m coordinates is 2e-15 m, harmless).
 pub const LOCAL_ORIGIN_DISTANCE_M: f64 = 10.0;
 
+/// A start whose clamped or pinned ends (or fixed bodies) lie farther than this (m)
+/// from their supports is kept for a support ramp ([`continuation::ramp_supports`]),
+/// the last fallback when the direct solve and load continuation fail.
+pub const SUPPORT_RAMP_DISTANCE_M: f64 = 1e-6;
+
+/// The same for a clamped end's first or last edge frame (or a fixed body) turned by
+/// more than this (rad) from the prescribed frame: more than an end edge bends at a
+/// clamp (the boundary frame is a virtual edge of its own), i.e. a turned connector.
+pub const SUPPORT_RAMP_ANGLE_RAD: f64 = 0.5;
+
 /// Largest number of escapes from unstable equilibria in one solve.
 pub const MAX_SADDLE_ESCAPES: usize = 3;
 
@@ -101,7 +111,9 @@ impl<'m> Solver<'m> {
     /// Solves from `initial`: first through a coarsened model when
     /// [`SolverSettings::nested_iteration`] is on and a rod is long, then directly,
     /// then by load continuation when [`SolverSettings::load_continuation`] is on and
-    /// the direct solve failed. `iterations` in the report counts all of them.
+    /// the direct solve failed, and last, when `initial` holds its ends away from the
+    /// supports (a warm start from another design), by a support ramp from where it
+    /// holds them. `iterations` in the report counts all of them.
     pub fn solve(
         &mut self,
         initial: SystemState,
@@ -109,6 +121,12 @@ impl<'m> Solver<'m> {
     ) -> Result<Solution, SolveError> {
         settings.validate()?;
         check_initial_state(self.model, &initial)?;
+        // A start whose ends sit away from the supports (a warm start from another
+        // design) is kept as it is for a support ramp, should the direct solve fail.
+        let (offset_m, offset_rad) = self.model.system().support_offset(&initial);
+        let mut unsupported = (offset_m > SUPPORT_RAMP_DISTANCE_M
+            || offset_rad > SUPPORT_RAMP_ANGLE_RAD)
+            .then(|| initial.clone());
         let mut initial = initial;
         self.model.enforce_supports(&mut initial);
         if let Some(c) = self.constraints {
@@ -125,18 +143,25 @@ impl<'m> Solver<'m> {
                 .map_err(InitialStateError::from)?;
             let mut local_initial = initial;
             local_initial.translate(&-origin);
-            let mut solution = Solver::try_new(&local)?.solve_here(local_initial, settings)?;
+            if let Some(start) = &mut unsupported {
+                start.translate(&-origin);
+            }
+            let mut solution =
+                Solver::try_new(&local)?.solve_here(local_initial, unsupported, settings)?;
             solution.state.translate(&origin);
             solution.report.solve_seconds = started.elapsed().as_secs_f64();
             return Ok(solution);
         }
-        self.solve_here(initial, settings)
+        self.solve_here(initial, unsupported, settings)
     }
 
-    /// [`Solver::solve`] in the model's own coordinates (after the checks).
+    /// [`Solver::solve`] in the model's own coordinates (after the checks);
+    /// `unsupported` is the start before its ends were put onto the supports, when they
+    /// were away from them.
     fn solve_here(
         &mut self,
         initial: SystemState,
+        unsupported: Option<SystemState>,
         settings: &SolverSettings,
     ) -> Result<Solution, SolveError> {
         let started = Instant::now();
@@ -183,6 +208,7 @@ impl<'m> Solver<'m> {
             let coarse_settings = SolverSettings {
                 nested_iteration: false,
                 load_continuation: false,
+                support_continuation: false,
                 max_iterations: settings.max_iterations.min(COARSE_MAX_ITERATIONS),
                 ..settings.clone()
             };
@@ -208,6 +234,19 @@ impl<'m> Solver<'m> {
             continuation_steps = ramped.steps;
             if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
                 replaced_iterations = solution.report.fine_iterations;
+                solution = ramped;
+            }
+        }
+        if let Some(start) =
+            unsupported.filter(|_| settings.support_continuation && !solution.report.converged)
+        {
+            // The start came from another design: move the supports there and back.
+            let ramped =
+                continuation::ramp_supports(self.model, self.constraints, start, settings)?;
+            continuation_iterations += ramped.iterations;
+            continuation_steps += ramped.steps;
+            if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
+                replaced_iterations += solution.report.fine_iterations;
                 solution = ramped;
             }
         }

@@ -66,8 +66,12 @@ pub struct SolverSettings {
     /// When a direct solve does not converge, ramp gravity and the dead end loads from
     /// zero with an adaptive step (first 1/8, doubled after an easy step, quartered
     /// after a failed one), each step warm-started, and report that result instead.
-    /// Prescribed end positions are not ramped.
     pub load_continuation: bool,
+    /// When the direct solve and load continuation fail from a start that holds its
+    /// clamped or pinned ends (or fixed bodies) away from the supports — a warm start
+    /// from another design — move the supports from there to their place with the same
+    /// adaptive ramp, each step warm-started, and report that result instead.
+    pub support_continuation: bool,
     /// Solve a system with a rod far stiffer in stretch and shear than in bending at
     /// the scale of its edges (`C·h²/EI` above 1e4) first with that stiffness capped,
     /// then raise the cap step by step, each step warm-started (see
@@ -144,6 +148,7 @@ impl Default for SolverSettings {
             stagnation_reduction: 0.5,
             nested_iteration: true,
             load_continuation: true,
+            support_continuation: true,
             stiffness_continuation: true,
             escape_saddles: true,
             max_continuation_steps: 64,

@@ -95,6 +95,7 @@ pub(crate) fn stiffen(
         tolerance_n: step_tolerance,
         nested_iteration: false,
         load_continuation: false,
+        support_continuation: false,
         stiffness_continuation: false,
         escape_saddles: false,
         max_iterations: settings
@@ -106,6 +107,7 @@ pub(crate) fn stiffen(
     let start_settings = SolverSettings {
         tolerance_n: step_tolerance,
         stiffness_continuation: false,
+        support_continuation: false,
         escape_saddles: false,
         ..settings.clone()
     };
