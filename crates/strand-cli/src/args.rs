@@ -47,7 +47,7 @@ pub enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Override the number of segments of every rod.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
         /// Solve this variant of the case (defined under `variants`), warm-started from
         /// the solution of the case itself [default output: out/<case name>/<variant>].
@@ -67,7 +67,7 @@ pub enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Override the number of segments of every rod.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
     },
     /// Solve every combination of varied parameters in parallel, warm-started along
@@ -104,7 +104,7 @@ pub enum Command {
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
         /// Override the number of segments of every rod.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
         /// Solve variants recorded as failed (failed.json) again instead of skipping them.
         #[arg(long)]
@@ -124,7 +124,7 @@ pub enum Command {
         /// The case file (RON).
         case: PathBuf,
         /// Override the number of segments of every rod.
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
     },
     /// Write an HTML design-review report comparing results (one self-contained file:
@@ -162,10 +162,10 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         #[arg(default_value = "cases/elastica_fig3.ron")]
         case: PathBuf,
         /// Comma-separated numbers of segments per rod.
-        #[arg(long, value_delimiter = ',', default_value = "19,99,999")]
+        #[arg(long, value_delimiter = ',', default_value = "19,99,999", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=crate::limits::MAX_SEGMENTS as u64))]
         segments: Vec<usize>,
         /// Repeated solves per discretisation (the median is reported).
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=10_000))]
         repeats: usize,
         /// Run the convergence map of issue 9 instead of CASE: iterations and time
         /// per case, and totals/medians against the targets (see below).

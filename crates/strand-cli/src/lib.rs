@@ -37,6 +37,7 @@ mod args;
 mod batch;
 pub mod bench;
 mod commands;
+pub mod limits;
 mod progress;
 mod report;
 mod study;

@@ -91,6 +91,7 @@ pub(crate) fn run(
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
+    crate::limits::check_case(&case)?;
     let read = started.elapsed().as_secs_f64();
     let names: Vec<String> = if names.is_empty() {
         std::iter::once(BASE_VARIANT)

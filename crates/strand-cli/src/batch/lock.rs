@@ -246,15 +246,15 @@ pub(crate) fn acquire(dir: &Path, role: Role, batch: &str) -> Result<DirLock, Lo
         plan.lock().map_err(lock_io(&plan_path))?;
         Ok(plan)
     };
+    // The plan lock first: whoever holds the folder lock registered its holder file
+    // while holding the plan lock, so once we have it, a refusal can name them.
+    let plan = take_plan()?;
     let folder_path = dir.join(".strand-lock");
     let folder = open(&folder_path)?;
     let shared = matches!(role, Role::Shard(..));
     if !try_lock(&folder, shared, &folder_path)? {
-        // Whoever holds it registers under the plan lock: wait for that to name it.
-        let _plan = take_plan()?;
         return Err(busy(running_holders(dir, None)?));
     }
-    let plan = take_plan()?;
     let holder_name = role.file_name();
     let holder_path = dir.join(&holder_name);
     let mut holder = open(&holder_path)?;

@@ -50,6 +50,9 @@ use run::{Runner, Start};
 use spec::{Vary, parse_shard};
 use summary::{Outcome, read_outcome, summary_csv};
 
+/// Longest path a batch writes, bytes (Linux allows 4096).
+const MAX_PATH_BYTES: usize = 4000;
+
 /// The options of `strand batch`.
 pub(crate) struct BatchOptions<'a> {
     /// The case file.
@@ -149,6 +152,7 @@ pub(crate) fn run(
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
     let case = Case::from_path(options.case)?;
+    crate::limits::check_case(&case)?;
     if options.vary.is_empty() {
         return Err(invalid(
             "strand batch needs at least one --vary, e.g. --vary hose2.length=+0mm..+100mm:10mm",
@@ -175,6 +179,16 @@ pub(crate) fn run(
             "note: --jobs {} capped at the {available} available core(s) (--force-jobs to use more threads)",
             options.jobs.unwrap_or(0)
         );
+    }
+    // The longest path a variant writes (a temporary file in its folder) must fit.
+    if let Some(longest) = plan.variants.iter().map(|v| v.id.len()).max() {
+        let path_bytes = options.out.as_os_str().len() + "/variants//".len() + longest + 20;
+        if path_bytes > MAX_PATH_BYTES {
+            return Err(invalid(format!(
+                "--out {}: the variant folders' paths would be {path_bytes} bytes long; at most {MAX_PATH_BYTES} (hint: use a shorter --out)",
+                crate::limits::shown(&options.out.display().to_string())
+            )));
+        }
     }
     let base = case.build(options.segments)?;
     let manifest = Manifest::new(&case, &plan, options.segments);

@@ -45,6 +45,9 @@ pub(crate) struct Plan {
     pub order: Vec<usize>,
 }
 
+/// Longest variant id, bytes: a folder name, within the 255 bytes file systems allow.
+pub(crate) const MAX_ID_BYTES: usize = 240;
+
 /// Most variants one batch may have.
 pub(crate) const MAX_VARIANTS: usize = 1_000_000;
 
@@ -97,6 +100,13 @@ impl Plan {
                     flat(&up)
                 });
             variants.push(Variant { id, index, parent });
+        }
+        if let Some(long) = variants.iter().find(|v| v.id.len() > MAX_ID_BYTES) {
+            return Err(format!(
+                "--vary: the variant id '{}' is {} bytes long; at most {MAX_ID_BYTES} (it is a folder name) (hint: vary fewer items at once, or name them by their short form, e.g. hose2.length)",
+                crate::limits::shown(&long.id),
+                long.id.len()
+            ));
         }
         let mut ids: Vec<&str> = variants.iter().map(|v| v.id.as_str()).collect();
         ids.sort_unstable();

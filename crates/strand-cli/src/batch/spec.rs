@@ -16,6 +16,9 @@
 use strand_case::LengthUnit;
 use strand_case::schema::{Amount, CaseFile, Change, VariantChange};
 
+/// Longest value as written in a variant id (`123456.789`), characters.
+pub(crate) const MAX_VALUE_CHARS: usize = 24;
+
 /// Most values one `--vary` may produce.
 pub(crate) const MAX_VALUES: usize = 10_000;
 
@@ -407,11 +410,41 @@ impl Vary {
                     "give whole numbers of segments",
                 ));
             }
+            if quantity == Quantity::Count && *v > crate::limits::MAX_SEGMENTS as f64 {
+                return Err(fail(
+                    text,
+                    format!(
+                        "{} segments; at most {} per rod",
+                        canonical(*v),
+                        crate::limits::MAX_SEGMENTS
+                    ),
+                    "use fewer segments",
+                ));
+            }
         }
         let case_size = match quantity {
             Quantity::Length => case_unit.map_or(1.0, |u| u.metres()),
             _ => 1.0,
         };
+        // Every value becomes part of a folder name and, in the case's units, a
+        // number of the model: both must stay sensible.
+        for v in &shown {
+            let written = canonical(*v);
+            if written.len() > MAX_VALUE_CHARS || !(v * size / case_size).is_finite() {
+                return Err(fail(
+                    text,
+                    if v.is_finite() && (v * size / case_size).is_finite() {
+                        format!(
+                            "the value {v:e} {unit} is too large ({} digits; at most {MAX_VALUE_CHARS}, it becomes part of the variant's folder name)",
+                            written.len()
+                        )
+                    } else {
+                        format!("a value overflows when converted to {unit} and to the case's unit")
+                    },
+                    "check the value and its unit (e.g. 100mm, not 1e308mm)",
+                ));
+            }
+        }
         let base = if offset {
             Some(0.0)
         } else {
