@@ -229,7 +229,8 @@ impl<'m> Solver<'m> {
         let mut continuation_iterations = 0;
         let mut continuation_steps = 0;
         if settings.load_continuation && !solution.report.converged {
-            let ramped = continuation::ramp(self.model, self.constraints, initial, settings)?;
+            let ramped =
+                continuation::ramp(self.model, self.constraints, initial.clone(), settings)?;
             continuation_iterations = ramped.iterations;
             continuation_steps = ramped.steps;
             if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
@@ -248,6 +249,24 @@ impl<'m> Solver<'m> {
             if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
                 replaced_iterations += solution.report.fine_iterations;
                 solution = ramped;
+            }
+        }
+        // With contact, stiffness continuation is the last resort (a softened hose may
+        // settle into another contact set, but any converged state of the true system
+        // beats none): a limp cable draped over an edge (C·h²/EI of 1e7) otherwise
+        // crawls.
+        if settings.stiffness_continuation
+            && self.constraints.is_some()
+            && !solution.report.converged
+            && stiffness::stiffness_ratio(self.model.system()) > settings.stiffness_threshold
+        {
+            let stiffened =
+                stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;
+            continuation_iterations += stiffened.iterations;
+            continuation_steps += stiffened.steps;
+            if let Some(stiffened) = stiffened.solution.filter(|s| s.report.converged) {
+                replaced_iterations += solution.report.fine_iterations;
+                solution = stiffened;
             }
         }
         let escape_iterations = if settings.escape_saddles {
