@@ -103,6 +103,12 @@ pub(crate) fn check_case(case: &Case) -> Result<(), Failure> {
     Ok(())
 }
 
+/// [`check_case`] for tools and tests outside the crate: the message of the first
+/// problem, if any.
+pub fn case_problem(case: &Case) -> Option<String> {
+    check_case(case).err().map(|f| f.message)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
