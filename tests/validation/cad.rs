@@ -160,3 +160,105 @@ fn the_cooler_case_with_stl_environments_solves_as_with_obj() {
         }
     }
 }
+
+/// Distance from `p` to the nearest line through an edge at the vertex of `line`
+/// nearest to `p` (a ring vertex of a mitred tube is at exactly the radius from both),
+/// or 0 for `p` at a vertex (a cap centre).
+fn distance_to_adjacent_lines(p: &Point3<f64>, line: &[Point3<f64>]) -> f64 {
+    let j = (0..line.len())
+        .min_by(|&a, &b| (p - line[a]).norm().total_cmp(&(p - line[b]).norm()))
+        .unwrap();
+    if (p - line[j]).norm() < 1e-9 {
+        return 0.0;
+    }
+    let edges = [j.checked_sub(1), (j + 1 < line.len()).then_some(j)];
+    edges
+        .into_iter()
+        .flatten()
+        .map(|e| {
+            let d = (line[e + 1] - line[e]).normalize();
+            let v = p - line[e];
+            (v - d * v.dot(&d)).norm()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn the_stl_export_reloads_as_a_mesh_at_the_hose_radius_from_the_centreline() {
+    let path = crate::common::cases_dir().join("moulded_clipped_hose.ron");
+    let built = strand_case::Case::from_path(&path)
+        .unwrap()
+        .build(None)
+        .unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &SolverSettings::default())
+        .unwrap();
+    assert!(solution.report.converged);
+    let doc = strand_report::collect(
+        &built.name,
+        &built.model,
+        &solution,
+        strand_report::Timing::default(),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let mm = strand_report::ExportUnit::new(1e-3, "mm");
+    let written = strand_report::write_results_in(dir.path(), &doc, &mm).unwrap();
+    let stl = dir.path().join("tubes.stl");
+    assert!(written.contains(&stl));
+    // Reloaded as an environment mesh in mm, as a CAD system (or a case) would.
+    let mesh =
+        strand_contact::ObstacleMesh::load(&stl, 1e-3, &nalgebra::Isometry3::identity()).unwrap();
+    let diagnostics = mesh.diagnostics();
+    assert!(diagnostics.closed, "{diagnostics}");
+    let radius = 12.9e-3;
+    let centreline: Vec<Point3<f64>> = solution.state.rods[0]
+        .positions
+        .iter()
+        .map(|p| Point3::from(*p))
+        .collect();
+    // Sampled along the centreline (4 points per edge, ends excluded: the caps), the
+    // surface is at the radius: at most the radius (ring vertices), at least the
+    // inscribed polygon's apothem r cos(π/16), less 1e-4 r where the two triangles of a
+    // mitred quad at a bend cut a little deeper; f32 coordinates (about 3e-5 mm).
+    let apothem = radius * (std::f64::consts::PI / strand_report::TUBE_SIDES as f64).cos();
+    let tolerance = 1e-7;
+    let mut samples = 0;
+    for w in centreline.windows(2) {
+        for k in 0..4 {
+            let p = w[0] + (w[1] - w[0]) * (k as f64 / 4.0);
+            if (p - centreline[0]).norm() < 2.0 * radius
+                || (p - centreline[centreline.len() - 1]).norm() < 2.0 * radius
+            {
+                continue;
+            }
+            let d = mesh.point_proximity(&p, 1.0).unwrap().distance;
+            assert!(
+                d >= apothem - 1e-4 * radius && d <= radius + tolerance,
+                "surface {d} m from the centreline at {p}"
+            );
+            samples += 1;
+        }
+    }
+    assert!(samples > 100, "{samples}");
+    // Every ring vertex of the surface lies at the radius from the centreline.
+    let mut rings = 0;
+    for t in 0..mesh.triangle_count() {
+        for corner in mesh.triangle(t) {
+            let d = distance_to_adjacent_lines(&corner, &centreline);
+            if d > 0.0 {
+                assert!((d - radius).abs() <= tolerance, "ring vertex at {d} m");
+                rings += 1;
+            }
+        }
+    }
+    assert!(rings > 0);
+    // The OBJ and VTP are in mm too.
+    let obj = std::fs::read_to_string(dir.path().join("tubes.obj")).unwrap();
+    assert!(
+        obj.lines().next().unwrap().contains(", mm;"),
+        "{}",
+        &obj[..200]
+    );
+    let vtp = std::fs::read_to_string(dir.path().join("rods.vtp")).unwrap();
+    assert!(vtp.contains("Name=\"position_mm\""));
+}

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strand_case::{BuiltCase, Case, CaseError};
-use strand_report::{Timing, collect, name_connectors, write_results};
+use strand_report::{ExportUnit, Timing, collect, name_connectors, write_results_in};
 use strand_solve::SolveError;
 
 use crate::Exit;
@@ -180,7 +180,6 @@ fn bench_grid(cases: usize, out: &mut dyn Write) -> Exit {
 fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
     let read = started.elapsed().as_secs_f64();
     let built = case.build(segments)?;
     let total = started.elapsed().as_secs_f64();
@@ -197,7 +196,6 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
     let built = case.build(segments)?;
     // Every hose must start clear of the environment and of each other, as `solve`
     // requires.
@@ -229,6 +227,7 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     if let Some(start) = built.start.describe() {
         let _ = writeln!(out, "start       {start}");
     }
+    let _ = write!(out, "{}", crate::summary::projection_lines(&built));
     let diagnostics: Vec<_> = built
         .environment
         .iter()
@@ -299,7 +298,6 @@ fn solve_case(
         }
         Some(name) => {
             let case = Case::from_path(path)?;
-            crate::limits::check_case(&case)?;
             let read = started.elapsed().as_secs_f64();
             let base = case.build(segments)?;
             let built = case.build_variant(name, segments)?;
@@ -335,7 +333,9 @@ fn solve_case(
             None => dir,
         }
     });
-    let written = write_results(&dir, &doc).map_err(|e| Failure {
+    // CAD out: tubes (OBJ, binary STL) and centrelines (VTP) in the case's length unit.
+    let unit = ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol());
+    let written = write_results_in(&dir, &doc, &unit).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
     })?;

@@ -77,11 +77,27 @@ fn yes(flag: bool) -> &'static str {
     if flag { "yes" } else { "no" }
 }
 
+/// One line per clip placed by `at_point`: how far the point was from the nominal
+/// centreline it was projected onto, in the case's length unit.
+pub(crate) fn projection_lines(built: &BuiltCase) -> String {
+    let unit = built.length_unit;
+    let mut s = String::new();
+    for (clip, distance) in &built.clip_projections {
+        let _ = writeln!(
+            s,
+            "clip        '{clip}': at_point is {} {unit} from the nominal centreline (projected onto it)",
+            number(distance / unit.metres())
+        );
+    }
+    s
+}
+
 /// The summary of a solved case.
 pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> String {
     let unit: LengthUnit = built.length_unit;
     let mut s = String::new();
     let _ = writeln!(s, "case        {} ({})", doc.case, built.origin);
+    s += &projection_lines(built);
     if let Some(start) = built.start.describe()
         && doc.variant.is_none()
     {

@@ -27,7 +27,9 @@
 //!
 //! Exports: [`rods_vtp`] (VTK XML PolyData of the centrelines with the sectional
 //! quantities as point data, `DIR/rods.vtp`) and [`tubes_obj`] (tube surface meshes,
-//! `DIR/tubes.obj`), both written by [`write_results`].
+//! `DIR/tubes.obj`), both written by [`write_results`]; CAD out ([`write_results_in`]):
+//! both in the case's length unit ([`ExportUnit`]) plus the tubes as binary STL
+//! ([`tubes_stl`], `DIR/tubes.stl`).
 //!
 //! Design review: [`report_html`] renders one self-contained HTML page (inline SVG, no
 //! scripts or network) comparing several results: summary, sectional quantities
@@ -35,6 +37,7 @@
 //! peaks, reactions, contacts, clearances, bend radii and differences against the
 //! first result. [`check_result`] rejects a `result.json` whose arrays do not fit.
 
+mod cad;
 mod clips;
 mod contacts;
 mod csv;
@@ -52,6 +55,7 @@ mod export_tests;
 #[cfg(test)]
 mod tests;
 
+pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
@@ -67,6 +71,7 @@ pub use study::{
 pub use svg::study_svg;
 pub use tube::{
     DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, tube_radius, tube_rings, tubes_obj,
+    tubes_obj_in,
 };
-pub use vtk::{VTK_POINT_ARRAYS, VtkPointArray, rods_vtp};
-pub use write::{ReportError, is_safe_name, write_atomic, write_results};
+pub use vtk::{VTK_POINT_ARRAYS, VtkPointArray, rods_vtp, rods_vtp_in};
+pub use write::{ReportError, is_safe_name, write_atomic, write_results, write_results_in};

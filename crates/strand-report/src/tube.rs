@@ -17,6 +17,7 @@ use std::fmt::Write;
 
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 
+use crate::cad::ExportUnit;
 use crate::csv::push_number;
 use crate::result::{ResultDoc, RodResult};
 
@@ -113,12 +114,20 @@ pub fn tube_rings(positions: &[[f64; 3]], radius: f64) -> Option<Vec<Vector3<f64
 
 /// The text of `tubes.obj`: one tube object per rod of `doc` (see the module docs).
 /// Rods whose centreline is not finite are left out, with a comment saying so.
+/// Coordinates in m; see [`tubes_obj_in`] for another unit.
 pub fn tubes_obj(doc: &ResultDoc) -> String {
+    tubes_obj_in(doc, &ExportUnit::metre())
+}
+
+/// As [`tubes_obj`], with every coordinate in `unit` (e.g. the case's mm, so that the
+/// file loads into the CAD system next to the parts it was modelled from).
+pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# strand: tube surfaces of the rods of case {}, m; {TUBE_SIDES} vertices around, one object per rod",
-        doc.case.replace(['\n', '\r'], " ")
+        "# strand: tube surfaces of the rods of case {}, {}; {TUBE_SIDES} vertices around, one object per rod",
+        doc.case.replace(['\n', '\r'], " "),
+        unit.symbol
     );
     let mut base = 1; // OBJ indices are 1-based.
     for rod in &doc.rods {
@@ -135,12 +144,20 @@ pub fn tubes_obj(doc: &ResultDoc) -> String {
         if default {
             let _ = writeln!(
                 out,
-                "# {}: no outer radius in the results; drawn with {} % of its length = {radius} m",
+                "# {}: no outer radius in the results; drawn with {} % of its length = {} {}",
                 rod.name,
-                100.0 * DEFAULT_RADIUS_FRACTION
+                100.0 * DEFAULT_RADIUS_FRACTION,
+                radius / unit.metres,
+                unit.symbol
             );
         } else {
-            let _ = writeln!(out, "# {}: outer radius {radius} m", rod.name);
+            let _ = writeln!(
+                out,
+                "# {}: outer radius {} {}",
+                rod.name,
+                radius / unit.metres,
+                unit.symbol
+            );
         }
         let caps = [
             &rod.position_m[0],
@@ -154,7 +171,7 @@ pub fn tubes_obj(doc: &ResultDoc) -> String {
             out.push('v');
             for x in p {
                 out.push(' ');
-                push_number(&mut out, x);
+                push_number(&mut out, x / unit.metres);
             }
             out.push('\n');
         }

@@ -112,6 +112,12 @@ fn push_integers(out: &mut String, values: impl IntoIterator<Item = usize>) {
 /// The text of `rods.vtp`: VTK XML PolyData (ASCII) of the centrelines of every rod in
 /// `doc` with their sectional quantities as point data (see the module docs).
 pub fn rods_vtp(doc: &ResultDoc) -> String {
+    rods_vtp_in(doc, &crate::cad::ExportUnit::metre())
+}
+
+/// As [`rods_vtp`], with the point coordinates in `unit` (array `position_<unit>`,
+/// e.g. `position_mm`); the point-data arrays stay in SI units, as named.
+pub fn rods_vtp_in(doc: &ResultDoc, unit: &crate::cad::ExportUnit) -> String {
     let rods = &doc.rods;
     let points: usize = rods.iter().map(|r| r.position_m.len()).sum();
     let mut out = String::with_capacity(1024 + 400 * points);
@@ -169,8 +175,18 @@ pub fn rods_vtp(doc: &ResultDoc) -> String {
     out.push_str("<CellData Scalars=\"rod_id\">\n<DataArray type=\"Int32\" Name=\"rod_id\" format=\"ascii\">");
     push_integers(&mut out, 0..rods.len());
     out.push_str("</DataArray>\n</CellData>\n");
-    out.push_str("<Points>\n<DataArray type=\"Float64\" Name=\"position_m\" NumberOfComponents=\"3\" format=\"ascii\">");
-    push_values(&mut out, rods.iter().flat_map(|r| flat(&r.position_m)), 6);
+    let _ = write!(
+        out,
+        "<Points>\n<DataArray type=\"Float64\" Name=\"position_{}\" NumberOfComponents=\"3\" format=\"ascii\">",
+        unit.symbol
+    );
+    push_values(
+        &mut out,
+        rods.iter()
+            .flat_map(|r| flat(&r.position_m))
+            .map(|x| x / unit.metres),
+        6,
+    );
     out.push_str("</DataArray>\n</Points>\n");
     out.push_str("<Lines>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
     push_integers(&mut out, 0..points);

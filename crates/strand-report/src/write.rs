@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use tempfile::NamedTempFile;
 
+use crate::cad::ExportUnit;
 use crate::csv::rod_csv;
 use crate::result::ResultDoc;
 
@@ -100,6 +101,26 @@ pub fn write_atomic(path: &Path, content: &[u8]) -> Result<(), ReportError> {
 /// missing. Returns the written paths (`result.json` last: it is renamed into place
 /// only after every other file, so its presence marks a complete set).
 pub fn write_results(dir: &Path, doc: &ResultDoc) -> Result<Vec<PathBuf>, ReportError> {
+    write_results_with(dir, doc, &ExportUnit::metre(), false)
+}
+
+/// As [`write_results`], with `rods.vtp` and `tubes.obj` in `unit` (the case's length
+/// unit) and also `DIR/tubes.stl`, the tube surfaces as binary STL in `unit`
+/// ([`crate::tubes_stl`]): CAD out. `result.json` and the CSV files stay in SI units.
+pub fn write_results_in(
+    dir: &Path,
+    doc: &ResultDoc,
+    unit: &ExportUnit,
+) -> Result<Vec<PathBuf>, ReportError> {
+    write_results_with(dir, doc, unit, true)
+}
+
+fn write_results_with(
+    dir: &Path,
+    doc: &ResultDoc,
+    unit: &ExportUnit,
+    stl: bool,
+) -> Result<Vec<PathBuf>, ReportError> {
     if let Some(bad) = doc.rods.iter().find(|r| !is_safe_name(&r.name)) {
         return Err(ReportError::UnsafeName(bad.name.clone()));
     }
@@ -112,8 +133,19 @@ pub fn write_results(dir: &Path, doc: &ResultDoc) -> Result<Vec<PathBuf>, Report
     for rod in &doc.rods {
         staged.add(dir, &format!("{}.csv", rod.name), rod_csv(rod).as_bytes())?;
     }
-    staged.add(dir, "rods.vtp", crate::vtk::rods_vtp(doc).as_bytes())?;
-    staged.add(dir, "tubes.obj", crate::tube::tubes_obj(doc).as_bytes())?;
+    staged.add(
+        dir,
+        "rods.vtp",
+        crate::vtk::rods_vtp_in(doc, unit).as_bytes(),
+    )?;
+    staged.add(
+        dir,
+        "tubes.obj",
+        crate::tube::tubes_obj_in(doc, unit).as_bytes(),
+    )?;
+    if stl {
+        staged.add(dir, "tubes.stl", &crate::cad::tubes_stl(doc, unit))?;
+    }
     staged.add(dir, "result.json", &json)?;
     staged.commit()
 }
