@@ -172,8 +172,7 @@ fn error(name: &str, bytes: &[u8]) -> String {
     let dir = tempfile::tempdir().unwrap();
     let path = write_file(dir.path(), name, bytes);
     let message = ObstacleMesh::load(&path, 1.0, &Isometry3::identity())
-        .err()
-        .expect("a broken file")
+        .expect_err("a broken file")
         .to_string();
     assert!(message.contains(name), "{message}");
     assert!(message.contains("hint:"), "{message}");
