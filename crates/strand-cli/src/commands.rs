@@ -180,6 +180,7 @@ fn bench_grid(cases: usize, out: &mut dyn Write) -> Exit {
 fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
+    crate::limits::check_case(&case)?;
     let read = started.elapsed().as_secs_f64();
     let built = case.build(segments)?;
     let total = started.elapsed().as_secs_f64();
@@ -196,6 +197,7 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
     let case = Case::from_path(path)?;
+    crate::limits::check_case(&case)?;
     let built = case.build(segments)?;
     // Every hose must start clear of the environment and of each other, as `solve`
     // requires.
@@ -298,6 +300,7 @@ fn solve_case(
         }
         Some(name) => {
             let case = Case::from_path(path)?;
+            crate::limits::check_case(&case)?;
             let read = started.elapsed().as_secs_f64();
             let base = case.build(segments)?;
             let built = case.build_variant(name, segments)?;
