@@ -90,7 +90,10 @@ pub(crate) fn check_case(case: &Case) -> Result<(), Failure> {
                 rod.segments
             )));
         }
+        // NaN and infinite lengths are the case validation's (it names their line);
+        // here: finite values that are, or overflow to, beyond any rod.
         if let Some(length) = rod.length
+            && length.is_finite()
             && !(length * metres).abs().le(&MAX_LENGTH_M)
         {
             return Err(invalid(format!(
