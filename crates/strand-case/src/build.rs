@@ -47,6 +47,9 @@ pub struct BuiltCase {
     /// Per rod, the smallest allowed bend radius of its section in m (`None` where
     /// the section states no `min_bend_radius`).
     pub min_bend_radius: Vec<Option<f64>>,
+    /// Per rod, its required clearance to the environment and the other rods in m
+    /// (`None` where the rod states no `min_clearance`).
+    pub min_clearance: Vec<Option<f64>>,
     /// Environment meshes (OBJ files in world coordinates, m, with their BVH), in
     /// file order; shared with the case's other builds (variants, batches).
     pub environment: Vec<Arc<ObstacleMesh>>,
@@ -77,6 +80,7 @@ pub(crate) fn build(
     })?;
     let sections = build_sections(&report, unit, &file.sections)?;
     let min_bend_radius = min_bend_radii(&report, unit, file)?;
+    let min_clearance = crate::limits::min_clearances(&report, unit, file)?;
     let attachments = build_attachments(&report, unit, file)?;
     let mut clips = resolve_clips(&report, unit, file)?;
     if file.rods.is_empty() {
@@ -172,6 +176,7 @@ pub(crate) fn build(
         settings: file.solver.clone(),
         connector_names: file.rods.iter().map(connector_names).collect(),
         min_bend_radius,
+        min_clearance,
         environment,
         start: Start::Hanging,
         clip_projections: projections,

@@ -39,6 +39,7 @@ mod clips;
 mod ends;
 mod environment;
 mod error;
+mod limits;
 mod nominal;
 pub mod schema;
 mod sections;

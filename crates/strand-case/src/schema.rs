@@ -186,6 +186,11 @@ pub struct RodDef {
     /// `Connector`, `Port`).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub twist_turns: i32,
+    /// Required clearance in the case's length unit (optional): the smallest allowed
+    /// surface-to-surface distance between this rod and every environment mesh and
+    /// every other rod; `solve` and `report` list each closer approach as a finding.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_clearance: Option<f64>,
 }
 
 fn is_zero(turns: &i32) -> bool {

@@ -246,14 +246,16 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     Ok(Exit::Success)
 }
 
-/// Contacts, clearances and the environment meshes' diagnostics of `solution` into
-/// `doc`, for a case with an environment.
+/// Contacts, clearances and the environment meshes' diagnostics and outlines (near
+/// the hoses) of `solution` into `doc`, then the case's limits and the findings
+/// against them ([`crate::findings::add_findings`]).
 pub(crate) fn add_contacts(
     doc: &mut strand_report::ResultDoc,
     built: &BuiltCase,
     solution: &strand_solve::Solution,
 ) -> Result<(), Failure> {
     strand_report::collect_environment(doc, &built.environment);
+    strand_report::collect_outlines(doc, &built.environment);
     if let Some(contact) = built.contact() {
         strand_report::collect_contacts(doc, &built.model, solution, &contact).map_err(|e| {
             Failure {
@@ -262,7 +264,7 @@ pub(crate) fn add_contacts(
             }
         })?;
     }
-    Ok(())
+    crate::findings::add_findings(doc, built, solution)
 }
 
 /// The failure of a solve that could not start.
@@ -343,6 +345,20 @@ fn solve_case(
         message: format!("{}: results not written: {e}", built.origin),
     })?;
     let _ = write!(out, "{}", summary(&built, &doc, &written));
+    let unit = built.length_unit;
+    let _ = write!(
+        out,
+        "{}",
+        strand_report::findings_text(&doc, &doc.findings, unit.metres(), unit.symbol())
+    );
+    if !doc.findings.is_empty() {
+        let _ = writeln!(
+            err,
+            "warning: {}: {} limit violation(s), listed above and in result.json \"findings\"",
+            built.origin,
+            doc.findings.len()
+        );
+    }
     if doc.converged {
         Ok(Exit::Success)
     } else {

@@ -37,6 +37,7 @@ mod args;
 mod batch;
 pub mod bench;
 mod commands;
+mod findings;
 pub mod limits;
 mod progress;
 mod report;

@@ -17,7 +17,8 @@ fn arr(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
 
 /// Fills `doc.contacts` (every pair that carries a force, on the rod that is
 /// touched; a rod–rod contact is listed for both rods) and `doc.clearance` (per rod
-/// and obstacle, the smallest surface distance within [`CLEARANCE_SEARCH_M`]).
+/// and obstacle, the smallest surface distance within [`CLEARANCE_SEARCH_M`]; see
+/// [`collect_clearances`] for a wider search).
 pub fn collect_contacts(
     doc: &mut ResultDoc,
     model: &Model,
@@ -57,8 +58,28 @@ pub fn collect_contacts(
             });
         }
     }
+    collect_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
+}
+
+/// Fills `doc.clearance`: per rod and obstacle (mesh or other rod), the smallest
+/// surface distance within `search_m` (m; at least [`CLEARANCE_SEARCH_M`] is
+/// searched), e.g. the largest required clearance, so that every closer approach is
+/// listed. Needs no contact forces: works for a solve without contact too.
+pub fn collect_clearances(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+    search_m: f64,
+) -> Result<(), strand_solve::ConstraintError> {
+    let rods = &model.system().rods;
+    let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();
+    let arc = |rod: usize, edge: usize, s: f64| {
+        let a = &lengths[rod];
+        a[edge] + s * (a[edge + 1] - a[edge])
+    };
     doc.clearance.clear();
-    let gaps = contact.gaps(model, &solution.state, CLEARANCE_SEARCH_M)?;
+    let gaps = contact.gaps(model, &solution.state, search_m.max(CLEARANCE_SEARCH_M))?;
     let mut record = |rod: usize, with: String, distance: f64, s: f64| {
         let name = &rods[rod].name;
         match doc

@@ -76,6 +76,7 @@ pub fn collect_environment(doc: &mut ResultDoc, meshes: &[Arc<ObstacleMesh>]) {
             None => doc.environment.push(EnvironmentOutline {
                 name: mesh.name().to_string(),
                 segments_m: Vec::new(),
+                truncated: false,
                 diagnostics,
             }),
         }

@@ -31,17 +31,28 @@
 //! both in the case's length unit ([`ExportUnit`]) plus the tubes as binary STL
 //! ([`tubes_stl`], `DIR/tubes.stl`).
 //!
-//! Design review: [`report_html`] renders one self-contained HTML page (inline SVG, no
-//! scripts or network) comparing several results: summary, sectional quantities
-//! along the arc length, side and top projections coloured by `|f|`, and tables of
-//! peaks, reactions, contacts, clearances, bend radii and differences against the
-//! first result. [`check_result`] rejects a `result.json` whose arrays do not fit.
+//! Design review: [`report_html`] renders one self-contained HTML page (inline SVG,
+//! CSS and one small inline script; no network) comparing several results: findings
+//! first, a summary, a rotatable 3D view (hoses as tubes coloured by `|f|`, `|m|` or
+//! bend radius, environment outlines, contacts), sectional quantities along the arc
+//! length with the contacts marked, side, top and front projections coloured by `|f|`
+//! with the environment outlines and contacts, and tables of peaks, reactions,
+//! contacts, clearances, bend radii and differences against the first result.
+//! [`check_result`] rejects a `result.json` whose arrays do not fit.
+//!
+//! Environment and limits: [`collect_outlines`] puts the outline of every mesh near
+//! the hoses (rims and edges sharper than [`FEATURE_ANGLE_RAD`], clipped to the hoses'
+//! box grown by [`OUTLINE_MARGIN_M`]) into `environment[*].segments_m`; [`find`] lists
+//! the `findings` (bend radius below `min_bend_radius_m`, clearance below
+//! `min_clearance_m`), [`findings_text`] prints them.
 
 mod cad;
 mod clips;
 mod contacts;
 mod csv;
 mod environment;
+mod findings;
+mod outline;
 mod report;
 mod result;
 mod study;
@@ -57,9 +68,16 @@ mod tests;
 
 pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
-pub use contacts::{CLEARANCE_SEARCH_M, collect_contacts};
+pub use contacts::{CLEARANCE_SEARCH_M, collect_clearances, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
 pub use environment::{MeshDiagnosticsResult, collect_environment};
+pub use findings::{
+    Finding, FindingKind, bend_radii, find, findings_text, limits_stated, number as finding_number,
+};
+pub use outline::{
+    Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
+    mesh_outline, region_around,
+};
 pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,

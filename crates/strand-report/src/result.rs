@@ -119,10 +119,15 @@ pub struct ResultDoc {
     #[serde(default)]
     pub clearance: Vec<ClearanceResult>,
     /// The environment meshes: their diagnostics (see [`crate::collect_environment`])
-    /// and outlines (mesh silhouettes) for drawings such as the HTML report's
-    /// projections; empty when the case has no environment.
+    /// and outlines near the hoses (see [`crate::collect_outlines`]) for drawings such
+    /// as the HTML report's projections and 3D view; empty when the case has no
+    /// environment.
     #[serde(default)]
     pub environment: Vec<EnvironmentOutline>,
+    /// Violated limits (`min_bend_radius`, `min_clearance`; see [`crate::find`]):
+    /// empty when every stated limit is respected or none is stated.
+    #[serde(default)]
+    pub findings: Vec<crate::Finding>,
 }
 
 /// One environment part: its outline as line segments in space, for drawings, and
@@ -131,10 +136,14 @@ pub struct ResultDoc {
 pub struct EnvironmentOutline {
     /// Name of the part (environment mesh).
     pub name: String,
-    /// Line segments `[start, end]` of the outline, m, world frame (empty until
-    /// silhouettes are computed).
+    /// Line segments `[start, end]` of the outline near the hoses (boundary and
+    /// feature edges, see [`crate::collect_outlines`]), m, world frame.
     #[serde(default)]
     pub segments_m: Vec<[[f64; 3]; 2]>,
+    /// Whether the outline was cut to [`crate::MAX_OUTLINE_SEGMENTS`] (its longest
+    /// segments kept).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub truncated: bool,
     /// Counts, defects, closedness and bounding box of the mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diagnostics: Option<crate::MeshDiagnosticsResult>,
@@ -240,6 +249,10 @@ pub struct RodResult {
     /// Smallest allowed bend radius of the hose, m, if the case states one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_bend_radius_m: Option<f64>,
+    /// Required clearance of the hose to every mesh and every other rod (surface to
+    /// surface), m, if the case states one (`min_clearance`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_clearance_m: Option<f64>,
 }
 
 /// Force and moment a support exerts on a rod end.
@@ -304,6 +317,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
                 edge_force_n: arrs(&s.edge_forces),
                 outer_radius_m: Some(spec.rod.section().outer_radius).filter(|r| *r > 0.0),
                 min_bend_radius_m: None,
+                min_clearance_m: None,
             }
         })
         .collect();
@@ -382,6 +396,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         contacts: Vec::new(),
         clearance: Vec::new(),
         environment: Vec::new(),
+        findings: Vec::new(),
     }
 }
 

@@ -211,6 +211,7 @@ pub(crate) mod tests {
             contacts: Vec::new(),
             clearance: Vec::new(),
             environment: Vec::new(),
+            findings: Vec::new(),
         }
     }
 

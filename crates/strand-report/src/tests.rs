@@ -28,6 +28,7 @@ pub(crate) fn sample_rod() -> RodResult {
         edge_force_n: vec![v(1.0); 2],
         outer_radius_m: Some(0.01),
         min_bend_radius_m: None,
+        min_clearance_m: None,
     }
 }
 

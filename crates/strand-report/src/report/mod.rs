@@ -1,11 +1,11 @@
-//! The HTML design-review report: one self-contained page (inline SVG and CSS, no
-//! scripts, fonts, images or links) comparing several results of a case, e.g. a base
+//! The HTML design-review report: one self-contained page (inline SVG, CSS and one
+//! small inline script for the 3D view ([`view3d`]); no fonts, images, links or network) comparing several results of a case, e.g. a base
 //! design and its variants. The first result is the reference: drawn solid, the others
 //! dashed, and the difference table is against it.
 //!
 //! The page is XHTML-compatible HTML5 (`<!DOCTYPE html>` followed by well-formed XML
 //! in the XHTML namespace), so it opens in any browser and parses as XML. Sections:
-//! summary (convergence, residual, stability), sectional quantities along the arc
+//! findings (violated limits, [`limits`]), summary (convergence, residual, stability), sectional quantities along the arc
 //! length per hose ([`plots`]), side and top projections coloured by `|f|`
 //! ([`projection`]), and tables ([`tables`], [`checks`]). Lengths are shown in mm,
 //! forces in N, moments in N·m; numbers with 4 significant digits.
@@ -16,11 +16,17 @@
 
 mod checks;
 mod format;
+mod limits;
 mod plots;
 mod projection;
 mod tables;
+
+pub(crate) use format::sig;
 #[cfg(test)]
 mod tests;
+mod view3d;
+#[cfg(test)]
+mod view_tests;
 
 use std::fmt::Write;
 
@@ -138,6 +144,12 @@ figure { margin: 0; }
 figure svg { width: 100%; height: auto; display: block; border: 1px solid #e1e4e8; }
 figcaption { font-size: 0.85em; color: #444; margin-top: 3px; }
 .scroll { overflow-x: auto; }
+p.finding-none { color: #1a7f37; font-weight: 600; }
+p.finding-count { color: #c62828; font-weight: 700; }
+table.findings td { color: #c62828; }
+.v3d-controls { display: flex; flex-wrap: wrap; gap: 6px 14px; align-items: center; font-size: 0.9em; margin: 0.3em 0; }
+.v3d-controls .readout { color: #333; font-variant-numeric: tabular-nums; }
+figure.v3d svg { max-width: 900px; cursor: grab; }
 ";
 
 /// The report page for `runs` (the first is the reference) under `title`.
@@ -158,8 +170,14 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
         escape(runs.first().map_or("none", |r| r.label))
     );
 
+    html.push_str("<h2 id=\"findings-section\">Findings</h2>\n");
+    limits::push_findings(&mut html, runs);
+
     html.push_str("<h2>Summary</h2>\n");
     tables::push_summary(&mut html, runs);
+
+    html.push_str("<h2 id=\"view3d-section\">3D view</h2>\n");
+    view3d::push_view3d(&mut html, runs);
 
     html.push_str("<h2>Sectional quantities along the arc length</h2>\n");
     html.push_str("<p class=\"note\">Per hose: internal force |f|, tangential force f_t and shear force f_s (top); internal moment |m|, bending moment m_b and torsional moment m_t (bottom). The reference result is solid, the others dashed.</p>\n<div class=\"grid\">\n");
@@ -181,21 +199,23 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
     }
     html.push_str("</div>\n");
 
-    html.push_str("<h2>Side and top views</h2>\n");
-    // TODO(mesh outlines): the environment is drawn from `ResultDoc::environment`
-    // (mesh silhouettes as segments), which `collect` leaves empty until the contact
-    // crate computes silhouettes; until then only the supports (connectors, junction
-    // bodies and their ports, clips) outline the surroundings.
+    html.push_str("<h2>Side, top and front views</h2>\n");
     let outlines = runs
         .iter()
         .any(|r| r.doc.environment.iter().any(|e| !e.segments_m.is_empty()));
+    let contacts = runs.iter().any(|r| !r.doc.contacts.is_empty());
     let _ = writeln!(
         html,
-        "<p class=\"note\">Hoses coloured by internal force magnitude |f| (one colour scale for all results); supports: connectors ■, junction bodies ● with their ports, clips ▲. {}</p>",
+        "<p class=\"note\">Hoses coloured by internal force magnitude |f| (one colour scale for all results); supports: connectors ■, junction bodies ● with their ports, clips ▲. {} {}</p>",
         if outlines {
-            "Environment outlines in grey."
+            "Environment: outlines (rims and edges sharper than 30°) of the meshes within 100 mm of the hoses, in light grey."
         } else {
-            "TODO: environment mesh outlines are not in the results yet; only the supports are drawn."
+            "No environment meshes near the hoses."
+        },
+        if contacts {
+            "Contacts: dots with the force on the hose (arrow, N)."
+        } else {
+            "No contact."
         }
     );
     html.push_str("<div class=\"grid\">\n");

@@ -6,6 +6,7 @@
 
 use std::fmt::Write;
 
+use super::format::sig;
 use super::{ReportRun, arc_at};
 use crate::result::RodResult;
 use crate::study::{ArcOrigin, magnitude};
@@ -44,6 +45,71 @@ const MOMENTS: [Quantity; 3] = [
     ("bending_moment", "m_b", |r| r.bending_moment_nm.clone()),
     ("torsion", "m_t", |r| r.torsion_nm.clone()),
 ];
+
+/// Colour of contact markers (Okabe–Ito vermillion), in the plots and the views.
+pub(crate) const CONTACT_COLOUR: &str = "#d55e00";
+
+/// The contacts on rod `name` in every run: (run index, arc length from `origin` in
+/// mm, contact force in N).
+fn contact_points(
+    name: &str,
+    runs: &[ReportRun],
+    rods: &[(usize, &RodResult)],
+    origin: ArcOrigin,
+) -> Vec<(usize, f64, f64)> {
+    rods.iter()
+        .flat_map(|(k, rod)| {
+            runs[*k]
+                .doc
+                .contacts
+                .iter()
+                .filter(move |c| c.rod == name)
+                .map(move |c| (*k, 1e3 * origin.measure(c.s_m, rod.length_m), c.force_n))
+        })
+        .filter(|(_, s, f)| s.is_finite() && f.is_finite())
+        .collect()
+}
+
+/// SVG path data of a diamond marker centred at (`x`, `y`), px.
+fn diamond(x: f64, y: f64) -> String {
+    format!(
+        "M{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} Z",
+        x,
+        y - 5.0,
+        x + 5.0,
+        y,
+        x,
+        y + 5.0,
+        x - 5.0,
+        y
+    )
+}
+
+/// Marks every contact in the force panel: a thin vertical line at its arc length and
+/// a diamond at its force, with a hover title.
+fn draw_contacts(
+    svg: &mut String,
+    panel: &Panel,
+    name: &str,
+    runs: &[ReportRun],
+    contacts: &[(usize, f64, f64)],
+) {
+    for &(k, s, force) in contacts {
+        let (x, y) = (panel.x(s), panel.y(force));
+        let _ = writeln!(
+            svg,
+            "<g class=\"contact\" data-rod=\"{}\" data-result=\"{}\" data-s-mm=\"{s}\" data-force-n=\"{force}\"><title>{}: contact at s = {} mm, {} N</title><line x1=\"{x:.2}\" y1=\"{:.2}\" x2=\"{x:.2}\" y2=\"{:.2}\" stroke=\"{CONTACT_COLOUR}\" stroke-width=\"0.8\" stroke-dasharray=\"2 3\"/><path d=\"{}\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\" stroke-width=\"0.8\"/></g>",
+            escape(name),
+            escape(runs[k].label),
+            escape(runs[k].label),
+            sig(s),
+            sig(force),
+            panel.top,
+            panel.top + panel.height,
+            diamond(x, y)
+        );
+    }
+}
 
 fn legend_line(svg: &mut String, y: f64, colour: &str, dash_attr: &str, label: &str) {
     let _ = writeln!(
@@ -115,7 +181,18 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
             .iter()
             .map(|(_, _, values)| rods.iter().map(|(_, r)| values(r)).collect())
             .collect();
-        let all = series.iter().flatten().flatten().copied();
+        // Contact forces share the force panel (N): (run, s in mm, force in N).
+        let contacts: Vec<(usize, f64, f64)> = if p == 0 {
+            contact_points(name, runs, &rods, origin)
+        } else {
+            Vec::new()
+        };
+        let all = series
+            .iter()
+            .flatten()
+            .flatten()
+            .copied()
+            .chain(contacts.iter().map(|c| c.2));
         let (low, high) = all
             .filter(|v| v.is_finite())
             .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
@@ -158,6 +235,17 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
             }
             legend_y = legend_y.max(top + 4.0);
             legend_line(&mut svg, legend_y, QUANTITY_COLOURS[q], "", label);
+            legend_y += 18.0;
+        }
+        if p == 0 && !contacts.is_empty() {
+            draw_contacts(&mut svg, &panel, name, runs, &contacts);
+            legend_y += 4.0;
+            let _ = writeln!(
+                svg,
+                "<path d=\"{}\" fill=\"{CONTACT_COLOUR}\"/><text x=\"{:.1}\" y=\"{legend_y:.1}\">contact force</text>",
+                diamond(LEGEND_X + 13.0, legend_y - 4.0),
+                LEGEND_X + 32.0
+            );
             legend_y += 18.0;
         }
         if p == 0 {

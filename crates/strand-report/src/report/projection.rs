@@ -1,8 +1,8 @@
-//! Side (x–z) and top (x–y) views of the hoses, as the paper's Fig. 6 b, c: every
+//! Side (x–z), top (x–y) and front (y–z) views of the hoses, as the paper's Fig. 6 b, c: every
 //! edge coloured by the mean internal force magnitude `|f|` of its two vertices
 //! (viridis, one scale for all results), the supports (connectors, junction bodies with
-//! lines to their ports, clips) and the environment outlines of
-//! [`crate::ResultDoc::environment`]. One scale for all results and both views (equal
+//! lines to their ports, clips), the contacts (a dot and the force arrow, in N) and the
+//! environment outlines of [`crate::ResultDoc::environment`] (light grey). One scale for all results and both views (equal
 //! aspect, mm), so that results can be compared by eye; results after the first show
 //! the reference centrelines as grey dashed ghosts.
 
@@ -10,6 +10,7 @@ use std::fmt::Write;
 
 use super::ReportRun;
 use super::format::sig;
+use super::plots::CONTACT_COLOUR;
 use crate::result::ResultDoc;
 use crate::study::magnitude;
 use crate::svg::{Panel, escape, ticks};
@@ -22,7 +23,7 @@ const TOP: f64 = 40.0;
 const PLOT_HEIGHT: f64 = 420.0;
 
 /// Viridis at five stops, interpolated linearly.
-const VIRIDIS: [[f64; 3]; 5] = [
+pub(crate) const VIRIDIS: [[f64; 3]; 5] = [
     [68.0, 1.0, 84.0],
     [59.0, 82.0, 139.0],
     [33.0, 145.0, 140.0],
@@ -100,7 +101,7 @@ fn bounds(runs: &[ReportRun], axes: [usize; 2]) -> ([f64; 2], [f64; 2]) {
     (lo.map(|v| v - margin), hi.map(|v| v + margin))
 }
 
-/// Appends one figure per run and view (side, then top) to `html`.
+/// Appends one figure per run and view (side, top, front) to `html`.
 pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
     let f_max = runs
         .iter()
@@ -113,11 +114,27 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
         .filter(|v| v.is_finite())
         .fold(0.0f64, f64::max);
     let f_max = if f_max > 0.0 { f_max } else { 1.0 };
-    let views = [("side", [0, 2], "z [mm]"), ("top", [0, 1], "y [mm]")];
+    let views = [
+        ("side", [0, 2], "x [mm]", "z [mm]", "x right, z up"),
+        (
+            "top",
+            [0, 1],
+            "x [mm]",
+            "y [mm]",
+            "x right, y up, seen from above",
+        ),
+        (
+            "front",
+            [1, 2],
+            "y [mm]",
+            "z [mm]",
+            "y right, z up, looking along −x",
+        ),
+    ];
     // One scale (px per mm) fitting every view of every run.
     let scale = views
         .iter()
-        .map(|(_, axes, _)| {
+        .map(|(_, axes, ..)| {
             let (lo, hi) = bounds(runs, *axes);
             let step = ticks((hi[0] - lo[0]).max(hi[1] - lo[1])).0;
             let span = |i: usize| ((hi[i] / step).ceil() - (lo[i] / step).floor()).max(1.0) * step;
@@ -125,7 +142,7 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
         })
         .fold(f64::INFINITY, f64::min);
     for (k, run) in runs.iter().enumerate() {
-        for (view, axes, y_label) in &views {
+        for (view, axes, x_label, y_label, caption) in &views {
             let (panel, step) = fit(runs, *axes, scale);
             let mut svg = String::with_capacity(32 * 1024);
             let _ = writeln!(
@@ -139,7 +156,7 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
                 "<title>{0}</title>\n<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"20\" font-size=\"15\" font-weight=\"bold\">{0}</text>",
                 escape(&title)
             );
-            panel.draw_axes(&mut svg, step, step, "x [mm]", y_label, "");
+            panel.draw_axes(&mut svg, step, step, x_label, y_label, "");
             let at = |p: &[f64; 3]| (panel.x(1e3 * p[axes[0]]), panel.y(1e3 * p[axes[1]]));
             draw_environment(&mut svg, run.doc, &at);
             if k > 0 {
@@ -147,6 +164,7 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
             }
             draw_rods(&mut svg, run, f_max, &at);
             draw_supports(&mut svg, run.doc, &at);
+            draw_contacts(&mut svg, run, &at, *axes);
             draw_colour_bar(&mut svg, f_max, (panel.right + 34.0).min(WIDTH - 70.0));
             svg.push_str("</svg>");
             let _ = writeln!(
@@ -155,18 +173,14 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
                 escape(run.label),
                 escape(run.label),
                 view,
-                if *view == "side" {
-                    "x right, z up"
-                } else {
-                    "x right, y up, seen from above"
-                }
+                caption
             );
         }
     }
 }
 
 fn draw_environment(svg: &mut String, doc: &ResultDoc, at: &dyn Fn(&[f64; 3]) -> (f64, f64)) {
-    for outline in &doc.environment {
+    for outline in doc.environment.iter().filter(|e| !e.segments_m.is_empty()) {
         let mut d = String::new();
         for [a, b] in &outline.segments_m {
             let ((x0, y0), (x1, y1)) = (at(a), at(b));
@@ -176,7 +190,7 @@ fn draw_environment(svg: &mut String, doc: &ResultDoc, at: &dyn Fn(&[f64; 3]) ->
         }
         let _ = writeln!(
             svg,
-            "<path class=\"environment\" data-name=\"{}\" d=\"{}\" fill=\"none\" stroke=\"#9a9a9a\" stroke-width=\"1\"/>",
+            "<path class=\"environment\" data-name=\"{}\" d=\"{}\" fill=\"none\" stroke=\"#b4b4b4\" stroke-width=\"1\" stroke-linecap=\"round\"/>",
             escape(&outline.name),
             d.trim_end()
         );
@@ -291,6 +305,57 @@ fn draw_supports(svg: &mut String, doc: &ResultDoc, at: &dyn Fn(&[f64; 3]) -> (f
                 y + 4.0
             );
         }
+    }
+}
+
+/// Length of a contact-force arrow, px.
+const ARROW: f64 = 26.0;
+
+/// Marks every contact of `run`: a dot at the contact point (on the centreline) and,
+/// where the contact normal is not along the line of sight, an arrow of the force on
+/// the hose ending there; labelled with the force in N.
+fn draw_contacts(
+    svg: &mut String,
+    run: &ReportRun,
+    at: &dyn Fn(&[f64; 3]) -> (f64, f64),
+    axes: [usize; 2],
+) {
+    for c in &run.doc.contacts {
+        let (x, y) = at(&c.point_m);
+        if !(x.is_finite() && y.is_finite()) {
+            continue;
+        }
+        // The normal in screen directions (SVG y grows downwards).
+        let (nx, ny) = (c.normal[axes[0]], -c.normal[axes[1]]);
+        let length = nx.hypot(ny);
+        let arrow = if length > 0.2 {
+            let (dx, dy) = (nx / length, ny / length);
+            let (x0, y0) = (x - ARROW * dx, y - ARROW * dy);
+            // Head: two barbs 7 px back from the tip, ±4 px sideways.
+            let (bx, by) = (x - 7.0 * dx, y - 7.0 * dy);
+            format!(
+                "<path d=\"M{x0:.2} {y0:.2} L{x:.2} {y:.2} M{:.2} {:.2} L{x:.2} {y:.2} L{:.2} {:.2}\" fill=\"none\" stroke=\"{CONTACT_COLOUR}\" stroke-width=\"2\"/>",
+                bx - 4.0 * dy,
+                by + 4.0 * dx,
+                bx + 4.0 * dy,
+                by - 4.0 * dx
+            )
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            svg,
+            "<g class=\"contact\" data-rod=\"{}\" data-with=\"{}\" data-force-n=\"{}\"><title>{} on {}: {} N</title>{arrow}<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"4\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\" stroke-width=\"1\"/><text x=\"{:.2}\" y=\"{:.2}\" font-size=\"10\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">{} N</text></g>",
+            escape(&c.rod),
+            escape(&c.with),
+            c.force_n,
+            escape(&c.rod),
+            escape(&c.with),
+            sig(c.force_n),
+            x + 6.0,
+            y + 14.0,
+            sig(c.force_n)
+        );
     }
 }
 

@@ -56,6 +56,7 @@ fn docs() -> (ResultDoc, ResultDoc) {
             [[1.0, -0.1, -0.1], [1.0, 0.1, 0.2]],
             [[1.0, 0.1, 0.2], [0.0, -0.1, -0.1]],
         ],
+        truncated: false,
         diagnostics: None,
     });
     (base, longer)
@@ -198,12 +199,13 @@ fn report_is_well_formed_and_names_every_hose_and_result() {
             );
         }
     }
-    // Side and top view of every result, with every rod and (where given) the outline.
+    // Side, top and front view of every result, with every rod and (where given) the
+    // outline.
     let views: Vec<_> = xml
         .descendants()
         .filter(|n| n.attribute("class") == Some("projection"))
         .collect();
-    assert_eq!(views.len(), 4);
+    assert_eq!(views.len(), 6);
     for view in &views {
         let rods: Vec<_> = view
             .descendants()
@@ -224,7 +226,9 @@ fn report_is_well_formed_and_names_every_hose_and_result() {
             assert!(outline.is_none());
         }
     }
-    assert!(!html.contains("<script") && !html.contains("href") && !html.contains("url("));
+    // Self-contained: inline scripts only (the 3D view), no links or remote resources.
+    assert!(!html.contains("src=") && !html.contains("href") && !html.contains("url("));
+    assert_eq!(html.matches("<script").count(), 2);
     assert!(!html.contains("NaN"));
 }
 

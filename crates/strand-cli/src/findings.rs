@@ -1,0 +1,272 @@
+//! Design limits of a solved case into its result document: the case's allowed bend
+//! radii and required clearances on the rods, clearances searched far enough to
+//! see every violation, and the `findings` (see [`strand_report::find`]) that `strand
+//! solve` prints and `result.json` carries.
+
+use strand_case::BuiltCase;
+use strand_report::{CLEARANCE_SEARCH_M, ResultDoc, collect_clearances, find};
+use strand_solve::Solution;
+use strand_solve::contact::Contact;
+
+use crate::Exit;
+use crate::commands::Failure;
+
+/// Copies the limits of `built` onto `doc`'s rods (`min_bend_radius_m`,
+/// `min_clearance_m`), searches the clearances out to the largest required clearance
+/// (rod–rod only when the case has no environment), and sets `doc.findings`. Call
+/// after the contacts are collected.
+pub(crate) fn add_findings(
+    doc: &mut ResultDoc,
+    built: &BuiltCase,
+    solution: &Solution,
+) -> Result<(), Failure> {
+    for (k, rod) in doc.rods.iter_mut().enumerate() {
+        rod.min_bend_radius_m = built.min_bend_radius.get(k).copied().flatten();
+        rod.min_clearance_m = built.min_clearance.get(k).copied().flatten();
+    }
+    let required = built
+        .min_clearance
+        .iter()
+        .flatten()
+        .copied()
+        .fold(None, |a: Option<f64>, c| Some(a.map_or(c, |a| a.max(c))));
+    if let Some(required) = required {
+        // 1 % more than required, so that a pair just outside is listed as fine.
+        let search = 1.01 * required + 1e-6;
+        let contact = match built.contact() {
+            // The contacts' own search already covers the requirement.
+            Some(_) if search <= CLEARANCE_SEARCH_M => None,
+            Some(contact) => Some(contact),
+            None => Some(Contact::new(
+                Vec::new(),
+                Contact::default_margin_m(&built.model),
+            )),
+        };
+        if let Some(contact) = contact {
+            collect_clearances(doc, &built.model, solution, &contact, search).map_err(|e| {
+                Failure {
+                    exit: Exit::Failure,
+                    message: format!("{}: clearances: {e}", built.origin),
+                }
+            })?;
+        }
+    }
+    doc.findings = find(doc);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::{Path, PathBuf};
+
+    use strand_report::{Finding, FindingKind, ResultDoc, bend_radii};
+
+    use crate::{Exit, run};
+
+    fn repo() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    }
+
+    /// Runs `strand ARGS`: exit, stdout, stderr.
+    fn strand(args: &[&str]) -> (Exit, String, String) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let exit = run(
+            std::iter::once("strand").chain(args.iter().copied()),
+            &mut out,
+            &mut err,
+        );
+        (
+            exit,
+            String::from_utf8(out).unwrap(),
+            String::from_utf8(err).unwrap(),
+        )
+    }
+
+    /// `cases/cooler_hose_contact.ron` written into `dir` as `name.ron` (meshes by
+    /// absolute path), with `min_bend_radius` (mm) on the large hoses' section and
+    /// `min_clearance` (mm) on hose1, when given; solved into `dir/name`.
+    fn solve(
+        dir: &Path,
+        name: &str,
+        bend: Option<f64>,
+        clearance: Option<f64>,
+    ) -> (String, String, ResultDoc) {
+        let text = std::fs::read_to_string(repo().join("cases/cooler_hose_contact.ron")).unwrap();
+        let assets = repo().join("assets").canonicalize().unwrap();
+        let mut text = text.replace("\"../assets", &format!("\"{}", assets.display()));
+        if let Some(bend) = bend {
+            text = text.replacen(
+                "inner_radius: 14.4, outer_radius: 18.4)",
+                &format!("inner_radius: 14.4, outer_radius: 18.4, min_bend_radius: {bend:?})"),
+                1,
+            );
+        }
+        if let Some(clearance) = clearance {
+            text = text.replacen(
+                "name: \"hose1\",",
+                &format!("name: \"hose1\", min_clearance: {clearance:?},"),
+                1,
+            );
+        }
+        let case = dir.join(format!("{name}.ron"));
+        std::fs::write(&case, text).unwrap();
+        let out_dir = dir.join(name);
+        let (exit, out, err) = strand(&[
+            "solve",
+            case.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert_eq!(exit, Exit::Success, "{out}\n{err}");
+        let doc: ResultDoc =
+            serde_json::from_str(&std::fs::read_to_string(out_dir.join("result.json")).unwrap())
+                .unwrap();
+        (out, err, doc)
+    }
+
+    /// The lines `strand solve` printed under `findings`.
+    fn printed(out: &str) -> Vec<String> {
+        out.lines()
+            .skip_while(|l| !l.starts_with("findings"))
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .map(|l| l.trim().to_string())
+            .collect()
+    }
+
+    fn described(findings: &[Finding]) -> Vec<String> {
+        findings.iter().map(|f| f.describe(1e-3, "mm")).collect()
+    }
+
+    #[test]
+    fn limits_just_inside_and_just_outside_the_solved_design() {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, _, free) = solve(dir.path(), "free", None, None);
+        assert!(free.findings.is_empty());
+        assert!(
+            !out.contains("findings"),
+            "no limits, no findings line: {out}"
+        );
+        // The solved design: smallest bend radius of the large hoses (hose1, hose3) and
+        // hose1's clearance to the radiator, mm.
+        let tightest = free
+            .rods
+            .iter()
+            .filter(|r| r.name != "hose2")
+            .flat_map(|r| {
+                bend_radii(r)
+                    .into_iter()
+                    .enumerate()
+                    .map(move |(j, b)| (b, r, j))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap();
+        let (bend_mm, bend_rod, bend_vertex) =
+            (1e3 * tightest.0, tightest.1.name.clone(), tightest.2);
+        let radiator = free
+            .clearance
+            .iter()
+            .find(|c| c.rod == "hose1" && c.with == "radiator")
+            .expect("hose1 near the radiator");
+        let clear_mm = 1e3 * radiator.distance_m;
+        assert!(clear_mm > 5.0, "{clear_mm}");
+
+        // Just loose enough: no finding; the limits are in result.json.
+        let (out, err, loose) = solve(
+            dir.path(),
+            "loose",
+            Some(0.999 * bend_mm),
+            Some(0.999 * clear_mm),
+        );
+        assert!(loose.findings.is_empty(), "{:?}", loose.findings);
+        assert!(
+            out.contains("findings    none (min_bend_radius, min_clearance respected)"),
+            "{out}"
+        );
+        assert!(!err.contains("limit violation"), "{err}");
+        let hose1 = &loose.rods[0];
+        assert!((hose1.min_bend_radius_m.unwrap() - 0.999e-3 * bend_mm).abs() < 1e-12);
+        assert!((hose1.min_clearance_m.unwrap() - 0.999e-3 * clear_mm).abs() < 1e-12);
+        assert_eq!(
+            loose.rods[1].min_bend_radius_m, None,
+            "hose2's section has none"
+        );
+        assert_eq!(loose.rods[2].min_clearance_m, None);
+
+        // Just too tight: exactly one bend finding at the tightest vertex and one
+        // clearance finding against the radiator, printed as in result.json.
+        let (out, err, tight) = solve(
+            dir.path(),
+            "tight",
+            Some(1.001 * bend_mm),
+            Some(1.001 * clear_mm),
+        );
+        let bends: Vec<&Finding> = tight
+            .findings
+            .iter()
+            .filter(|f| f.kind == FindingKind::BendRadius)
+            .collect();
+        assert_eq!(bends.len(), 1, "{:?}", tight.findings);
+        assert_eq!(bends[0].rod, bend_rod);
+        let rod = tight.rods.iter().find(|r| r.name == bend_rod).unwrap();
+        assert_eq!(bends[0].s_m, rod.s_m[bend_vertex]);
+        assert!((1e3 * bends[0].value_m - bend_mm).abs() < 1e-9);
+        let clear: Vec<&Finding> = tight
+            .findings
+            .iter()
+            .filter(|f| f.kind == FindingKind::Clearance)
+            .collect();
+        assert!(
+            clear
+                .iter()
+                .any(|f| f.rod == "hose1" && f.with.as_deref() == Some("radiator")),
+            "{clear:?}"
+        );
+        assert!(
+            clear
+                .iter()
+                .all(|f| f.rod == "hose1" && f.value_m < f.limit_m)
+        );
+        assert_eq!(printed(&out), described(&tight.findings), "{out}");
+        assert!(
+            err.contains(&format!("{} limit violation(s)", tight.findings.len())),
+            "{err}"
+        );
+
+        // The report opens with the same findings.
+        let html = dir.path().join("review.html");
+        let (exit, _, err) = strand(&[
+            "report",
+            dir.path().join("tight").to_str().unwrap(),
+            dir.path().join("loose").to_str().unwrap(),
+            "--out",
+            html.to_str().unwrap(),
+        ]);
+        assert_eq!(exit, Exit::Success, "{err}");
+        let html = std::fs::read_to_string(html).unwrap();
+        let rows = |label: &str| {
+            html.lines()
+                .filter(|l| l.starts_with(&format!("<tr data-result=\"{label}\"")))
+                .filter(|l| l.contains("data-kind="))
+                .count()
+        };
+        assert_eq!(rows("tight"), tight.findings.len());
+        assert_eq!(rows("loose"), 0);
+        // The environment is drawn: outlines in every view, contacts marked.
+        assert!(!html.contains("TODO"));
+        assert!(html.matches("class=\"environment\"").count() >= 3 * 2 * 5);
+        assert!(html.contains("class=\"contact\""));
+    }
+
+    #[test]
+    fn a_negative_clearance_is_refused_with_its_item() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = std::fs::read_to_string(repo().join("cases/cooler_hose.ron")).unwrap();
+        let text = text.replacen("name: \"hose1\",", "name: \"hose1\", min_clearance: -1,", 1);
+        let case = dir.path().join("bad.ron");
+        std::fs::write(&case, text).unwrap();
+        let (exit, _, err) = strand(&["check", case.to_str().unwrap()]);
+        assert_eq!(exit, Exit::InvalidInput);
+        assert!(err.contains("rods[0] 'hose1'.min_clearance"), "{err}");
+    }
+}
