@@ -124,7 +124,7 @@ pub fn find(doc: &ResultDoc) -> Vec<Finding> {
             let mut close: Vec<_> = doc
                 .clearance
                 .iter()
-                .filter(|c| c.rod == rod.name && !(c.distance_m >= limit))
+                .filter(|c| c.rod == rod.name && violates(c.distance_m, limit))
                 .collect();
             close.sort_by(|a, b| a.with.cmp(&b.with));
             findings.extend(close.into_iter().map(|c| Finding {
@@ -141,6 +141,12 @@ pub fn find(doc: &ResultDoc) -> Vec<Finding> {
     findings
 }
 
+/// Whether `value` is below `limit` or not a number (a broken result never passes).
+fn violates(value: f64, limit: f64) -> bool {
+    use std::cmp::Ordering::{Equal, Greater};
+    !matches!(value.partial_cmp(&limit), Some(Greater | Equal))
+}
+
 /// One finding per contiguous run of vertices of `rod` whose bend radius is below
 /// `limit` (or not a number), at the run's tightest vertex.
 fn bend_findings(rod: &RodResult, limit: f64, findings: &mut Vec<Finding>) {
@@ -148,12 +154,12 @@ fn bend_findings(rod: &RodResult, limit: f64, findings: &mut Vec<Finding>) {
     let s = |j: usize| rod.s_m.get(j).copied().unwrap_or(f64::NAN);
     let mut j = 0;
     while j < radii.len() {
-        if radii[j] >= limit {
+        if !violates(radii[j], limit) {
             j += 1;
             continue;
         }
         let first = j;
-        while j < radii.len() && !(radii[j] >= limit) {
+        while j < radii.len() && violates(radii[j], limit) {
             j += 1;
         }
         let worst = (first..j)

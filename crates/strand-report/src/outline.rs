@@ -131,7 +131,10 @@ pub(crate) fn clip(a: [f64; 3], b: [f64; 3], region: &Aabb) -> Option<[[f64; 3];
             }
         }
     }
-    if !(t0 <= t1) {
+    if t0
+        .partial_cmp(&t1)
+        .is_none_or(|o| o == std::cmp::Ordering::Greater)
+    {
         return None;
     }
     let at = |t: f64| [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]));
