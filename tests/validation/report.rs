@@ -77,12 +77,35 @@ fn report_of_the_cooler_hoses_matches_their_results() {
     {
         assert!(text.contains(needle), "missing {needle}");
     }
-    let svgs = xml.descendants().filter(|n| n.has_tag_name("svg")).count();
-    assert_eq!(
-        svgs,
-        3 + 2 * 2,
-        "a plot per hose, side and top view per result"
-    );
+    // A plot per hose, a side, top and front view per result, one 3D view.
+    let svgs: Vec<_> = xml
+        .descendants()
+        .filter(|n| n.has_tag_name("svg"))
+        .collect();
+    let of_class = |class: &str| {
+        svgs.iter()
+            .filter(|n| n.attribute("class") == Some(class))
+            .count()
+    };
+    assert_eq!(of_class("hose-plot"), 3, "a plot per hose");
+    for result in labels {
+        let mut views: Vec<&str> = svgs
+            .iter()
+            .filter(|n| {
+                n.attribute("class") == Some("projection")
+                    && n.attribute("data-result") == Some(result)
+            })
+            .filter_map(|n| n.attribute("data-view"))
+            .collect();
+        views.sort_unstable();
+        assert_eq!(views, ["front", "side", "top"], "views of result {result}");
+    }
+    let three_d = svgs
+        .iter()
+        .filter(|n| n.attribute("id") == Some("v3d-svg"))
+        .count();
+    assert_eq!(three_d, 1, "one 3D view");
+    assert_eq!(svgs.len(), 3 + 2 * 3 + 1, "no other drawing");
 
     // The peak table against result.json.
     let table = xml
