@@ -3,10 +3,8 @@
 //! cold solve time, with the issue-10 target for the cooler hoses (≤ 15 iterations).
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use strand_case::Case;
-use strand_solve::Solver;
 
 /// The bundled contact cases, relative to the `cases/` folder, with what each exercises.
 pub const CONTACT_CASES: [(&str, &str); 3] = [
@@ -60,14 +58,8 @@ pub fn run_contact(
         let mut times = Vec::with_capacity(repeats);
         let mut last = None;
         for _ in 0..repeats.max(1) {
-            let started = Instant::now();
-            let contact = built.contact();
-            let mut solver = Solver::try_new(&built.model)?;
-            if let Some(c) = &contact {
-                solver = solver.with_constraints(c);
-            }
-            let solution = solver.solve(built.initial.clone(), &built.settings)?;
-            times.push(started.elapsed().as_secs_f64() * 1e3);
+            let (solution, cold_ms, ()) = super::cold_solve(&built, |_| Ok(()))?;
+            times.push(cold_ms);
             let contacts = solution
                 .constraints
                 .iter()
