@@ -3,12 +3,12 @@
 //! stress-free; finite-difference checks of the assembled gradient and Hessian with
 //! clips (fixed, revolute, spherical) on a moulded rod.
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DVector, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_rod::so3::right_jacobian;
 use strand_rod::{NominalRod, NominalShape, Rod, Section};
 
+use crate::tests::{chart_gradient, dense_hessian};
 use crate::*;
 
 /// A moulded rod along a 3-D curve (a bend and a rise), 12 segments.
@@ -101,37 +101,6 @@ fn a_moulded_rod_clipped_at_its_nominal_frames_is_stress_free() {
     let tilted = Model::try_new(system(&nominal, joints, 0.01, true, 0.0)).unwrap();
     tilted.evaluate(&state, &mut eval, false);
     assert!(eval.gradient.iter().any(|g| g.abs() > 1e-4));
-}
-
-fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
-    let moved = model.retract(state, x.as_slice());
-    let mut eval = model.new_evaluation();
-    model.evaluate(&moved, &mut eval, false);
-    let mut g = DVector::from_vec(eval.gradient);
-    for b in 0..model.dofs().block_count() {
-        if model.dofs().kind(b) == BlockKind::Rotation {
-            let local = g.fixed_rows::<3>(3 * b).into_owned();
-            let jr = right_jacobian(&x.fixed_rows::<3>(3 * b).into_owned());
-            g.fixed_rows_mut::<3>(3 * b)
-                .copy_from(&(jr.transpose() * local));
-        }
-    }
-    g
-}
-
-fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
-    let p = model.pattern();
-    let mut h = DMatrix::zeros(p.dim(), p.dim());
-    for c in 0..p.dim() {
-        for k in p.col_ptr[c]..p.col_ptr[c + 1] {
-            let r = p.row_idx[k];
-            h[(r, c)] += values[k];
-            if r != c {
-                h[(c, r)] += values[k];
-            }
-        }
-    }
-    h
 }
 
 #[test]

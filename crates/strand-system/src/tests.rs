@@ -342,7 +342,7 @@ fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
 }
 
 /// The gradient at chart point `x` of the chart at `state`.
-fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
+pub(crate) fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
     let moved = model.retract(state, x.as_slice());
     let mut eval = model.new_evaluation();
     model.evaluate(&moved, &mut eval, false);
@@ -351,7 +351,7 @@ fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVect
     DVector::from_vec(g)
 }
 
-fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
+pub(crate) fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
     let p = model.pattern();
     let mut h = DMatrix::zeros(p.dim(), p.dim());
     for c in 0..p.dim() {
