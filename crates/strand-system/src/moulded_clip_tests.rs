@@ -3,12 +3,12 @@
 //! stress-free; finite-difference checks of the assembled gradient and Hessian with
 //! clips (fixed, revolute, spherical) on a moulded rod.
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use strand_rod::{NominalRod, NominalShape, Rod, Section};
 
-use crate::tests::{chart_gradient, dense_hessian};
+use crate::tests::check_derivatives_at;
 use crate::*;
 
 /// A moulded rod along a 3-D curve (a bend and a rise), 12 segments.
@@ -114,12 +114,6 @@ fn clips_on_a_moulded_rod_match_finite_differences() {
         },
     ];
     let model = Model::try_new(system(&nominal, joints, 0.2, false, 9.81)).unwrap();
-    // The revolute joint's spare components have no coordinate.
-    let spare: Vec<usize> = model
-        .dofs()
-        .clip(2)
-        .map(|b| vec![3 * b + 1, 3 * b + 2])
-        .unwrap_or_default();
     let mut rng = ChaCha8Rng::seed_from_u64(17);
     for _ in 0..2 {
         let mut start = initial_state(model.system());
@@ -128,34 +122,6 @@ fn clips_on_a_moulded_rod_match_finite_differences() {
             .map(|_| rng.random_range(-0.2..0.2))
             .collect();
         let state = model.retract(&start, &step);
-        let mut eval = model.new_evaluation();
-        model.evaluate(&state, &mut eval, true);
-        assert!((eval.energy - model.energy(&state)).abs() < 1e-12 * (1.0 + eval.energy.abs()));
-        let hessian = dense_hessian(&model, &eval.hessian);
-        let n = model.dofs().len();
-        let h = 1e-6;
-        for k in (0..n).filter(|k| !spare.contains(k)) {
-            let mut e = DVector::zeros(n);
-            e[k] = h;
-            let plus = model.energy(&model.retract(&state, e.as_slice()));
-            let minus = model.energy(&model.retract(&state, (-&e).as_slice()));
-            let fd = (plus - minus) / (2.0 * h);
-            assert!(
-                (fd - eval.gradient[k]).abs() < 1e-6,
-                "gradient {k}: fd {fd} vs {}",
-                eval.gradient[k]
-            );
-            let column = (chart_gradient(&model, &state, &e)
-                - chart_gradient(&model, &state, &-&e))
-                / (2.0 * h);
-            for l in (0..n).filter(|l| !spare.contains(l)) {
-                assert!(
-                    (column[l] - hessian[(l, k)]).abs() < 1e-5 * (1.0 + hessian[(l, k)].abs()),
-                    "hessian ({l},{k}): fd {} vs {}",
-                    column[l],
-                    hessian[(l, k)]
-                );
-            }
-        }
+        check_derivatives_at(&model, &state);
     }
 }

@@ -342,7 +342,7 @@ fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
 }
 
 /// The gradient at chart point `x` of the chart at `state`.
-pub(crate) fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
+fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64>) -> DVector<f64> {
     let moved = model.retract(state, x.as_slice());
     let mut eval = model.new_evaluation();
     model.evaluate(&moved, &mut eval, false);
@@ -351,7 +351,7 @@ pub(crate) fn chart_gradient(model: &Model, state: &SystemState, x: &DVector<f64
     DVector::from_vec(g)
 }
 
-pub(crate) fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
+fn dense_hessian(model: &Model, values: &[f64]) -> DMatrix<f64> {
     let p = model.pattern();
     let mut h = DMatrix::zeros(p.dim(), p.dim());
     for c in 0..p.dim() {
@@ -414,39 +414,45 @@ fn check_assembly(system: System) {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for _ in 0..3 {
         let state = perturbed(&model, &mut rng);
-        let mut eval = model.new_evaluation();
-        model.evaluate(&state, &mut eval, true);
-        assert!((eval.energy - model.energy(&state)).abs() < 1e-12 * (1.0 + eval.energy.abs()));
-        let hessian = dense_hessian(&model, &eval.hessian);
-        let n = model.dofs().len();
-        let spare = spare_components(&model);
-        let h = 1e-6;
-        for k in 0..n {
-            let mut e = DVector::zeros(n);
-            e[k] = h;
-            let plus = model.energy(&model.retract(&state, e.as_slice()));
-            let minus = model.energy(&model.retract(&state, (-&e).as_slice()));
-            let fd = (plus - minus) / (2.0 * h);
+        check_derivatives_at(&model, &state);
+    }
+}
+
+/// Central finite differences (step 1e-6) of the energy and of the chart gradient at
+/// `state` against the assembled gradient (1e-6 absolute) and Hessian (1e-5
+/// relative); the spare components of one-axis joints must carry a unit diagonal.
+pub(crate) fn check_derivatives_at(model: &Model, state: &SystemState) {
+    let mut eval = model.new_evaluation();
+    model.evaluate(state, &mut eval, true);
+    assert!((eval.energy - model.energy(state)).abs() < 1e-12 * (1.0 + eval.energy.abs()));
+    let hessian = dense_hessian(model, &eval.hessian);
+    let n = model.dofs().len();
+    let spare = spare_components(model);
+    let h = 1e-6;
+    for k in 0..n {
+        let mut e = DVector::zeros(n);
+        e[k] = h;
+        let plus = model.energy(&model.retract(state, e.as_slice()));
+        let minus = model.energy(&model.retract(state, (-&e).as_slice()));
+        let fd = (plus - minus) / (2.0 * h);
+        assert!(
+            (fd - eval.gradient[k]).abs() < 1e-6,
+            "gradient {k}: fd {fd} vs {}",
+            eval.gradient[k]
+        );
+        let column =
+            (chart_gradient(model, state, &e) - chart_gradient(model, state, &-&e)) / (2.0 * h);
+        if spare.contains(&k) {
+            assert_eq!(hessian[(k, k)], 1.0, "spare joint component {k}");
+            continue;
+        }
+        for l in (0..n).filter(|l| !spare.contains(l)) {
             assert!(
-                (fd - eval.gradient[k]).abs() < 1e-6,
-                "gradient {k}: fd {fd} vs {}",
-                eval.gradient[k]
+                (column[l] - hessian[(l, k)]).abs() < 1e-5 * (1.0 + hessian[(l, k)].abs()),
+                "hessian ({l},{k}): fd {} vs {}",
+                column[l],
+                hessian[(l, k)]
             );
-            let column = (chart_gradient(&model, &state, &e)
-                - chart_gradient(&model, &state, &-&e))
-                / (2.0 * h);
-            if spare.contains(&k) {
-                assert_eq!(hessian[(k, k)], 1.0, "spare joint component {k}");
-                continue;
-            }
-            for l in (0..n).filter(|l| !spare.contains(l)) {
-                assert!(
-                    (column[l] - hessian[(l, k)]).abs() < 1e-5 * (1.0 + hessian[(l, k)].abs()),
-                    "hessian ({l},{k}): fd {} vs {}",
-                    column[l],
-                    hessian[(l, k)]
-                );
-            }
         }
     }
 }
