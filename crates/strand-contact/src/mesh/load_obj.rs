@@ -25,20 +25,7 @@ impl ObstacleMesh {
     ) -> Result<Self, MeshError> {
         let path = path.as_ref();
         let label = path.display().to_string();
-        if !(scale_to_metres.is_finite() && scale_to_metres > 0.0) {
-            return Err(MeshError::InvalidScale {
-                mesh: label,
-                scale: scale_to_metres,
-            });
-        }
-        let pose_values = pose
-            .translation
-            .vector
-            .iter()
-            .chain(pose.rotation.coords.iter());
-        if !pose_values.into_iter().all(|x| x.is_finite()) {
-            return Err(MeshError::InvalidPose { mesh: label });
-        }
+        check_placement(&label, scale_to_metres, pose)?;
         let bytes = std::fs::read(path).map_err(|source| MeshError::Read {
             path: path.to_path_buf(),
             source,
@@ -89,6 +76,32 @@ impl ObstacleMesh {
 /// coordinates. Set field by field: the struct has more fields when tobj features
 /// are enabled elsewhere in the build.
 #[allow(clippy::field_reassign_with_default)]
+/// The placement of a mesh file, `label`: a finite positive scale to metres and a
+/// finite pose, else [`MeshError::InvalidScale`] / [`MeshError::InvalidPose`].
+pub(super) fn check_placement(
+    label: &str,
+    scale_to_metres: f64,
+    pose: &Isometry3<f64>,
+) -> Result<(), MeshError> {
+    if !(scale_to_metres.is_finite() && scale_to_metres > 0.0) {
+        return Err(MeshError::InvalidScale {
+            mesh: label.to_string(),
+            scale: scale_to_metres,
+        });
+    }
+    let mut pose_values = pose
+        .translation
+        .vector
+        .iter()
+        .chain(pose.rotation.coords.iter());
+    if !pose_values.all(|x| x.is_finite()) {
+        return Err(MeshError::InvalidPose {
+            mesh: label.to_string(),
+        });
+    }
+    Ok(())
+}
+
 fn load_options() -> tobj::LoadOptions {
     let mut options = tobj::LoadOptions::default();
     options.triangulate = true;

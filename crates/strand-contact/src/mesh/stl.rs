@@ -131,20 +131,7 @@ fn stl_mesh(
     pose: &Isometry3<f64>,
 ) -> Result<ObstacleMesh, MeshError> {
     let label = path.display().to_string();
-    if !(scale_to_metres.is_finite() && scale_to_metres > 0.0) {
-        return Err(MeshError::InvalidScale {
-            mesh: label,
-            scale: scale_to_metres,
-        });
-    }
-    let pose_values = pose
-        .translation
-        .vector
-        .iter()
-        .chain(pose.rotation.coords.iter());
-    if !pose_values.into_iter().all(|x| x.is_finite()) {
-        return Err(MeshError::InvalidPose { mesh: label });
-    }
+    super::load_obj::check_placement(&label, scale_to_metres, pose)?;
     let extension = path.extension().and_then(|e| e.to_str());
     let corners = match detect_format(bytes, extension) {
         MeshFormat::AsciiStl => parse_ascii(path, bytes)?,
