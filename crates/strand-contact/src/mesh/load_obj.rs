@@ -72,10 +72,6 @@ impl ObstacleMesh {
     }
 }
 
-/// Triangulated faces only, positions indexed separately from normals and texture
-/// coordinates. Set field by field: the struct has more fields when tobj features
-/// are enabled elsewhere in the build.
-#[allow(clippy::field_reassign_with_default)]
 /// The placement of a mesh file, `label`: a finite positive scale to metres and a
 /// finite pose, else [`MeshError::InvalidScale`] / [`MeshError::InvalidPose`].
 pub(super) fn check_placement(
@@ -102,6 +98,10 @@ pub(super) fn check_placement(
     Ok(())
 }
 
+/// Triangulated faces only, positions indexed separately from normals and texture
+/// coordinates. Set field by field: the struct has more fields when tobj features
+/// are enabled elsewhere in the build.
+#[allow(clippy::field_reassign_with_default)]
 fn load_options() -> tobj::LoadOptions {
     let mut options = tobj::LoadOptions::default();
     options.triangulate = true;
