@@ -94,7 +94,7 @@ fn every_case_of_the_convergence_map_converges() {
 }
 
 #[test]
-#[ignore = "issue 9 open: every case converges, but in a median of 23 iterations (target 20) and at most 642 (target 100); the slowest are limp cables with a free end, a tip load and a clip; run with --ignored"]
+#[ignore = "issue 9 open: every case converges, but in a median of 21.5 iterations (target 20) and at most 374 (target 100; 8 cases above); the slowest are limp cables with a free end, a tip load and a clip; run with --ignored"]
 fn the_convergence_map_takes_few_iterations() {
     let (failures, iterations) = run_map();
     assert!(failures.is_empty(), "{}", failures.join("\n"));

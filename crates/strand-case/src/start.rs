@@ -12,22 +12,33 @@
 
 use nalgebra::Vector3;
 use strand_rod::RodState;
-use strand_system::{System, initial_state};
+use strand_system::{RouteShape, System, initial_state, initial_state_with};
 
 use crate::BuiltCase;
 use crate::nominal::use_guesses;
 
 impl BuiltCase {
-    /// The first of the hanging guess (`self.initial`), the guesses bowed sideways and
-    /// the guess arched upwards that clears every obstacle ([`BuiltCase::check_start`]),
-    /// with the rods' warm-start `guesses` and routes kept in each. `self.initial`
-    /// unchanged when none clears (the check then names the overlap) or the case has
-    /// no environment. Returns which start was taken.
+    /// The first of the hanging guess (`self.initial`, routes smoothed), the routes as
+    /// drawn, the guesses bowed sideways and the guess arched upwards that clears every obstacle ([`BuiltCase::check_start`]),
+    /// with the rods' warm-start `guesses` and routes kept in each. When none clears,
+    /// the routes as drawn if there are routes, else `self.initial` unchanged (the
+    /// check then names the overlap); unchanged without an environment. Returns which
+    /// start was taken.
     pub(crate) fn clear_start(&mut self, guesses: &[Option<RodState>]) -> Start {
         if self.environment.is_empty() || self.check_start().is_ok() {
             return Start::Hanging;
         }
         let system = self.model.system();
+        if system.rods.iter().any(|r| r.route.is_some()) {
+            // A route drawn around a part: its smoothed corners may cut into it.
+            let mut candidate = initial_state_with(system, RouteShape::AsDrawn);
+            use_guesses(&mut candidate, guesses);
+            let smoothed = std::mem::replace(&mut self.initial, candidate);
+            if self.check_start().is_ok() {
+                return Start::RouteAsDrawn;
+            }
+            self.initial = smoothed;
+        }
         let g = system.gravity;
         // Two horizontal directions (perpendicular to gravity, or to z without it).
         let down = if g.norm() > 0.0 {
@@ -64,6 +75,14 @@ impl BuiltCase {
             }
             self.initial = hanging;
         }
+        if system.rods.iter().any(|r| r.route.is_some()) {
+            // Nothing clears: the check names the overlap of the route as drawn, the
+            // geometry the user gave, not of its smoothed curve.
+            let mut as_drawn = initial_state_with(system, RouteShape::AsDrawn);
+            use_guesses(&mut as_drawn, guesses);
+            self.initial = as_drawn;
+            return Start::RouteAsDrawn;
+        }
         Start::Hanging
     }
 }
@@ -75,6 +94,9 @@ pub enum Start {
     Hanging,
     /// The hanging shape with gravity reversed: arched up over the part below.
     Arched,
+    /// The routes as drawn, corners unsmoothed ([`RouteShape::AsDrawn`]): their
+    /// smoothed curves pass through an obstacle.
+    RouteAsDrawn,
     /// The hanging shape with gravity turned horizontal: bowed to one side of a part
     /// between the ends.
     Sideways,
@@ -85,6 +107,9 @@ impl Start {
     pub fn describe(self) -> Option<&'static str> {
         match self {
             Start::Hanging => None,
+            Start::RouteAsDrawn => {
+                Some("the routes as drawn (their smoothed corners pass through an obstacle)")
+            }
             Start::Sideways => Some(
                 "bowed sideways (the hanging guess passes through an obstacle; give a route to choose)",
             ),

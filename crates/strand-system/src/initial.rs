@@ -19,6 +19,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::RodState;
 use strand_rod::so3::frame_with_tangent;
 
+use crate::route::{RouteShape, smooth_route};
 use crate::system::{Pose, System, SystemState};
 
 /// Ratio `w L³ / EI` (weight per length `w` in N/m, length `L` in m, bending stiffness
@@ -30,12 +31,17 @@ pub const SAG_RATIO: f64 = 100.0;
 /// Points per piece of a guide curve.
 const SAMPLES: usize = 400;
 
-/// The initial configuration of every rod.
+/// The initial configuration of every rod, routes smoothed ([`RouteShape::Smoothed`]).
 pub fn initial_state(system: &System) -> SystemState {
+    initial_state_with(system, RouteShape::Smoothed)
+}
+
+/// The initial configuration of every rod, with the routes shaped as `routes` says.
+pub fn initial_state_with(system: &System, routes: RouteShape) -> SystemState {
     let poses = system.body_poses();
     SystemState {
         rods: (0..system.rods.len())
-            .map(|r| initial_rod_state(system, r, &poses))
+            .map(|r| initial_rod_state(system, r, &poses, routes))
             .collect(),
         bodies: poses,
         clips: vec![Default::default(); system.clips.len()],
@@ -83,7 +89,7 @@ impl Loading {
     }
 }
 
-fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
+fn initial_rod_state(system: &System, rod: usize, poses: &[Pose], routes: RouteShape) -> RodState {
     let spec = &system.rods[rod];
     let length = spec.rod.length();
     let place = |end, at_end| {
@@ -100,7 +106,15 @@ fn initial_rod_state(system: &System, rod: usize, poses: &[Pose]) -> RodState {
         bending: stiffness.x.min(stiffness.y),
     };
     let polyline: Vec<Vector3<f64>> = match spec.route.as_ref().filter(|r| r.len() >= 2) {
-        Some(route) => route.clone(),
+        Some(route) => match routes {
+            RouteShape::Smoothed => smooth_route(
+                route,
+                start.frame().map(|q| q * Vector3::z()),
+                end.frame().map(|q| q * Vector3::z()),
+                length,
+            ),
+            RouteShape::AsDrawn => route.clone(),
+        },
         None => guide_curve(
             &held_stations(system, rod, &start, &end, &arc, poses),
             length,
@@ -410,7 +424,7 @@ fn blended_samples(
 }
 
 /// Sum of the segment lengths of a polyline, m.
-fn polyline_length(points: &[Vector3<f64>]) -> f64 {
+pub(crate) fn polyline_length(points: &[Vector3<f64>]) -> f64 {
     points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 

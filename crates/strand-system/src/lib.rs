@@ -17,15 +17,17 @@ mod initial;
 mod model;
 mod pattern;
 mod reactions;
+mod route;
 mod support_ramp;
 mod system;
 mod translate;
 
 pub use dofs::{BlockKind, ClipIndex, Dofs};
-pub use initial::initial_state;
+pub use initial::{initial_state, initial_state_with};
 pub use model::{Evaluation, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
+pub use route::RouteShape;
 pub use system::{
     BodyHandle, BodySpec, ClipSpec, End, EndLoad, Joint, JointState, Port, Pose, RodHandle,
     RodSpec, Support, System, SystemError, SystemState,
