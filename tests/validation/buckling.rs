@@ -174,6 +174,46 @@ fn straight_state_beyond_buckling_is_an_equilibrium_reported_unstable() {
 }
 
 #[test]
+fn a_saddle_is_escaped_only_when_its_negative_curvature_reaches_the_escape_shift() {
+    // The straight state compressed by 5 % (P = 1500 N, 38× the buckling load) is a
+    // saddle whose most negative curvature is a sizeable fraction of the bending
+    // stiffness scale: the escape leaves it for the buckled branch at the default
+    // shift (0) and at the stiffness-continuation steps' 1e-3, and keeps it (reported
+    // unstable) when the shift asks for more negative curvature than there is.
+    let n = 40;
+    let delta = 0.05;
+    let solve_with = |escape_min_shift: f64| {
+        let model = Model::try_new(clamped_clamped(n, EI, delta, 0.0)).unwrap();
+        let mut initial = initial_state(model.system());
+        initial.rods[0] = straight_state(n, delta, 0.0);
+        let settings = SolverSettings {
+            escape_min_shift,
+            ..SolverSettings::default()
+        };
+        solve(&model, initial, &settings).unwrap()
+    };
+    for shift in [0.0, SolverSettings::default().stiffness_step_escape_shift] {
+        let escaped = solve_with(shift);
+        let report = &escaped.report;
+        assert!(
+            report.converged && report.stable,
+            "shift {shift}: {report:?}"
+        );
+        assert!(
+            largest_deflection(&escaped.state.rods[0]) > 0.05,
+            "shift {shift}: still straight"
+        );
+    }
+    let kept = solve_with(1e3);
+    assert!(
+        kept.report.converged && !kept.report.stable,
+        "{:?}",
+        kept.report
+    );
+    assert!(largest_deflection(&kept.state.rods[0]) < 1e-9);
+}
+
+#[test]
 fn greenhill_threshold_from_the_stability_flag_converges_at_second_order() {
     let beta = EI / (GA * 1.0);
     let critical = greenhill_critical_rotation(1.0, EI, GJ_TWIST, GA);

@@ -299,9 +299,12 @@ impl<'m> Solver<'m> {
             if !solution.report.converged || solution.report.negative_directions == 0 {
                 break;
             }
-            let Some(direction) =
-                saddle::negative_direction(self.model, &mut self.work, &solution.state)
-            else {
+            let Some(direction) = saddle::negative_direction(
+                self.model,
+                &mut self.work,
+                &solution.state,
+                settings.escape_min_shift,
+            ) else {
                 break;
             };
             let mut best: Option<Solution> = None;

@@ -20,11 +20,14 @@ pub const PERTURBATION_ROTATION_RAD: f64 = 0.05;
 pub const PERTURBATION_TRANSLATION: f64 = 0.01;
 
 /// A unit direction of negative curvature at `state`, scaled to the perturbation size;
-/// `None` if the Hessian there is positive definite.
+/// `None` if the Hessian there is positive definite, or if its most negative
+/// curvature is smaller than `min_shift` times the damping scale (`H + min_shift·D`
+/// positive definite: a nearly neutral direction).
 pub(crate) fn negative_direction(
     model: &Model,
     work: &mut Workspace,
     state: &SystemState,
+    min_shift: f64,
 ) -> Option<Vec<f64>> {
     model.evaluate(state, &mut work.eval, true);
     let scale = damping_scale(
@@ -38,14 +41,20 @@ pub(crate) fn negative_direction(
     if work.cholesky.factor(&work.damped) {
         return None;
     }
-    let mut sigma = 1e-12;
-    loop {
+    let shifted_factor = |work: &mut Workspace, sigma: f64| {
         work.damped.copy_from_slice(&work.eval.hessian);
         for (&k, d) in work.diagonal.iter().zip(&scale) {
             work.damped[k] += sigma * d;
         }
         work.gauge.fix_matrix(&mut work.damped);
-        if work.cholesky.factor(&work.damped) {
+        work.cholesky.factor(&work.damped)
+    };
+    if min_shift > 0.0 && shifted_factor(work, min_shift) {
+        return None;
+    }
+    let mut sigma = 1e-12;
+    loop {
+        if shifted_factor(work, sigma) {
             break;
         }
         sigma *= 2.0;

@@ -82,6 +82,11 @@ pub struct SolverSettings {
     /// direction of most negative curvature and solve again, returning the stable branch
     /// a real hose takes. Turn off to examine a given unstable state.
     pub escape_saddles: bool,
+    /// Escape only from saddles whose most negative curvature is at least this
+    /// fraction of the unknowns' own stiffness scale (the smallest shift `σ` that makes
+    /// `H + σD` positive definite, `D` the damping scale); 0 escapes from every saddle.
+    /// Stiffness continuation steps use [`SolverSettings::stiffness_step_escape_shift`].
+    pub escape_min_shift: f64,
     /// Largest number of continuation steps (accepted and rejected together).
     pub max_continuation_steps: usize,
     /// Load continuation: the first load increment, as a fraction of the full load.
@@ -120,6 +125,13 @@ pub struct SolverSettings {
     pub stiffness_easy_iterations: usize,
     /// Stiffness continuation: the iteration budget of one stiffening step.
     pub stiffness_step_iterations: usize,
+    /// Stiffness continuation: the [`SolverSettings::escape_min_shift`] of every
+    /// stiffening step. A softened rod may prefer compression to buckling, so a ramp
+    /// can follow the straight branch past its buckling load: a step that lands on a
+    /// clearly unstable state (a straight rod far beyond buckling) is perturbed off it,
+    /// while the nearly neutral directions of a limp cable's slack part are left to
+    /// the final solve.
+    pub stiffness_step_escape_shift: f64,
     /// Inequality constraints (contact gaps in m, joint limits in rad or m): a converged
     /// state violates none by more than this, and every constraint that carries a force
     /// is closed to within it.
@@ -151,6 +163,7 @@ impl Default for SolverSettings {
             support_continuation: true,
             stiffness_continuation: true,
             escape_saddles: true,
+            escape_min_shift: 0.0,
             max_continuation_steps: 64,
             continuation_first_step: 0.125,
             continuation_smallest_step: 1.0 / 4096.0,
@@ -165,6 +178,7 @@ impl Default for SolverSettings {
             stiffness_step_tolerance: 1e-6,
             stiffness_easy_iterations: 6,
             stiffness_step_iterations: 40,
+            stiffness_step_escape_shift: 1e-3,
             constraint_tolerance: 1e-9,
             neutral_tolerance: 1e-11,
         }
@@ -208,6 +222,12 @@ impl SolverSettings {
         positive("stiffness_soft_ratio", self.stiffness_soft_ratio)?;
         positive("stiffness_load_ratio", self.stiffness_load_ratio)?;
         positive("stiffness_step_tolerance", self.stiffness_step_tolerance)?;
+        let non_negative = |field, value: f64| check(field, value, value >= 0.0, "must be >= 0");
+        non_negative("escape_min_shift", self.escape_min_shift)?;
+        non_negative(
+            "stiffness_step_escape_shift",
+            self.stiffness_step_escape_shift,
+        )?;
         check(
             "continuation_first_step",
             self.continuation_first_step,

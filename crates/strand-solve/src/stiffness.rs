@@ -97,7 +97,7 @@ pub(crate) fn stiffen(
         load_continuation: false,
         support_continuation: false,
         stiffness_continuation: false,
-        escape_saddles: false,
+        escape_min_shift: settings.stiffness_step_escape_shift,
         max_iterations: settings
             .max_iterations
             .min(settings.stiffness_step_iterations),
