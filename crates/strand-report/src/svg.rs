@@ -20,11 +20,8 @@ const PANEL_HEIGHT: f64 = 240.0;
 const PANEL_GAP: f64 = 78.0;
 const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 64.0;
 
-/// One colour per rod (Tableau 10), reused cyclically.
-pub(crate) const COLOURS: [&str; 10] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-    "#bcbd22", "#17becf",
-];
+/// One colour per rod (colour-blind safe, [`crate::palette`]), reused cyclically.
+pub(crate) const COLOURS: [&str; 7] = crate::palette::LINE_COLOURS;
 /// Dash patterns of the variants after the first (which is solid), reused cyclically.
 const DASHES: [&str; 5] = ["8 5", "2 4", "12 4 2 4", "4 4", "16 6"];
 

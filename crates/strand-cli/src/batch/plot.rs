@@ -17,9 +17,7 @@ const TOP: f64 = 56.0;
 const PANEL: f64 = 220.0;
 const GAP: f64 = 76.0;
 const HEIGHT: f64 = TOP + 2.0 * PANEL + GAP + 60.0;
-const COLOURS: [&str; 8] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-];
+const COLOURS: [&str; 7] = strand_report::LINE_COLOURS;
 
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")

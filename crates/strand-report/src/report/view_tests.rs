@@ -445,13 +445,20 @@ const scene = byId["v3d-scene"].children;
 function drawn(cls) {
   return scene.filter((n) => n.attrs["class"] === cls).map((n) => ["x1", "y1", "x2", "y2"].map((k) => Number(n.attrs[k])));
 }
-for (const cls of ["v3d-env", "v3d-edge"]) {
+for (const cls of ["v3d-env", "v3d-edge", "v3d-part"]) {
   const a = lines(cls), b = drawn(cls);
-  if (a.length !== b.length || a.length === 0) { throw new Error(cls + ": " + a.length + " vs " + b.length); }
+  if (a.length !== b.length || (a.length === 0 && cls !== "v3d-part")) { throw new Error(cls + ": " + a.length + " vs " + b.length); }
   a.forEach((l, i) => l.forEach((v, k) => {
     if (Math.abs(v - b[i][k]) > 0.011) { throw new Error(cls + " " + i + ": " + l + " vs " + b[i]); }
   }));
 }
+const polys = [...html.matchAll(/<polygon class="v3d-surface"[^>]*? points="([^"]*)"/g)].map((m) => m[1]);
+const drawnPolys = scene.filter((n) => n.attrs["class"] === "v3d-surface").map((n) => n.attrs.points);
+if (polys.length !== drawnPolys.length || polys.length === 0) { throw new Error("surfaces: " + polys.length + " vs " + drawnPolys.length); }
+polys.forEach((p, i) => {
+  const a = p.split(/[ ,]/).map(Number), b = drawnPolys[i].split(/[ ,]/).map(Number);
+  if (a.length !== b.length || a.some((v, k) => Math.abs(v - b[k]) > 0.011)) { throw new Error("surface " + i + ": " + p + " vs " + drawnPolys[i]); }
+});
 if (byId["v3d-svg"].attrs["data-interactive"] !== "true") { throw new Error("not interactive"); }
 // A preset (top view) and the bend-radius quantity redraw without errors.
 iso.listeners.click();
