@@ -265,6 +265,9 @@ pub struct RodResult {
     /// section does not state one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub outer_radius_m: Option<f64>,
+    /// Mass of the rod (mass per length × reference length), kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
     /// Smallest allowed bend radius of the hose, m, if the case states one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_bend_radius_m: Option<f64>,
@@ -352,6 +355,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
                 edge_force_n: arrs(&s.edge_forces),
                 section_frames_wxyz: state.frames.iter().map(|q| [q.w, q.i, q.j, q.k]).collect(),
                 outer_radius_m: Some(spec.rod.section().outer_radius).filter(|r| *r > 0.0),
+                mass_kg: Some(spec.rod.section().mass_per_length * spec.rod.length()),
                 min_bend_radius_m: None,
                 min_clearance_m: None,
             }

@@ -127,6 +127,7 @@ fn push_limits(html: &mut String, runs: &[ReportRun]) {
                     Cell::Num(1e3 * rod.length_m),
                     rod.outer_radius_m
                         .map_or(Cell::None, |r| Cell::Num(2e3 * r)),
+                    Cell::opt(rod.mass_kg),
                     Cell::Int(rod.segments),
                     Cell::opt(rod.min_bend_radius_m.map(|r| 1e3 * r)),
                     Cell::opt(rod.min_clearance_m.map(|c| 1e3 * c)),
@@ -146,6 +147,7 @@ fn push_limits(html: &mut String, runs: &[ReportRun]) {
             "hose",
             "length [mm]",
             "outer diameter [mm]",
+            "mass [kg]",
             "segments",
             "min bend radius [mm]",
             "min clearance [mm]",

@@ -173,6 +173,7 @@
           stroke: D.contactColour, "stroke-width": "2" }));
       }
       scene.appendChild(el("circle", { "class": "v3d-contact", "data-rod": k.rod,
+        "data-with": k.with,
         "data-force-n": String(k.f), cx: fmt(p[0]), cy: fmt(p[1]), r: "4",
         fill: D.contactColour, stroke: "#ffffff" }));
     });
@@ -193,6 +194,12 @@
 
   function show(target) {
     if (!readout || !target || !target.getAttribute) { return; }
+    var force = target.getAttribute("data-force-n");
+    if (force !== null) {
+      readout.textContent = "contact of " + target.getAttribute("data-rod") + " with " +
+        target.getAttribute("data-with") + ": " + Number(force).toPrecision(4) + " N";
+      return;
+    }
     var kind = target.getAttribute("data-kind");
     if (kind) {
       readout.textContent = kind + " " + target.getAttribute("data-name");

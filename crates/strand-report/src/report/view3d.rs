@@ -47,10 +47,15 @@ pub(crate) const PRESETS: [(&str, f64, f64); 4] = [
 ];
 
 /// The colour quantities: key in the data, label, unit.
-const QUANTITIES: [(&str, &str, &str); 4] = [
+const QUANTITIES: [(&str, &str, &str); 5] = [
     ("f", "|f| internal force", "N"),
     ("m", "|m| internal moment", "N·m"),
     ("rb", "bend radius", "mm"),
+    (
+        "u",
+        "bend-radius utilisation (min_bend_radius / bend radius)",
+        "1",
+    ),
     ("d", "moved from the reference", "mm"),
 ];
 
@@ -112,6 +117,9 @@ struct Rod {
     /// result, mm (`null` where the reference has no such hose or another number of
     /// vertices).
     d: Vec<Option<f64>>,
+    /// Bend-radius utilisation: the allowed minimum bend radius over the bend radius
+    /// (1 at the limit, above 1 violated, 0 where straight); `null` without a limit.
+    u: Vec<Option<f64>>,
 }
 
 /// `|a − b|`, mm, of two positions in m (rounded as the data).
@@ -146,6 +154,8 @@ struct ContactPoint {
     /// The unit normal (force direction on the hose) scaled to 1 mm.
     n: [f64; 3],
     f: f64,
+    /// The obstacle (mesh or other hose).
+    with: String,
 }
 
 /// One solid piece of a fitting (junction body, connector, clip; see
@@ -304,6 +314,14 @@ fn scene(runs: &[ReportRun]) -> Scene {
                         .map(|r| Some(mm(r)).filter(|r| r.is_finite()))
                         .collect(),
                     d: moved(rod, runs.first()),
+                    u: bend_radii(rod)
+                        .into_iter()
+                        .map(|r| {
+                            rod.min_bend_radius_m
+                                .map(|limit| (limit / r * 1e6).round() / 1e6)
+                                .filter(|u| u.is_finite())
+                        })
+                        .collect(),
                 })
                 .collect(),
             contacts: run
@@ -315,6 +333,7 @@ fn scene(runs: &[ReportRun]) -> Scene {
                     p: mm3(&c.point_m),
                     n: c.normal.map(|v| (v * 1e6).round() / 1e6),
                     f: c.force_n,
+                    with: c.with.clone(),
                 })
                 .collect(),
             parts: parts(run.doc),
@@ -365,6 +384,8 @@ fn scene(runs: &[ReportRun]) -> Scene {
     ranges.insert("rb", [tight, loose.min(10.0 * tight)]);
     let [_, farthest] = range(all(&|r| r.d.iter().flatten().copied().collect()));
     ranges.insert("d", [0.0, farthest.max(1e-3)]);
+    let [_, most] = range(all(&|r| r.u.iter().flatten().copied().collect()));
+    ranges.insert("u", [0.0, most.max(1.0)]);
     let quantities = QUANTITIES
         .iter()
         .map(|(key, label, unit)| (*key, Quantity { label, unit }))
@@ -545,8 +566,9 @@ fn first_frame(svg: &mut String, scene: &Scene) {
             }
             let _ = writeln!(
                 svg,
-                "<circle class=\"v3d-contact\" data-rod=\"{}\" data-force-n=\"{}\" cx=\"{:.2}\" cy=\"{:.2}\" r=\"4\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\"/>",
+                "<circle class=\"v3d-contact\" data-rod=\"{}\" data-with=\"{}\" data-force-n=\"{}\" cx=\"{:.2}\" cy=\"{:.2}\" r=\"4\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\"/>",
                 escape(&c.rod),
+                escape(&c.with),
                 c.f,
                 p.0,
                 p.1
