@@ -152,6 +152,16 @@ table.findings td { color: #c62828; }
 .v3d-controls .readout { color: #333; font-variant-numeric: tabular-nums; }
 figure.v3d svg { max-width: 900px; cursor: grab; }
 p.warning { background: #fff4e5; border-left: 4px solid #e69f00; padding: 6px 10px; }
+@media print {
+  body { background: #ffffff; font-size: 10pt; }
+  main { max-width: none; padding: 0; }
+  .v3d-controls, details.settings { display: none; }
+  .scroll { overflow: visible; }
+  .grid { display: block; }
+  figure, table, tr { break-inside: avoid; }
+  h2, h3 { break-after: avoid; }
+  figure svg { border: none; }
+}
 ";
 
 /// The report page for `runs` (the first is the reference) under `title`.
