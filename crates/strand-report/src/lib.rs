@@ -87,7 +87,9 @@ pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
 };
-pub use palette::{LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, line_colour};
+pub use palette::{
+    DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, dash_pattern, line_colour,
+};
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
 pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
@@ -98,7 +100,7 @@ pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,
 };
 pub use surface::{MAX_SURFACE_TRIANGLES, mesh_surface};
-pub use svg::study_svg;
+pub use svg::{axis_label, axis_ticks, study_svg};
 pub use tube::{
     BALL_BANDS, DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, TubeMesh, ball_mesh, tube_mesh,
     tube_radius, tube_rings, tubes_obj, tubes_obj_in,

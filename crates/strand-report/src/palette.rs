@@ -14,6 +14,15 @@ pub const LINE_COLOURS: [&str; 7] = [
 /// Smallest ΔE*ab between two line colours as seen under simulated deuteranopia.
 pub const MIN_DEUTERANOPIA_DELTA_E: f64 = 15.0;
 
+/// Dash patterns (`stroke-dasharray`) that tell apart lines of one colour (variants,
+/// slices of a grid), after the first, solid one; reused cyclically.
+pub const DASH_PATTERNS: [&str; 5] = ["8 5", "2 4", "12 4 2 4", "4 4", "16 6"];
+
+/// The dash pattern of line `k` of one colour: `None` (solid) for the first.
+pub fn dash_pattern(k: usize) -> Option<&'static str> {
+    (k > 0).then(|| DASH_PATTERNS[(k - 1) % DASH_PATTERNS.len()])
+}
+
 /// The colour of line `k` (cyclic).
 pub fn line_colour(k: usize) -> &'static str {
     LINE_COLOURS[k % LINE_COLOURS.len()]

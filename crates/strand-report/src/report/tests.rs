@@ -159,7 +159,10 @@ fn report_is_well_formed_and_names_every_hose_and_result() {
     let xml = parse(&html);
     assert_eq!(xml.root_element().tag_name().name(), "html");
     // Every table scrolls on its own on a narrow screen; a print style is there.
-    let tables: Vec<_> = xml.descendants().filter(|n| n.has_tag_name("table")).collect();
+    let tables: Vec<_> = xml
+        .descendants()
+        .filter(|n| n.has_tag_name("table"))
+        .collect();
     assert!(tables.len() > 5);
     for table in &tables {
         let parent = table.parent_element().unwrap();
