@@ -540,9 +540,13 @@ fn the_vtp_carries_bend_radius_outer_radius_contact_force_and_frames() {
             .unwrap_or_else(|| panic!("no {name}"));
         numbers(node)
     };
-    let bend = array("bend_radius_m");
+    let bend = array("bend_radius_mm");
     assert_eq!(bend.len(), 74);
-    assert!((bend[3] - 0.2).abs() < 1e-15, "1/|(3, 4)| m: {}", bend[3]);
+    assert!(
+        (bend[3] - 200.0).abs() < 1e-12,
+        "1/|(3, 4)| m in mm: {}",
+        bend[3]
+    );
     assert!(
         text.contains(">\ninf") || text.contains(" inf"),
         "straight vertices: inf"

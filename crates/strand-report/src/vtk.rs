@@ -5,8 +5,8 @@
 //! `s_m`, `force_N` (3 components), `moment_Nm` (3), `force_magnitude_N`,
 //! `moment_magnitude_Nm`, `tangential_force_N`, `shear_force_N`,
 //! `bending_moment_Nm`, `torsion_Nm`, `curvature_1pm` (3, section frame),
-//! `bend_radius_m` (1/|κ|, `inf` where straight), `outer_radius_<unit>` (in the unit
-//! of the points), `contact_force_N` (3), the section frame's directors `section_d1`,
+//! `bend_radius_<unit>` (1/|κ| in the unit of the points, `inf` where straight),
+//! `outer_radius_<unit>` (in the unit of the points), `contact_force_N` (3), the section frame's directors `section_d1`,
 //! `section_d2`, `section_d3` (unit vectors) and `rod_id` (the rod's index). Cell data:
 //! `rod_id`, one per polyline. Field data: `rod_names`, a VTK string array (one tuple per
 //! rod, index = `rod_id`; VTK writes ASCII strings as their byte values, each string
@@ -37,7 +37,7 @@ fn flat(values: &[[f64; 3]]) -> Vec<f64> {
 /// The point-data arrays of one rod written to `rods.vtp`, in file order (the arrays
 /// that need the whole result and `rod_id`, an integer array, are
 /// written after them).
-pub const VTK_POINT_ARRAYS: [VtkPointArray; 11] = [
+pub const VTK_POINT_ARRAYS: [VtkPointArray; 9] = [
     VtkPointArray {
         name: "s_m",
         components: 1,
@@ -83,20 +83,13 @@ pub const VTK_POINT_ARRAYS: [VtkPointArray; 11] = [
         components: 1,
         values: |r| r.torsion_nm.clone(),
     },
-    VtkPointArray {
-        name: "curvature_1pm",
-        components: 3,
-        values: |r| flat(&r.curvature_1pm),
-    },
-    VtkPointArray {
-        name: "bend_radius_m",
-        components: 1,
-        values: crate::findings::bend_radii,
-    },
 ];
 
-/// The point-data arrays of `rods.vtp` that need more than one rod's arrays, each
-/// as (name, components, values of every rod's vertices in rod order):
+/// The point-data arrays of `rods.vtp` after [`VTK_POINT_ARRAYS`], each as (name,
+/// components, values of every rod's vertices in rod order):
+/// - `curvature_1pm`: the material curvature (section frame), 1/m;
+/// - `bend_radius_<unit>`: `1/|(K1, K2)|` in the unit of the points (`inf` where
+///   straight);
 /// - `outer_radius_<unit>`: the tube radius drawn (the rod's outer radius, else
 ///   [`crate::DEFAULT_RADIUS_FRACTION`] of its length) in the unit of the points, for
 ///   ParaView's Tube filter;
@@ -109,7 +102,25 @@ pub(crate) fn doc_arrays(
     doc: &ResultDoc,
     unit: &crate::cad::ExportUnit,
 ) -> Vec<(String, usize, Vec<f64>)> {
-    let mut arrays = Vec::new();
+    let mut arrays = vec![
+        (
+            "curvature_1pm".to_string(),
+            3,
+            doc.rods
+                .iter()
+                .flat_map(|r| flat(&r.curvature_1pm))
+                .collect(),
+        ),
+        (
+            format!("bend_radius_{}", unit.symbol),
+            1,
+            doc.rods
+                .iter()
+                .flat_map(crate::findings::bend_radii)
+                .map(|r| r / unit.metres)
+                .collect(),
+        ),
+    ];
     arrays.push((
         format!("outer_radius_{}", unit.symbol),
         1,
