@@ -289,6 +289,15 @@ pub fn find(doc: &ResultDoc) -> Vec<Finding> {
     findings
 }
 
+/// A connector-load check: the finding's kind, the limit, the load vector and the unit
+/// of its magnitude.
+type LoadCheck<'a> = (
+    FindingKind,
+    Option<f64>,
+    &'a [f64; 3],
+    fn(f64) -> FindingValue,
+);
+
 /// The connector-load findings of `doc`: every reaction whose force (moment)
 /// magnitude exceeds its `max_force_n` (`max_moment_nm`) or is not a number.
 fn connector_findings(doc: &ResultDoc, findings: &mut Vec<Finding>) {
@@ -297,7 +306,7 @@ fn connector_findings(doc: &ResultDoc, findings: &mut Vec<Finding>) {
             continue;
         };
         let s_m = if r.end == "end" { rod.length_m } else { 0.0 };
-        let checks: [(FindingKind, Option<f64>, &[f64; 3], fn(f64) -> FindingValue); 2] = [
+        let checks: [LoadCheck; 2] = [
             (
                 FindingKind::ConnectorForce,
                 r.max_force_n,

@@ -190,4 +190,65 @@ mod tests {
         // A cell larger than the strip collapses everything.
         assert!(cluster(&triangles, &region, 2.0).is_empty());
     }
+
+    /// A finely tessellated wavy sheet (2 × 300² = 180 000 triangles) inside the
+    /// region is decimated to at most the cap but not far below it, and every corner
+    /// stays within half a cell diagonal of the sheet; a sheet far from the region
+    /// adds nothing.
+    #[test]
+    fn a_fine_mesh_is_decimated_to_the_cap_and_stays_near_its_surface() {
+        let n = 300;
+        let height = |x: f64, y: f64| 0.05 * (6.0 * x).sin() * (4.0 * y).cos();
+        let sheet = |offset: f64| {
+            let vertices: Vec<Point3<f64>> = (0..=n)
+                .flat_map(|i| {
+                    (0..=n).map(move |j| {
+                        let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+                        Point3::new(x, y, 0.5 + height(x, y) + offset)
+                    })
+                })
+                .collect();
+            let at = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+            let triangles: Vec<[u32; 3]> = (0..n)
+                .flat_map(|i| {
+                    (0..n).flat_map(move |j| {
+                        [
+                            [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                            [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
+                        ]
+                    })
+                })
+                .collect();
+            ObstacleMesh::try_from_triangles("sheet", vertices, &triangles).unwrap()
+        };
+        let region: Aabb = [[0.0; 3], [1.0; 3]];
+        let (polygons, cell) = mesh_surface(&sheet(0.0), &region);
+        let cell = cell.expect("decimated");
+        assert!(
+            polygons.len() <= MAX_SURFACE_TRIANGLES,
+            "{}",
+            polygons.len()
+        );
+        assert!(
+            polygons.len() >= MAX_SURFACE_TRIANGLES / 4,
+            "{}",
+            polygons.len()
+        );
+        // A corner moves to its cell's centre: by at most half a cell along z and
+        // across, so its height above the sheet at its own (x, y) is at most
+        // cell/2 + |∇h|·cell/√2 (|∇h| ≤ 0.05·√52 here), within half a cell diagonal.
+        let reach = 0.5 * cell * 3f64.sqrt();
+        let worst = polygons
+            .iter()
+            .flatten()
+            .map(|p| (p[2] - 0.5 - height(p[0], p[1])).abs())
+            .fold(0.0f64, f64::max);
+        assert!(
+            worst <= reach,
+            "corner {worst} from the sheet, allowed {reach}"
+        );
+        assert!(worst > 0.05 * reach, "the corners did move: {worst}");
+        let (far, _) = mesh_surface(&sheet(5.0), &region);
+        assert!(far.is_empty());
+    }
 }

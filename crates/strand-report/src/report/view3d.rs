@@ -663,9 +663,9 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
     }
     html.push_str("</select></label>\n");
     if runs.len() > 1 {
-        let _ = write!(
+        let _ = writeln!(
             html,
-            "<label><input type=\"checkbox\" id=\"v3d-overlay\" checked=\"checked\"/> {} overlaid (dashed)</label>\n",
+            "<label><input type=\"checkbox\" id=\"v3d-overlay\" checked=\"checked\"/> {} overlaid (dashed)</label>",
             escape(runs[0].label)
         );
     }
