@@ -411,3 +411,80 @@ fn allowed_bend_radius_comes_from_the_section() {
     let rows = summary(&dir);
     assert_eq!(cell(&rows[0], "hose2 bend ok"), "false");
 }
+
+/// A two-parameter grid: the summary plot draws one line per rod per value of the
+/// second parameter (named in the legend by its dash), labels the offsets as changes,
+/// ticks the axes at whole nice steps, and names no failures when none failed.
+#[test]
+fn the_summary_plot_shows_every_slice_of_a_two_parameter_grid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("grid");
+    let (exit, out, err) = batch(
+        &dir,
+        &[
+            "--vary",
+            "hose2.length=+0mm,+15mm,+30mm",
+            "--vary",
+            "hose3.length=+0mm,+10mm",
+        ],
+    );
+    assert_eq!(exit, Exit::Success, "{out}{err}");
+    let svg = std::fs::read_to_string(dir.join("summary.svg")).unwrap();
+    let xml = roxmltree::Document::parse(&svg).unwrap();
+    let curves: Vec<_> = xml
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("curve"))
+        .collect();
+    assert_eq!(curves.len(), 2 * 3 * 2, "panels × rods × slices");
+    for slice in ["+0mm", "+10mm"] {
+        let of_slice: Vec<_> = curves
+            .iter()
+            .filter(|c| c.attribute("data-slice") == Some(slice))
+            .collect();
+        assert_eq!(of_slice.len(), 6, "{slice}");
+        // Three points per line: every value of the first parameter.
+        for c in &of_slice {
+            assert_eq!(c.attribute("d").unwrap().matches('L').count(), 2);
+        }
+    }
+    // The slices differ in dash, not in colour; the legend names them.
+    let dashed = |slice: &str| {
+        curves
+            .iter()
+            .find(|c| c.attribute("data-slice") == Some(slice))
+            .unwrap()
+            .attribute("stroke-dasharray")
+    };
+    assert_eq!(dashed("+0mm"), None);
+    assert!(dashed("+10mm").is_some());
+    assert_eq!(
+        xml.descendants()
+            .filter(|n| n.attribute("class") == Some("slice"))
+            .count(),
+        2
+    );
+    assert!(
+        !svg.contains("failed variant"),
+        "no failures, no failure key"
+    );
+    let text = |class: &str| -> Vec<String> {
+        xml.descendants()
+            .filter(|n| n.attribute("class") == Some(class))
+            .map(|n| n.text().unwrap().to_string())
+            .collect()
+    };
+    assert!(
+        text("x-title")
+            .iter()
+            .all(|t| t == "change of hose2.length from the case [mm]"),
+        "{:?}",
+        text("x-title")
+    );
+    // x ticks: 0, 10, 20, 30 in each panel (whole nice steps covering the values).
+    let ticks: Vec<f64> = text("x-tick").iter().map(|t| t.parse().unwrap()).collect();
+    assert_eq!(ticks, [0.0, 10.0, 20.0, 30.0, 0.0, 10.0, 20.0, 30.0]);
+    for t in text("y-tick") {
+        let decimals = t.split('.').nth(1).map_or(0, str::len);
+        assert!(decimals <= 2, "{t}");
+    }
+}

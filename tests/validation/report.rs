@@ -189,7 +189,23 @@ fn report_of_the_cooler_hoses_matches_their_results() {
             assert!((v - e).abs() <= 1e-12 * e.max(1.0), "{v} {e}");
         }
         let obj = std::fs::read_to_string(dir.join("tubes.obj")).unwrap();
-        assert_eq!(obj.lines().filter(|l| l.starts_with("o ")).count(), 3);
+        // One tube per hose, then the T's body and the three connectors.
+        let objects: Vec<&str> = obj.lines().filter_map(|l| l.strip_prefix("o ")).collect();
+        assert_eq!(objects.len(), 7, "{objects:?}");
+        assert_eq!(
+            objects
+                .iter()
+                .filter(|o| o.starts_with("junction_"))
+                .count(),
+            1
+        );
+        assert_eq!(
+            objects
+                .iter()
+                .filter(|o| o.starts_with("connector_"))
+                .count(),
+            3
+        );
     }
 }
 

@@ -50,6 +50,8 @@ pub struct BuiltCase {
     /// Per rod, its required clearance to the environment and the other rods in m
     /// (`None` where the rod states no `min_clearance`).
     pub min_clearance: Vec<Option<f64>>,
+    /// The named connectors with an allowed load (`max_force`, `max_moment`).
+    pub connector_limits: Vec<crate::limits::ConnectorLimit>,
     /// Environment meshes (OBJ files in world coordinates, m, with their BVH), in
     /// file order; shared with the case's other builds (variants, batches).
     pub environment: Vec<Arc<ObstacleMesh>>,
@@ -81,6 +83,7 @@ pub(crate) fn build(
     let sections = build_sections(&report, unit, &file.sections)?;
     let min_bend_radius = min_bend_radii(&report, unit, file)?;
     let min_clearance = crate::limits::min_clearances(&report, unit, file)?;
+    let connector_limits = crate::limits::connector_limits(&report, file)?;
     let attachments = build_attachments(&report, unit, file)?;
     let mut clips = resolve_clips(&report, unit, file)?;
     if file.rods.is_empty() {
@@ -177,6 +180,7 @@ pub(crate) fn build(
         connector_names: file.rods.iter().map(connector_names).collect(),
         min_bend_radius,
         min_clearance,
+        connector_limits,
         environment,
         start: Start::Hanging,
         clip_projections: projections,

@@ -60,6 +60,7 @@ pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
 pub use ends::{FrameError, frame_from_tangent_normal};
 pub use environment::EnvironmentCache;
 pub use error::CaseError;
+pub use limits::ConnectorLimit;
 pub use nominal::NOMINAL_LENGTH_TOLERANCE;
 pub use schema::CaseFile;
 pub use start::Start;

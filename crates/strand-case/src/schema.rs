@@ -526,6 +526,14 @@ pub struct ConnectorDef {
     pub direction: Vec3,
     /// Direction of the section's first director `a1` (not parallel to `direction`).
     pub normal: Vec3,
+    /// Largest allowed force the connector may take from the hose, N (a design
+    /// limit, checked after the solve: `findings`); none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_force: Option<f64>,
+    /// Largest allowed moment the connector may take from the hose, N·m (a design
+    /// limit, checked after the solve: `findings`); none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_moment: Option<f64>,
 }
 
 /// A port of a junction, in the junction's body frame:

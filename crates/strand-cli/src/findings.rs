@@ -12,7 +12,7 @@ use crate::Exit;
 use crate::commands::Failure;
 
 /// Copies the limits of `built` onto `doc`'s rods (`min_bend_radius_m`,
-/// `min_clearance_m`), searches the clearances out to the largest required clearance
+/// `min_clearance_m`) and connector reactions (`max_force_n`, `max_moment_nm`), searches the clearances out to the largest required clearance
 /// (rod–rod only when the case has no environment), and sets `doc.findings`. Call
 /// after the contacts are collected.
 pub(crate) fn add_findings(
@@ -23,6 +23,22 @@ pub(crate) fn add_findings(
     for (k, rod) in doc.rods.iter_mut().enumerate() {
         rod.min_bend_radius_m = built.min_bend_radius.get(k).copied().flatten();
         rod.min_clearance_m = built.min_clearance.get(k).copied().flatten();
+    }
+    doc.provenance = Some(strand_report::Provenance::now(
+        &built.origin,
+        &built.settings,
+    ));
+    // Connector loads: the reactions carry their connectors' names from here on.
+    strand_report::name_connectors(doc, &built.connector_names);
+    for reaction in doc.reactions.iter_mut().filter(|r| r.kind == "connector") {
+        if let Some(limit) = built
+            .connector_limits
+            .iter()
+            .find(|l| l.name == reaction.name)
+        {
+            reaction.max_force_n = limit.max_force_n;
+            reaction.max_moment_nm = limit.max_moment_nm;
+        }
     }
     let required = built
         .min_clearance
@@ -108,6 +124,11 @@ mod tests {
                 1,
             );
         }
+        solve_text(dir, name, &text)
+    }
+
+    /// `text` (a case) written into `dir` as `name.ron` and solved into `dir/name`.
+    fn solve_text(dir: &Path, name: &str, text: &str) -> (String, String, ResultDoc) {
         let case = dir.join(format!("{name}.ron"));
         std::fs::write(&case, text).unwrap();
         let out_dir = dir.join(name);
@@ -210,7 +231,7 @@ mod tests {
         assert_eq!(bends[0].rod, bend_rod);
         let rod = tight.rods.iter().find(|r| r.name == bend_rod).unwrap();
         assert_eq!(bends[0].s_m, rod.s_m[bend_vertex]);
-        assert!((1e3 * bends[0].value_m - bend_mm).abs() < 1e-9);
+        assert!((1e3 * bends[0].value_m.unwrap() - bend_mm).abs() < 1e-9);
         let clear: Vec<&Finding> = tight
             .findings
             .iter()
@@ -268,5 +289,85 @@ mod tests {
         let (exit, _, err) = strand(&["check", case.to_str().unwrap()]);
         assert_eq!(exit, Exit::InvalidInput);
         assert!(err.contains("rods[0] 'hose1'.min_clearance"), "{err}");
+    }
+
+    /// A connector's `max_force` / `max_moment` 0.1 % below the load it takes in the
+    /// solved design is a finding (with the value and limit in N / N·m), 0.1 % above
+    /// is none; the result carries the limits and the provenance of the case file.
+    #[test]
+    fn connector_load_limits_just_inside_and_just_outside() {
+        let dir = tempfile::tempdir().unwrap();
+        let (_, _, free) = solve(dir.path(), "free_load", None, None);
+        let reaction = free
+            .reactions
+            .iter()
+            .find(|r| r.name == "radiator_outlet")
+            .expect("the radiator connector's reaction");
+        let force = strand_report::magnitude(&reaction.force_n);
+        let moment = strand_report::magnitude(&reaction.moment_nm);
+        assert!(force > 1.0 && moment > 1e-3, "{force} N, {moment} N·m");
+        let text = std::fs::read_to_string(repo().join("cases/cooler_hose_contact.ron")).unwrap();
+        let assets = repo().join("assets").canonicalize().unwrap();
+        let text = text.replace("\"../assets", &format!("\"{}", assets.display()));
+        let with_limits = |f: f64, m: f64| {
+            let at = text.find("\"radiator_outlet\": (").unwrap();
+            // Before the tuple's closing parenthesis (after `normal: (…)`).
+            let close = at + text[at..].find(")),").unwrap() + 1;
+            format!(
+                "{}, max_force: {f:?}, max_moment: {m:?}{}",
+                &text[..close],
+                &text[close..]
+            )
+        };
+        let (out, err, loose) = solve_text(
+            dir.path(),
+            "loose_load",
+            &with_limits(1.001 * force, 1.001 * moment),
+        );
+        assert!(loose.findings.is_empty(), "{:?}", loose.findings);
+        assert!(out.contains("max_force, max_moment respected"), "{out}");
+        assert!(!err.contains("limit violation"), "{err}");
+        let limited = loose
+            .reactions
+            .iter()
+            .find(|r| r.name == "radiator_outlet")
+            .unwrap();
+        assert!((limited.max_force_n.unwrap() - 1.001 * force).abs() < 1e-9 * force);
+        let provenance = loose.provenance.as_ref().expect("provenance");
+        assert_eq!(provenance.strand_version, env!("CARGO_PKG_VERSION"));
+        assert_eq!(
+            provenance.case_fnv1a64.as_deref(),
+            Some(
+                strand_report::fnv1a64(with_limits(1.001 * force, 1.001 * moment).as_bytes())
+                    .as_str()
+            )
+        );
+        assert!(
+            provenance.solver_settings["max_iterations"]
+                .as_u64()
+                .is_some()
+        );
+
+        let (out, err, tight) = solve_text(
+            dir.path(),
+            "tight_load",
+            &with_limits(0.999 * force, 0.999 * moment),
+        );
+        let kinds: Vec<FindingKind> = tight.findings.iter().map(|f| f.kind).collect();
+        assert_eq!(
+            kinds,
+            [FindingKind::ConnectorForce, FindingKind::ConnectorMoment]
+        );
+        let (f, m) = (&tight.findings[0], &tight.findings[1]);
+        assert_eq!(f.with.as_deref(), Some("radiator_outlet"));
+        assert_eq!(f.rod, "hose1");
+        // The same solve as `free`: the same load, against the limits set.
+        assert!((f.value_n.unwrap() - force).abs() < 1e-6 * force);
+        assert!((f.limit_n.unwrap() - 0.999 * force).abs() < 1e-9 * force);
+        assert!((m.value_nm.unwrap() - moment).abs() < 1e-6 * moment);
+        assert!(f.value_m.is_none() && m.value_n.is_none());
+        assert_eq!(printed(&out), described(&tight.findings), "{out}");
+        assert!(out.contains("force on connector radiator_outlet"), "{out}");
+        assert!(err.contains("2 limit violation(s)"), "{err}");
     }
 }

@@ -134,5 +134,9 @@ pub(crate) fn run(
             unconverged.join(", ")
         );
     }
+    let pairs: Vec<(&str, &ResultDoc)> = runs.iter().map(|r| (r.label, r.doc)).collect();
+    if let Some(warning) = strand_report::mixed_cases(&pairs) {
+        let _ = writeln!(out, "warning     {warning} (said at the top of the report)");
+    }
     Ok(Exit::Success)
 }

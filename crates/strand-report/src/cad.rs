@@ -12,7 +12,7 @@
 use nalgebra::Point3;
 
 use crate::result::ResultDoc;
-use crate::tube::{TUBE_SIDES, tube_radius, tube_rings};
+use crate::tube::{tube_mesh, tube_radius};
 
 /// The length unit of exported geometry: how many metres one unit is, and its symbol.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,26 +48,11 @@ pub fn tube_triangles(doc: &ResultDoc) -> Vec<[Point3<f64>; 3]> {
     let mut out = Vec::new();
     for rod in &doc.rods {
         let (radius, _) = tube_radius(rod);
-        let Some(rings) = tube_rings(&rod.position_m, radius) else {
+        let Some(mesh) = tube_mesh(&rod.position_m, radius) else {
             continue;
         };
-        let ring = |r: usize, k: usize| Point3::from(rings[r * TUBE_SIDES + k % TUBE_SIDES]);
-        let count = rings.len() / TUBE_SIDES;
-        for r in 0..count - 1 {
-            for k in 0..TUBE_SIDES {
-                let (a, b) = (ring(r, k), ring(r, k + 1));
-                let (c, d) = (ring(r + 1, k + 1), ring(r + 1, k));
-                out.push([a, b, c]);
-                out.push([a, c, d]);
-            }
-        }
-        let point = |p: &[f64; 3]| Point3::new(p[0], p[1], p[2]);
-        let start = point(&rod.position_m[0]);
-        let end = point(&rod.position_m[rod.position_m.len() - 1]);
-        for k in 0..TUBE_SIDES {
-            out.push([start, ring(0, k + 1), ring(0, k)]);
-            out.push([end, ring(count - 1, k), ring(count - 1, k + 1)]);
-        }
+        let point = |i: usize| Point3::from(mesh.vertices[i]);
+        out.extend(mesh.faces.iter().map(|f| f.map(point)));
     }
     out
 }

@@ -77,6 +77,8 @@ pub fn collect_environment(doc: &mut ResultDoc, meshes: &[Arc<ObstacleMesh>]) {
                 name: mesh.name().to_string(),
                 segments_m: Vec::new(),
                 truncated: false,
+                surface_m: Vec::new(),
+                surface_cell_m: None,
                 diagnostics,
             }),
         }

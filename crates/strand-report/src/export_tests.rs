@@ -303,3 +303,285 @@ fn a_centreline_that_is_not_finite_gets_no_tube() {
         "zero extent"
     );
 }
+
+/// Objects of an OBJ text: (name, vertices) in file order.
+fn obj_objects(text: &str) -> Vec<(String, Vec<Vector3<f64>>)> {
+    let mut objects: Vec<(String, Vec<Vector3<f64>>)> = Vec::new();
+    for line in text.lines() {
+        let mut parts = line.split_whitespace();
+        match parts.next() {
+            Some("o") => objects.push((parts.next().unwrap().into(), Vec::new())),
+            Some("v") => {
+                let v: Vec<f64> = parts.map(|t| t.parse().unwrap()).collect();
+                objects
+                    .last_mut()
+                    .unwrap()
+                    .1
+                    .push(Vector3::new(v[0], v[1], v[2]));
+            }
+            _ => {}
+        }
+    }
+    objects
+}
+
+/// A T: body "tee" at (0.1, 0.2, 0.3) m with three straight rods leaving its ports
+/// 30 mm out along +x, −x and +y (radii 8, 8 and 5 mm); the +x rod's far end held by
+/// connector "outlet", a clip "c1" on the +y rod at its middle vertex.
+fn tee_doc() -> ResultDoc {
+    let centre = [0.1, 0.2, 0.3];
+    let mut d = doc(1.0);
+    let rod = |name: &str, dir: [f64; 3], radius: f64| {
+        let mut r = crate::tests::sample_rod();
+        r.name = name.into();
+        r.outer_radius_m = Some(radius);
+        r.position_m = (0..3)
+            .map(|j| {
+                let a = 0.03 + 0.2 * j as f64;
+                [0, 1, 2].map(|i| centre[i] + a * dir[i])
+            })
+            .collect();
+        r
+    };
+    d.rods = vec![
+        rod("east", [1.0, 0.0, 0.0], 0.008),
+        rod("west", [-1.0, 0.0, 0.0], 0.008),
+        rod("north", [0.0, 1.0, 0.0], 0.005),
+    ];
+    d.bodies.push(BodyResult {
+        name: "tee".into(),
+        fixed: false,
+        position_m: centre,
+        orientation_quaternion_wxyz: [1.0, 0.0, 0.0, 0.0],
+        rotation_matrix: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        mass_kg: 0.1,
+    });
+    let reaction = |name: &str, kind: &str, rod: &ResultDoc, r: usize, end: &str| {
+        let rod_result = &rod.rods[r];
+        ReactionResult {
+            name: name.into(),
+            kind: kind.into(),
+            rod: rod_result.name.clone(),
+            end: end.into(),
+            position_m: if end == "start" {
+                rod_result.position_m[0]
+            } else {
+                rod_result.position_m[2]
+            },
+            force_n: [0.0, 0.0, 1.0],
+            moment_nm: [0.0; 3],
+            max_force_n: None,
+            max_moment_nm: None,
+        }
+    };
+    let reactions = vec![
+        reaction("tee.a", "port", &d, 0, "start"),
+        reaction("tee.b", "port", &d, 1, "start"),
+        reaction("tee.c", "port", &d, 2, "start"),
+        reaction("outlet", "connector", &d, 0, "end"),
+    ];
+    d.reactions = reactions;
+    let north = &d.rods[2];
+    d.clips.push(ClipResult {
+        name: "c1".into(),
+        rod: "north".into(),
+        vertex: 1,
+        s_m: north.s_m[1],
+        position_m: north.position_m[1],
+        joint: "fixed".into(),
+        axis_world: None,
+        value: None,
+        rotation_wxyz: None,
+        limits: None,
+        at_limit: false,
+        force_n: [0.0; 3],
+        moment_nm: [0.0; 3],
+    });
+    d
+}
+
+#[test]
+fn the_tube_obj_closes_the_t_and_shows_connectors_and_clips() {
+    let d = tee_doc();
+    let mm = ExportUnit::new(1e-3, "mm");
+    let objects = obj_objects(&tubes_obj_in(&d, &mm));
+    let names: Vec<&str> = objects.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "east",
+            "west",
+            "north",
+            "junction_tee",
+            "connector_outlet",
+            "clip_c1"
+        ]
+    );
+    let object = |name: &str| &objects.iter().find(|(n, _)| n == name).unwrap().1;
+    let centre = Vector3::new(100.0, 200.0, 300.0);
+    // Every vertex of a hose's start ring (at its port) lies on the rim of the
+    // junction's cylinder towards that port: same plane, same radius, so the tubes and
+    // the body meet without a gap. The body's vertices stay within the ports' reach.
+    let junction = object("junction_tee");
+    for (rod, dir, radius) in [
+        ("east", Vector3::x(), 8.0),
+        ("west", -Vector3::x(), 8.0),
+        ("north", Vector3::y(), 5.0),
+    ] {
+        let port = centre + dir * 30.0;
+        let start_ring = &object(rod)[..TUBE_SIDES];
+        for v in start_ring {
+            assert!(
+                (v - port).dot(&dir).abs() < 1e-9,
+                "{rod}: ring in the port plane"
+            );
+            assert!(
+                ((v - port).norm() - radius).abs() < 1e-9,
+                "{rod}: ring radius"
+            );
+        }
+        // The junction has TUBE_SIDES vertices on that same rim.
+        let on_rim = junction
+            .iter()
+            .filter(|v| {
+                (*v - port).dot(&dir).abs() < 1e-9 && ((*v - port).norm() - radius).abs() < 1e-9
+            })
+            .count();
+        assert_eq!(on_rim, TUBE_SIDES, "{rod}: the body reaches the port");
+    }
+    assert!(
+        junction
+            .iter()
+            .all(|v| (v - centre).norm() <= 30.0f64.hypot(8.0) + 1e-9)
+    );
+    // The connector's collar surrounds the east hose's far end: every vertex of the
+    // hose's end ring is inside the collar (radius 1.4 × 8 mm, from 8 mm before the end
+    // to 16 mm beyond it).
+    let end = centre + Vector3::x() * 430.0;
+    let collar = object("connector_outlet");
+    let along: Vec<f64> = collar.iter().map(|v| (v - end).x).collect();
+    let reach = along
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(*x), b.max(*x))
+        });
+    assert!(
+        (reach.0 + 8.0).abs() < 1e-9 && (reach.1 - 16.0).abs() < 1e-9,
+        "{reach:?}"
+    );
+    let east = object("east");
+    let end_ring = &east[2 * TUBE_SIDES..3 * TUBE_SIDES];
+    for v in end_ring {
+        let radial = (v - end) - Vector3::x() * (v - end).x;
+        assert!(radial.norm() < CONNECTOR_RADIUS_FACTOR * 8.0);
+    }
+    // The clip's band sits on the north hose's middle vertex, across the hose.
+    let middle = centre + Vector3::y() * 230.0;
+    let band = object("clip_c1");
+    for v in band {
+        let d = v - middle;
+        assert!(d.y.abs() <= 0.5 * CLIP_WIDTH_FACTOR * 5.0 + 1e-9);
+        assert!(d.x.hypot(d.z) <= CLIP_RADIUS_FACTOR * 5.0 + 1e-9);
+    }
+}
+
+#[test]
+fn the_ball_of_a_junction_is_closed_and_round() {
+    let ball = ball_mesh(&[1.0, 2.0, 3.0], 0.5);
+    for v in &ball.vertices {
+        assert!(((v - Vector3::new(1.0, 2.0, 3.0)).norm() - 0.5).abs() < 1e-12);
+    }
+    // Closed and consistently wound: every directed edge appears once, its reverse
+    // once; the faces point outwards.
+    let mut edges = std::collections::HashMap::new();
+    for f in &ball.faces {
+        for k in 0..3 {
+            *edges.entry((f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+        }
+        let [a, b, c] = f.map(|i| ball.vertices[i]);
+        let normal = (b - a).cross(&(c - a));
+        let outward = (a + b + c) / 3.0 - Vector3::new(1.0, 2.0, 3.0);
+        assert!(normal.dot(&outward) > 0.0, "{f:?}");
+    }
+    for (&(a, b), &n) in &edges {
+        assert_eq!(n, 1);
+        assert_eq!(edges.get(&(b, a)), Some(&1));
+    }
+    assert_eq!(ball.faces.len(), 2 * TUBE_SIDES * (BALL_BANDS - 1));
+}
+
+#[test]
+fn the_vtp_carries_bend_radius_outer_radius_contact_force_and_frames() {
+    let mut d = helix_doc();
+    // Curvature 1/0.25 m⁻¹ at vertex 3 of hose_a; a contact of 2 N along +z near
+    // vertex 5 (s = 5/36 m); frames: a quarter turn about z on every edge.
+    d.rods[0].curvature_1pm[3] = [3.0, 4.0, 0.5];
+    d.contacts.push(ContactResult {
+        rod: "hose_a".into(),
+        s_m: 5.2 / 36.0,
+        point_m: d.rods[0].position_m[5],
+        normal: [0.0, 0.0, 1.0],
+        force_n: 2.0,
+        with: "floor".into(),
+    });
+    let (c, s) = (
+        std::f64::consts::FRAC_PI_4.cos(),
+        std::f64::consts::FRAC_PI_4.sin(),
+    );
+    for rod in &mut d.rods {
+        rod.section_frames_wxyz = vec![[c, 0.0, 0.0, s]; rod.segments];
+    }
+    let text = rods_vtp_in(&d, &ExportUnit::new(1e-3, "mm"));
+    let xml = roxmltree::Document::parse(&text).unwrap();
+    let array = |name: &str| {
+        let node = xml
+            .descendants()
+            .find(|n| n.has_tag_name("DataArray") && n.attribute("Name") == Some(name))
+            .unwrap_or_else(|| panic!("no {name}"));
+        numbers(node)
+    };
+    let bend = array("bend_radius_mm");
+    assert_eq!(bend.len(), 74);
+    assert!(
+        (bend[3] - 200.0).abs() < 1e-12,
+        "1/|(3, 4)| m in mm: {}",
+        bend[3]
+    );
+    assert!(
+        text.contains(">\ninf") || text.contains(" inf"),
+        "straight vertices: inf"
+    );
+    let curvature = array("curvature_1pm");
+    assert_eq!(&curvature[9..12], &[3.0, 4.0, 0.5]);
+    let radius = array("outer_radius_mm");
+    assert!(radius[..37].iter().all(|r| *r == 12.0));
+    assert!(
+        radius[37..]
+            .iter()
+            .all(|r| *r == 1000.0 * DEFAULT_RADIUS_FRACTION)
+    );
+    let contact = array("contact_force_N");
+    assert_eq!(contact.len(), 3 * 74);
+    assert_eq!(&contact[15..18], &[0.0, 0.0, 2.0]);
+    assert_eq!(contact.iter().map(|x| x.abs()).sum::<f64>(), 2.0);
+    // A quarter turn about z: d1 = y, d2 = −x, d3 = z at every vertex.
+    let (d1, d2, d3) = (
+        array("section_d1"),
+        array("section_d2"),
+        array("section_d3"),
+    );
+    for j in 0..74 {
+        for (got, want) in [
+            (&d1, [0.0, 1.0, 0.0]),
+            (&d2, [-1.0, 0.0, 0.0]),
+            (&d3, [0.0, 0.0, 1.0]),
+        ] {
+            for i in 0..3 {
+                assert!((got[3 * j + i] - want[i]).abs() < 1e-12, "vertex {j}");
+            }
+        }
+    }
+    // Without frames (an older result.json) the frame arrays are left out.
+    d.rods[1].section_frames_wxyz.clear();
+    assert!(!rods_vtp(&d).contains("section_d1"));
+}

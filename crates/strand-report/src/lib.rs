@@ -52,10 +52,14 @@ mod contacts;
 mod csv;
 mod environment;
 mod findings;
+mod fittings;
 mod outline;
+mod palette;
+mod provenance;
 mod report;
 mod result;
 mod study;
+mod surface;
 mod svg;
 mod tube;
 mod vtk;
@@ -72,12 +76,21 @@ pub use contacts::{CLEARANCE_SEARCH_M, collect_clearances, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
 pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use findings::{
-    Finding, FindingKind, bend_radii, find, findings_text, limits_stated, number as finding_number,
+    Finding, FindingKind, FindingValue, bend_radii, find, findings_text, limits_stated,
+    number as finding_number,
+};
+pub use fittings::{
+    CLIP_RADIUS_FACTOR, CLIP_WIDTH_FACTOR, CONNECTOR_LENGTH_FACTOR, CONNECTOR_OVERLAP_FACTOR,
+    CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
 pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
 };
+pub use palette::{
+    DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, dash_pattern, line_colour,
+};
+pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
 pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
@@ -86,10 +99,11 @@ pub use result::{
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,
 };
-pub use svg::study_svg;
+pub use surface::{MAX_SURFACE_TRIANGLES, mesh_surface};
+pub use svg::{axis_label, axis_ticks, study_svg};
 pub use tube::{
-    DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, tube_radius, tube_rings, tubes_obj,
-    tubes_obj_in,
+    BALL_BANDS, DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, TubeMesh, ball_mesh, tube_mesh,
+    tube_radius, tube_rings, tubes_obj, tubes_obj_in,
 };
 pub use vtk::{VTK_POINT_ARRAYS, VtkPointArray, rods_vtp, rods_vtp_in};
 pub use write::{ReportError, is_safe_name, write_atomic, write_results, write_results_in};

@@ -163,24 +163,29 @@ pub fn region_around(doc: &ResultDoc, margin: f64) -> Option<Aabb> {
     region.map(|[lo, hi]| [lo.map(|v| v - margin), hi.map(|v| v + margin)])
 }
 
-/// Puts the outline of every mesh within [`OUTLINE_MARGIN_M`] of the hoses into
-/// `doc.environment` (one entry per mesh by name; an existing entry keeps its
-/// diagnostics). Call after the rods are in `doc`.
+/// Puts the outline and the surface ([`crate::mesh_surface`]) of every mesh within
+/// [`OUTLINE_MARGIN_M`] of the hoses into `doc.environment` (one entry per mesh by
+/// name; an existing entry keeps its diagnostics). Call after the rods are in `doc`.
 pub fn collect_outlines(doc: &mut ResultDoc, meshes: &[Arc<ObstacleMesh>]) {
     let Some(region) = region_around(doc, OUTLINE_MARGIN_M) else {
         return;
     };
     for mesh in meshes {
         let (segments, truncated) = mesh_outline(mesh, &region);
+        let (surface, cell) = crate::surface::mesh_surface(mesh, &region);
         match doc.environment.iter_mut().find(|e| e.name == mesh.name()) {
             Some(entry) => {
                 entry.segments_m = segments;
                 entry.truncated = truncated;
+                entry.surface_m = surface;
+                entry.surface_cell_m = cell;
             }
             None => doc.environment.push(EnvironmentOutline {
                 name: mesh.name().to_string(),
                 segments_m: segments,
                 truncated,
+                surface_m: surface,
+                surface_cell_m: cell,
                 diagnostics: None,
             }),
         }

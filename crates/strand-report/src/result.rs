@@ -128,6 +128,10 @@ pub struct ResultDoc {
     /// empty when every stated limit is respected or none is stated.
     #[serde(default)]
     pub findings: Vec<crate::Finding>,
+    /// Where the result comes from: Strand's version, the case file and its hash,
+    /// the date and the solver settings (absent in results of older versions).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provenance: Option<crate::Provenance>,
 }
 
 /// One environment part: its outline as line segments in space, for drawings, and
@@ -144,6 +148,15 @@ pub struct EnvironmentOutline {
     /// segments kept).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub truncated: bool,
+    /// The surface near the hoses for shaded drawings: polygons (3 to 9 corners,
+    /// wound as the mesh) clipped to the same box as the outline, m, world frame (see
+    /// [`crate::mesh_surface`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub surface_m: Vec<Vec<[f64; 3]>>,
+    /// The cell size of the vertex clustering that decimated `surface_m`, m; absent
+    /// when the surface is the mesh's own triangles.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface_cell_m: Option<f64>,
     /// Counts, defects, closedness and bounding box of the mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diagnostics: Option<crate::MeshDiagnosticsResult>,
@@ -242,10 +255,19 @@ pub struct RodResult {
     /// Edge forces `f_{j-1/2}` (`N` entries), N.
     #[serde(rename = "edge_force_N")]
     pub edge_force_n: Vec<[f64; 3]>,
+    /// Section frames of the edges (`N` entries) as unit quaternions `[w, x, y, z]`
+    /// rotating the world axes onto the section's directors `d1`, `d2`, `d3` (`d3` the
+    /// section normal, near the edge's tangent); empty in results written before
+    /// they were recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub section_frames_wxyz: Vec<[f64; 4]>,
     /// Outer radius of the section (for contact and drawing), m; absent when the
     /// section does not state one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub outer_radius_m: Option<f64>,
+    /// Mass of the rod (mass per length × reference length), kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
     /// Smallest allowed bend radius of the hose, m, if the case states one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_bend_radius_m: Option<f64>,
@@ -276,6 +298,22 @@ pub struct ReactionResult {
     /// Moment on the rod about `position_m`, N·m (zero at a pin).
     #[serde(rename = "moment_Nm")]
     pub moment_nm: [f64; 3],
+    /// Largest allowed force magnitude, N, if the case states one (`max_force` of a
+    /// named connector).
+    #[serde(
+        default,
+        rename = "max_force_N",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max_force_n: Option<f64>,
+    /// Largest allowed moment magnitude, N·m, if the case states one (`max_moment`
+    /// of a named connector).
+    #[serde(
+        default,
+        rename = "max_moment_Nm",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max_moment_nm: Option<f64>,
 }
 
 fn arr(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
@@ -315,7 +353,9 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
                 hamiltonian_n: s.hamiltonian,
                 curvature_1pm: arrs(&s.curvatures),
                 edge_force_n: arrs(&s.edge_forces),
+                section_frames_wxyz: state.frames.iter().map(|q| [q.w, q.i, q.j, q.k]).collect(),
                 outer_radius_m: Some(spec.rod.section().outer_radius).filter(|r| *r > 0.0),
+                mass_kg: Some(spec.rod.section().mass_per_length * spec.rod.length()),
                 min_bend_radius_m: None,
                 min_clearance_m: None,
             }
@@ -338,6 +378,8 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
             position_m: arr(&r.position),
             force_n: arr(&r.force),
             moment_nm: arr(&r.moment),
+            max_force_n: None,
+            max_moment_nm: None,
         })
         .collect();
     let bodies = system
@@ -397,6 +439,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         clearance: Vec::new(),
         environment: Vec::new(),
         findings: Vec::new(),
+        provenance: None,
     }
 }
 

@@ -212,6 +212,7 @@ pub(crate) mod tests {
             clearance: Vec::new(),
             environment: Vec::new(),
             findings: Vec::new(),
+            provenance: None,
         }
     }
 

@@ -20,17 +20,13 @@ const PANEL_HEIGHT: f64 = 240.0;
 const PANEL_GAP: f64 = 78.0;
 const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 64.0;
 
-/// One colour per rod (Tableau 10), reused cyclically.
-pub(crate) const COLOURS: [&str; 10] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-    "#bcbd22", "#17becf",
-];
+/// One colour per rod (colour-blind safe, [`crate::palette`]), reused cyclically.
+pub(crate) const COLOURS: [&str; 7] = crate::palette::LINE_COLOURS;
 /// Dash patterns of the variants after the first (which is solid), reused cyclically.
-const DASHES: [&str; 5] = ["8 5", "2 4", "12 4 2 4", "4 4", "16 6"];
-
-/// The `stroke-dasharray` of variant `k` (`None`: solid).
+/// The `stroke-dasharray` of variant `k` (`None`: solid; see
+/// [`crate::palette::dash_pattern`]).
 pub(crate) fn dash(k: usize) -> Option<&'static str> {
-    (k > 0).then(|| DASHES[(k - 1) % DASHES.len()])
+    crate::palette::dash_pattern(k)
 }
 
 /// `text` escaped for XML character data and attribute values.
@@ -80,6 +76,37 @@ pub(crate) fn tick_label(value: f64, step: f64) -> String {
     } else {
         text
     }
+}
+
+/// A nice tick step (1, 2, 2.5 or 5 × 10^k) for about five intervals over `[min, max]`
+/// and the axis range `(step, low, high)` rounded outwards to whole steps, without
+/// forcing zero in (for an axis of parameter values); a single value gets one step on
+/// either side.
+pub fn axis_ticks(min: f64, max: f64) -> (f64, f64, f64) {
+    let (min, max) = if min.is_finite() && max.is_finite() && min <= max {
+        (min, max)
+    } else {
+        (0.0, 1.0)
+    };
+    let span = if max > min {
+        max - min
+    } else {
+        min.abs().max(1.0)
+    };
+    let (step, _) = ticks(span);
+    let low = (min / step + 1e-9).floor() * step;
+    let high = ((max / step - 1e-9).ceil() * step).max(low + step);
+    if max > min {
+        (step, low, high)
+    } else {
+        (step, low - step, high.max(low + step))
+    }
+}
+
+/// A tick label of `value` on an axis of `step`: as few decimals as the step needs
+/// (`4.5`, `10`, `0.25`; never `-0`).
+pub fn axis_label(value: f64, step: f64) -> String {
+    tick_label(value, step)
 }
 
 /// A nice tick step for about five intervals over `[min, max]` and the axis range

@@ -26,7 +26,9 @@ pub(crate) fn sample_rod() -> RodResult {
         hamiltonian_n: vec![1.0; 3],
         curvature_1pm: vec![v(0.0); 3],
         edge_force_n: vec![v(1.0); 2],
+        section_frames_wxyz: Vec::new(),
         outer_radius_m: Some(0.01),
+        mass_kg: Some(0.25),
         min_bend_radius_m: None,
         min_clearance_m: None,
     }

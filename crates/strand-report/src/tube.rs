@@ -19,6 +19,7 @@ use nalgebra::{Unit, UnitQuaternion, Vector3};
 
 use crate::cad::ExportUnit;
 use crate::csv::push_number;
+use crate::fittings::FittingPiece;
 use crate::result::{ResultDoc, RodResult};
 
 /// Vertices around each ring of a tube.
@@ -112,6 +113,98 @@ pub fn tube_rings(positions: &[[f64; 3]], radius: f64) -> Option<Vec<Vector3<f64
     Some(rings)
 }
 
+/// An indexed triangle mesh: vertices (m) and faces (0-based indices into them,
+/// wound counter-clockwise seen from outside).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TubeMesh {
+    /// Vertex positions, m.
+    pub vertices: Vec<Vector3<f64>>,
+    /// Triangles as 0-based vertex indices.
+    pub faces: Vec<[usize; 3]>,
+}
+
+/// The closed tube surface along `positions` (m) of `radius` (m): the rings of
+/// [`tube_rings`], then the two cap centres, joined by triangles; `None` where
+/// [`tube_rings`] gives none.
+pub fn tube_mesh(positions: &[[f64; 3]], radius: f64) -> Option<TubeMesh> {
+    let mut vertices = tube_rings(positions, radius)?;
+    let count = vertices.len() / TUBE_SIDES;
+    let at = |ring: usize, k: usize| ring * TUBE_SIDES + k % TUBE_SIDES;
+    let mut faces = Vec::with_capacity(2 * count * TUBE_SIDES);
+    for ring in 0..count - 1 {
+        for k in 0..TUBE_SIDES {
+            let (a, b) = (at(ring, k), at(ring, k + 1));
+            let (c, d) = (at(ring + 1, k + 1), at(ring + 1, k));
+            faces.push([a, b, c]);
+            faces.push([a, c, d]);
+        }
+    }
+    let (start, end) = (vertices.len(), vertices.len() + 1);
+    vertices.push(vector(&positions[0]));
+    vertices.push(vector(&positions[positions.len() - 1]));
+    for k in 0..TUBE_SIDES {
+        faces.push([start, at(0, k + 1), at(0, k)]);
+        faces.push([end, at(count - 1, k), at(count - 1, k + 1)]);
+    }
+    Some(TubeMesh { vertices, faces })
+}
+
+/// Latitude bands of [`ball_mesh`].
+pub const BALL_BANDS: usize = 8;
+
+/// A closed ball surface of `radius` (m) around `centre` (m): two poles and
+/// `BALL_BANDS − 1` rings of [`TUBE_SIDES`] vertices on the sphere.
+pub fn ball_mesh(centre: &[f64; 3], radius: f64) -> TubeMesh {
+    let c = vector(centre);
+    let mut vertices = vec![c + Vector3::z() * radius, c - Vector3::z() * radius];
+    for band in 1..BALL_BANDS {
+        let theta = std::f64::consts::PI * band as f64 / BALL_BANDS as f64;
+        for k in 0..TUBE_SIDES {
+            let phi = std::f64::consts::TAU * k as f64 / TUBE_SIDES as f64;
+            let d = Vector3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            vertices.push(c + d * radius);
+        }
+    }
+    let at = |ring: usize, k: usize| 2 + ring * TUBE_SIDES + k % TUBE_SIDES;
+    let rings = BALL_BANDS - 1;
+    let mut faces = Vec::new();
+    for k in 0..TUBE_SIDES {
+        faces.push([0, at(0, k), at(0, k + 1)]);
+        faces.push([1, at(rings - 1, k + 1), at(rings - 1, k)]);
+    }
+    for ring in 0..rings - 1 {
+        for k in 0..TUBE_SIDES {
+            let (a, b) = (at(ring, k), at(ring, k + 1));
+            let (c, d) = (at(ring + 1, k + 1), at(ring + 1, k));
+            faces.push([a, d, c]);
+            faces.push([a, c, b]);
+        }
+    }
+    TubeMesh { vertices, faces }
+}
+
+/// Writes `mesh` as OBJ object `name` (vertices in `unit`), its faces numbered from
+/// `*base` (OBJ's 1-based global index), which is then moved past its vertices.
+fn push_object(out: &mut String, name: &str, mesh: &TubeMesh, unit: &ExportUnit, base: &mut usize) {
+    let _ = writeln!(out, "o {name}");
+    for p in &mesh.vertices {
+        out.push('v');
+        for x in [p.x, p.y, p.z] {
+            out.push(' ');
+            push_number(out, x / unit.metres);
+        }
+        out.push('\n');
+    }
+    for f in &mesh.faces {
+        let _ = writeln!(out, "f {} {} {}", *base + f[0], *base + f[1], *base + f[2]);
+    }
+    *base += mesh.vertices.len();
+}
+
 /// The text of `tubes.obj`: one tube object per rod of `doc` (see the module docs).
 /// Rods whose centreline is not finite are left out, with a comment saying so.
 /// Coordinates in m; see [`tubes_obj_in`] for another unit.
@@ -120,19 +213,21 @@ pub fn tubes_obj(doc: &ResultDoc) -> String {
 }
 
 /// As [`tubes_obj`], with every coordinate in `unit` (e.g. the case's mm, so that the
-/// file loads into the CAD system next to the parts it was modelled from).
+/// file loads into the CAD system next to the parts it was modelled from). After the
+/// rods, one object per fitting ([`crate::fittings`]: junction bodies, connectors,
+/// clips) named `<kind>_<name>`, so that a T-junction shows no gap.
 pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# strand: tube surfaces of the rods of case {}, {}; {TUBE_SIDES} vertices around, one object per rod",
+        "# strand: tube surfaces of the rods of case {}, {}; {TUBE_SIDES} vertices around, one object per rod, then one per fitting (junction_, connector_, clip_)",
         doc.case.replace(['\n', '\r'], " "),
         unit.symbol
     );
     let mut base = 1; // OBJ indices are 1-based.
     for rod in &doc.rods {
         let (radius, default) = tube_radius(rod);
-        let Some(rings) = tube_rings(&rod.position_m, radius) else {
+        let Some(mesh) = tube_mesh(&rod.position_m, radius) else {
             let _ = writeln!(
                 out,
                 "# {}: centreline not finite or of zero extent; no tube",
@@ -140,7 +235,6 @@ pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
             );
             continue;
         };
-        let _ = writeln!(out, "o {}", rod.name);
         if default {
             let _ = writeln!(
                 out,
@@ -159,38 +253,32 @@ pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
                 unit.symbol
             );
         }
-        let caps = [
-            &rod.position_m[0],
-            &rod.position_m[rod.position_m.len() - 1],
-        ];
-        for p in rings
-            .iter()
-            .map(|p| [p.x, p.y, p.z])
-            .chain(caps.map(|c| *c))
-        {
-            out.push('v');
-            for x in p {
-                out.push(' ');
-                push_number(&mut out, x / unit.metres);
-            }
-            out.push('\n');
-        }
-        let rings_count = rings.len() / TUBE_SIDES;
-        let at = |ring: usize, k: usize| base + ring * TUBE_SIDES + k % TUBE_SIDES;
-        for ring in 0..rings_count - 1 {
-            for k in 0..TUBE_SIDES {
-                let (a, b) = (at(ring, k), at(ring, k + 1));
-                let (c, d) = (at(ring + 1, k + 1), at(ring + 1, k));
-                let _ = writeln!(out, "f {a} {b} {c}\nf {a} {c} {d}");
+        push_object(&mut out, &rod.name, &mesh, unit, &mut base);
+    }
+    for fitting in crate::fittings::fittings(doc) {
+        let mut mesh = TubeMesh::default();
+        for piece in &fitting.pieces {
+            let part = match *piece {
+                FittingPiece::Cylinder {
+                    start_m,
+                    end_m,
+                    radius_m,
+                } => tube_mesh(&[start_m, end_m], radius_m),
+                FittingPiece::Ball { centre_m, radius_m } => Some(ball_mesh(&centre_m, radius_m)),
+            };
+            if let Some(part) = part {
+                let offset = mesh.vertices.len();
+                mesh.vertices.extend(part.vertices);
+                mesh.faces
+                    .extend(part.faces.iter().map(|f| f.map(|i| i + offset)));
             }
         }
-        let (start, end) = (base + rings.len(), base + rings.len() + 1);
-        let last = rings_count - 1;
-        for k in 0..TUBE_SIDES {
-            let _ = writeln!(out, "f {start} {} {}", at(0, k + 1), at(0, k));
-            let _ = writeln!(out, "f {end} {} {}", at(last, k), at(last, k + 1));
-        }
-        base = end + 1;
+        let name = format!(
+            "{}_{}",
+            fitting.kind.as_str(),
+            fitting.name.replace(char::is_whitespace, "_")
+        );
+        push_object(&mut out, &name, &mesh, unit, &mut base);
     }
     out
 }

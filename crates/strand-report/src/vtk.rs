@@ -4,7 +4,10 @@
 //! [`ResultDoc::rods`]. Point data, per vertex (SI units, the unit in every name):
 //! `s_m`, `force_N` (3 components), `moment_Nm` (3), `force_magnitude_N`,
 //! `moment_magnitude_Nm`, `tangential_force_N`, `shear_force_N`,
-//! `bending_moment_Nm`, `torsion_Nm` and `rod_id` (the rod's index). Cell data:
+//! `bending_moment_Nm`, `torsion_Nm`, `curvature_1pm` (3, section frame),
+//! `bend_radius_<unit>` (1/|κ| in the unit of the points, `inf` where straight),
+//! `outer_radius_<unit>` (in the unit of the points), `contact_force_N` (3), the section frame's directors `section_d1`,
+//! `section_d2`, `section_d3` (unit vectors) and `rod_id` (the rod's index). Cell data:
 //! `rod_id`, one per polyline. Field data: `rod_names`, a VTK string array (one tuple per
 //! rod, index = `rod_id`; VTK writes ASCII strings as their byte values, each string
 //! followed by a 0), and the names are repeated in an XML comment for human readers.
@@ -31,8 +34,9 @@ fn flat(values: &[[f64; 3]]) -> Vec<f64> {
     values.iter().flatten().copied().collect()
 }
 
-/// The point-data arrays written to `rods.vtp`, in file order (`rod_id`, an integer
-/// array, is written after them).
+/// The point-data arrays of one rod written to `rods.vtp`, in file order (the arrays
+/// that need the whole result and `rod_id`, an integer array, are
+/// written after them).
 pub const VTK_POINT_ARRAYS: [VtkPointArray; 9] = [
     VtkPointArray {
         name: "s_m",
@@ -80,6 +84,111 @@ pub const VTK_POINT_ARRAYS: [VtkPointArray; 9] = [
         values: |r| r.torsion_nm.clone(),
     },
 ];
+
+/// The point-data arrays of `rods.vtp` after [`VTK_POINT_ARRAYS`], each as (name,
+/// components, values of every rod's vertices in rod order):
+/// - `curvature_1pm`: the material curvature (section frame), 1/m;
+/// - `bend_radius_<unit>`: `1/|(K1, K2)|` in the unit of the points (`inf` where
+///   straight);
+/// - `outer_radius_<unit>`: the tube radius drawn (the rod's outer radius, else
+///   [`crate::DEFAULT_RADIUS_FRACTION`] of its length) in the unit of the points, for
+///   ParaView's Tube filter;
+/// - `contact_force_N`: the contact forces on the rod (force along the normal),
+///   each added to the vertex nearest its arc length, N; zero elsewhere;
+/// - `section_d1`, `section_d2`, `section_d3`: the directors of the section frame
+///   (unit vectors, dimensionless; `d3` the section normal), at a vertex the mean of
+///   its edges' frames; written only when every rod carries its frames.
+pub(crate) fn doc_arrays(
+    doc: &ResultDoc,
+    unit: &crate::cad::ExportUnit,
+) -> Vec<(String, usize, Vec<f64>)> {
+    let mut arrays = vec![
+        (
+            "curvature_1pm".to_string(),
+            3,
+            doc.rods
+                .iter()
+                .flat_map(|r| flat(&r.curvature_1pm))
+                .collect(),
+        ),
+        (
+            format!("bend_radius_{}", unit.symbol),
+            1,
+            doc.rods
+                .iter()
+                .flat_map(crate::findings::bend_radii)
+                .map(|r| r / unit.metres)
+                .collect(),
+        ),
+    ];
+    arrays.push((
+        format!("outer_radius_{}", unit.symbol),
+        1,
+        doc.rods
+            .iter()
+            .flat_map(|r| {
+                let radius = crate::tube::tube_radius(r).0 / unit.metres;
+                std::iter::repeat_n(radius, r.position_m.len())
+            })
+            .collect(),
+    ));
+    let mut contact = Vec::new();
+    for rod in &doc.rods {
+        let mut forces = vec![[0.0; 3]; rod.position_m.len()];
+        for c in doc.contacts.iter().filter(|c| c.rod == rod.name) {
+            let nearest = rod
+                .s_m
+                .iter()
+                .enumerate()
+                .min_by(|a, b| (a.1 - c.s_m).abs().total_cmp(&(b.1 - c.s_m).abs()))
+                .map(|(j, _)| j);
+            if let Some(j) = nearest.filter(|j| *j < forces.len()) {
+                for (f, n) in forces[j].iter_mut().zip(c.normal) {
+                    *f += c.force_n * n;
+                }
+            }
+        }
+        contact.extend(forces.into_iter().flatten());
+    }
+    arrays.push(("contact_force_N".to_string(), 3, contact));
+    let framed = doc
+        .rods
+        .iter()
+        .all(|r| r.section_frames_wxyz.len() + 1 == r.position_m.len());
+    if framed {
+        let frames: Vec<[[f64; 3]; 3]> = doc.rods.iter().flat_map(vertex_frames).collect();
+        for (k, name) in ["section_d1", "section_d2", "section_d3"]
+            .iter()
+            .enumerate()
+        {
+            arrays.push((
+                name.to_string(),
+                3,
+                frames.iter().flat_map(|f| f[k]).collect(),
+            ));
+        }
+    }
+    arrays
+}
+
+/// The directors `[d1, d2, d3]` at every vertex of `rod`: the frame of the mean of
+/// the adjacent edges' quaternions (sign-aligned), the end edge's frame at the ends.
+fn vertex_frames(rod: &RodResult) -> Vec<[[f64; 3]; 3]> {
+    let q: Vec<nalgebra::Quaternion<f64>> = rod
+        .section_frames_wxyz
+        .iter()
+        .map(|[w, x, y, z]| nalgebra::Quaternion::new(*w, *x, *y, *z))
+        .collect();
+    let last = q.len().saturating_sub(1);
+    (0..rod.position_m.len())
+        .map(|j| {
+            let (a, b) = (q[j.saturating_sub(1).min(last)], q[j.min(last)]);
+            let sum = if a.dot(&b) < 0.0 { a - b } else { a + b };
+            let m = nalgebra::UnitQuaternion::from_quaternion(sum).to_rotation_matrix();
+            [0, 1, 2].map(|c| [m[(0, c)], m[(1, c)], m[(2, c)]])
+        })
+        .collect()
+}
 
 /// Writes `values` as the body of an ASCII `DataArray`, `per_line` numbers a line.
 fn push_values(out: &mut String, values: impl IntoIterator<Item = f64>, per_line: usize) {
@@ -162,6 +271,15 @@ pub fn rods_vtp_in(doc: &ResultDoc, unit: &crate::cad::ExportUnit) -> String {
             rods.iter().flat_map(|r| (array.values)(r)),
             6 * array.components,
         );
+        out.push_str("</DataArray>\n");
+    }
+    for (name, components, values) in doc_arrays(doc, unit) {
+        let _ = write!(
+            out,
+            "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{components}\" format=\"ascii\">",
+            escape(&name)
+        );
+        push_values(&mut out, values, 6 * components);
         out.push_str("</DataArray>\n");
     }
     out.push_str("<DataArray type=\"Int32\" Name=\"rod_id\" format=\"ascii\">");

@@ -42,6 +42,7 @@ pub(crate) fn thin(doc: &ResultDoc) -> ResultDoc {
         rod.total_moment_nm.clear();
         rod.hamiltonian_n.clear();
         rod.edge_force_n.clear();
+        rod.section_frames_wxyz.clear();
     }
     thin.clearance = largest(&doc.clearance, |c| -c.distance_m);
     thin.contacts.clear();

@@ -54,10 +54,14 @@ impl Cell {
 /// One table row: its `data-*` attributes (`key`, value) and its cells.
 pub(crate) type Row = (Vec<(&'static str, String)>, Vec<Cell>);
 
-/// Appends a table: `id` (also its class), column `headers` (plain text, escaped),
-/// and `rows`; each row's `data-result`/`data-rod` attributes come from `keys`.
+/// Appends a table inside a horizontally scrolling `div.scroll`: `id` (also its
+/// class), column `headers` (plain text, escaped), and `rows`; each row's `data-result`/`data-rod` attributes come from `keys`.
 pub(crate) fn push_table(html: &mut String, id: &str, headers: &[&str], rows: &[Row]) {
-    let _ = writeln!(html, "<table id=\"{id}\" class=\"data {id}\">");
+    // Wrapped so that a wide table scrolls on a narrow screen instead of running off it.
+    let _ = writeln!(
+        html,
+        "<div class=\"scroll\">\n<table id=\"{id}\" class=\"data {id}\">"
+    );
     html.push_str("<thead><tr>");
     for h in headers {
         let _ = write!(html, "<th>{}</th>", escape(h));
@@ -91,7 +95,7 @@ pub(crate) fn push_table(html: &mut String, id: &str, headers: &[&str], rows: &[
         }
         html.push_str("</tr>\n");
     }
-    html.push_str("</tbody>\n</table>\n");
+    html.push_str("</tbody>\n</table>\n</div>\n");
 }
 
 #[cfg(test)]

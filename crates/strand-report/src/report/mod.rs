@@ -19,6 +19,7 @@ mod format;
 mod limits;
 mod plots;
 mod projection;
+mod provenance;
 mod tables;
 
 pub(crate) use format::sig;
@@ -150,6 +151,17 @@ table.findings td { color: #c62828; }
 .v3d-controls { display: flex; flex-wrap: wrap; gap: 6px 14px; align-items: center; font-size: 0.9em; margin: 0.3em 0; }
 .v3d-controls .readout { color: #333; font-variant-numeric: tabular-nums; }
 figure.v3d svg { max-width: 900px; cursor: grab; }
+p.warning { background: #fff4e5; border-left: 4px solid #e69f00; padding: 6px 10px; }
+@media print {
+  body { background: #ffffff; font-size: 10pt; }
+  main { max-width: none; padding: 0; }
+  .v3d-controls, details.settings { display: none; }
+  .scroll { overflow: visible; }
+  .grid { display: block; }
+  figure, table, tr { break-inside: avoid; }
+  h2, h3 { break-after: avoid; }
+  figure svg { border: none; }
+}
 ";
 
 /// The report page for `runs` (the first is the reference) under `title`.
@@ -164,11 +176,13 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
     cases.dedup();
     let _ = writeln!(
         html,
-        "<p class=\"meta\">Case {}; {} result(s), the first ({}) is the reference: solid lines, and differences are taken against it. Units: lengths in mm, forces in N, moments in N·m.</p>",
+        "<p class=\"meta\">Case {}; {} result(s), the first ({}) is the reference: solid lines, and differences are taken against it. Units: lengths in mm, forces in N, moments in N·m. Report by Strand {}; where each result comes from: Provenance, at the end.</p>",
         escape(&cases.join(", ")),
         runs.len(),
-        escape(runs.first().map_or("none", |r| r.label))
+        escape(runs.first().map_or("none", |r| r.label)),
+        env!("CARGO_PKG_VERSION")
     );
+    provenance::push_mixed_warning(&mut html, runs);
 
     html.push_str("<h2 id=\"findings-section\">Findings</h2>\n");
     limits::push_findings(&mut html, runs);
@@ -232,6 +246,8 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
     checks::push_contacts(&mut html, runs);
     html.push_str("<h2>Bend radius</h2>\n");
     checks::push_bend_radius(&mut html, runs);
+    html.push_str("<h2 id=\"provenance-section\">Provenance</h2>\n");
+    provenance::push_provenance(&mut html, runs);
     html.push_str("</main>\n</body>\n</html>\n");
     html
 }

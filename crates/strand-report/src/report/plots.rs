@@ -22,8 +22,13 @@ const PANEL_GAP: f64 = 72.0;
 const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 52.0;
 
 /// Colours of the three quantities of a panel (magnitude, tangential/bending,
-/// shear/torsion).
-const QUANTITY_COLOURS: [&str; 3] = ["#1f3b73", "#d62728", "#2ca02c"];
+/// shear/torsion)
+/// (the first three colour-blind-safe line colours, [`crate::palette`]).
+const QUANTITY_COLOURS: [&str; 3] = [
+    crate::palette::LINE_COLOURS[0],
+    crate::palette::LINE_COLOURS[1],
+    crate::palette::LINE_COLOURS[2],
+];
 
 /// A plotted quantity: `data-quantity` key, legend label, values of one rod.
 type Quantity = (&'static str, &'static str, fn(&RodResult) -> Vec<f64>);

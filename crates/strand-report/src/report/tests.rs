@@ -22,6 +22,8 @@ fn docs() -> (ResultDoc, ResultDoc) {
             position_m: [0.0, 0.0, 0.0],
             force_n: [3.0, 4.0, 0.0],
             moment_nm: [0.0, 0.0, 1.0],
+            max_force_n: None,
+            max_moment_nm: None,
         });
         // "other" hangs from a junction port at its end: arc length from the end.
         d.reactions.push(ReactionResult {
@@ -32,6 +34,8 @@ fn docs() -> (ResultDoc, ResultDoc) {
             position_m: [1.0, 0.0, 0.0],
             force_n: [0.0, 1.0, 0.0],
             moment_nm: [0.0; 3],
+            max_force_n: None,
+            max_moment_nm: None,
         });
     }
     longer.rods[0].min_bend_radius_m = Some(0.25);
@@ -57,6 +61,8 @@ fn docs() -> (ResultDoc, ResultDoc) {
             [[1.0, 0.1, 0.2], [0.0, -0.1, -0.1]],
         ],
         truncated: false,
+        surface_m: Vec::new(),
+        surface_cell_m: None,
         diagnostics: None,
     });
     (base, longer)
@@ -152,6 +158,22 @@ fn report_is_well_formed_and_names_every_hose_and_result() {
     let html = render(&base, &longer);
     let xml = parse(&html);
     assert_eq!(xml.root_element().tag_name().name(), "html");
+    // Every table scrolls on its own on a narrow screen; a print style is there.
+    let tables: Vec<_> = xml
+        .descendants()
+        .filter(|n| n.has_tag_name("table"))
+        .collect();
+    assert!(tables.len() > 5);
+    for table in &tables {
+        let parent = table.parent_element().unwrap();
+        assert_eq!(
+            (parent.tag_name().name(), parent.attribute("class")),
+            ("div", Some("scroll")),
+            "{:?}",
+            table.attribute("id")
+        );
+    }
+    assert!(html.contains("@media print"));
     assert_eq!(
         xml.root_element().tag_name().namespace(),
         Some("http://www.w3.org/1999/xhtml")

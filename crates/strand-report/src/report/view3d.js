@@ -13,7 +13,7 @@
   var scene = document.getElementById("v3d-scene");
   var readout = document.getElementById("v3d-readout");
   var state = { yaw: D.view.yaw, pitch: D.view.pitch, zoom: 1, panX: 0, panY: 0,
-    quantity: D.view.quantity, run: 0 };
+    quantity: D.view.quantity, run: 0, overlay: true };
   var VIRIDIS = D.viridis;
 
   // The viridis colour of t in [0, 1]; magenta where there is no value (null).
@@ -42,6 +42,26 @@
   }
 
   function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+  // The grey of a surface polygon under a head light along d (see view3d.rs), or null
+  // for a polygon without area.
+  function shade(poly, d) {
+    var n = [0, 0, 0];
+    for (var i = 0; i < poly.length; i++) {
+      var a = poly[i], b = poly[(i + 1) % poly.length];
+      n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+      n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+      n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    var length = Math.sqrt(dot(n, n));
+    if (!(length > 0)) { return null; }
+    var light = Math.abs(dot(n, d) / length);
+    function level(base) {
+      var c = Math.round(base * (0.55 + 0.45 * light));
+      return (c < 16 ? "0" : "") + c.toString(16);
+    }
+    return "#" + level(196) + level(204) + level(214);
+  }
 
   function fmt(x) { return x.toFixed(2); }
 
@@ -84,6 +104,19 @@
     }
     var items = [];
     D.env.forEach(function (mesh) {
+      mesh.poly.forEach(function (poly) {
+        var fill = shade(poly, ax.d);
+        if (fill === null) { return; }
+        var points = "", depth = 0;
+        poly.forEach(function (p) {
+          var q = at(p);
+          points += (points === "" ? "" : " ") + fmt(q[0]) + "," + fmt(q[1]);
+          depth += q[2];
+        });
+        items.push({ depth: depth / poly.length, node: el("polygon", {
+          "class": "v3d-surface", "data-name": mesh.name, points: points,
+          fill: fill, "fill-opacity": String(D.surfaceOpacity) }) });
+      });
       mesh.seg.forEach(function (g) {
         var a = at([g[0], g[1], g[2]]), b = at([g[3], g[4], g[5]]);
         items.push({ depth: 0.5 * (a[2] + b[2]), node: el("line", {
@@ -94,6 +127,18 @@
     });
     var run = D.runs[state.run];
     var q = state.quantity;
+    // The reference's hoses as thin dark lines behind the shown result's.
+    if (state.overlay && state.run !== 0) {
+      D.runs[0].rods.forEach(function (rod) {
+        for (var j = 1; j < rod.p.length; j++) {
+          var a = at(rod.p[j - 1]), b = at(rod.p[j]);
+          items.push({ depth: 0.5 * (a[2] + b[2]) + 1e-6, node: el("line", {
+            "class": "v3d-reference", x1: fmt(a[0]), y1: fmt(a[1]), x2: fmt(b[0]),
+            y2: fmt(b[1]), stroke: "#000000", "stroke-opacity": "0.45",
+            "stroke-width": "1.5", "stroke-dasharray": "4 3" }) });
+        }
+      });
+    }
     run.rods.forEach(function (rod) {
       var width = Math.max(2, 2 * rod.r * s);
       for (var j = 1; j < rod.p.length; j++) {
@@ -104,6 +149,14 @@
           stroke: colour(edgeT(rod, q, j)), "stroke-width": fmt(width),
           "stroke-linecap": "round" }) });
       }
+    });
+    run.parts.forEach(function (part) {
+      var a = at(part.a), b = at(part.b);
+      items.push({ depth: 0.5 * (a[2] + b[2]), node: el("line", {
+        "class": "v3d-part", "data-kind": part.kind, "data-name": part.name,
+        x1: fmt(a[0]), y1: fmt(a[1]), x2: fmt(b[0]), y2: fmt(b[1]),
+        stroke: D.partColours[part.kind] || "#000000",
+        "stroke-width": fmt(Math.max(3, part.w * s)), "stroke-linecap": "round" }) });
     });
     // Far first.
     items.sort(function (x, y) { return y.depth - x.depth; });
@@ -120,6 +173,7 @@
           stroke: D.contactColour, "stroke-width": "2" }));
       }
       scene.appendChild(el("circle", { "class": "v3d-contact", "data-rod": k.rod,
+        "data-with": k.with,
         "data-force-n": String(k.f), cx: fmt(p[0]), cy: fmt(p[1]), r: "4",
         fill: D.contactColour, stroke: "#ffffff" }));
     });
@@ -140,6 +194,17 @@
 
   function show(target) {
     if (!readout || !target || !target.getAttribute) { return; }
+    var force = target.getAttribute("data-force-n");
+    if (force !== null) {
+      readout.textContent = "contact of " + target.getAttribute("data-rod") + " with " +
+        target.getAttribute("data-with") + ": " + Number(force).toPrecision(4) + " N";
+      return;
+    }
+    var kind = target.getAttribute("data-kind");
+    if (kind) {
+      readout.textContent = kind + " " + target.getAttribute("data-name");
+      return;
+    }
     var name = target.getAttribute("data-rod"), j = target.getAttribute("data-j");
     if (!name || j === null) { return; }
     var rod = D.runs[state.run].rods.filter(function (x) { return x.name === name; })[0];
@@ -150,7 +215,8 @@
       return x === null || x === undefined ? "–" : Number(x).toPrecision(digits);
     }
     readout.textContent = name + ": s = " + v("s", 4) + " mm, |f| = " + v("f", 4) +
-      " N, |m| = " + v("m", 4) + " N·m, bend radius = " + v("rb", 4) + " mm";
+      " N, |m| = " + v("m", 4) + " N·m, bend radius = " + v("rb", 4) + " mm" +
+      (state.run !== 0 ? ", moved " + v("d", 4) + " mm from the reference" : "");
   }
 
   var drag = null;
@@ -180,6 +246,10 @@
   var quantity = document.getElementById("v3d-quantity");
   if (quantity) {
     quantity.addEventListener("change", function () { state.quantity = quantity.value; draw(); });
+  }
+  var overlay = document.getElementById("v3d-overlay");
+  if (overlay) {
+    overlay.addEventListener("change", function () { state.overlay = overlay.checked; draw(); });
   }
   var result = document.getElementById("v3d-result");
   if (result) {

@@ -1,8 +1,10 @@
 //! The report's 3D view: an inline SVG with an orthographic projection of the hoses
 //! (each edge a line as wide as the tube's outer diameter, coloured by a chosen
 //! quantity: `|f|` in N, `|m|` in N·m or the bend radius in mm), the environment
-//! outlines (light grey) and the contacts (dots with the force direction), sorted far
-//! to near (painter's algorithm).
+//! surfaces near the hoses (grey, shaded by a head light, half transparent) and
+//! outlines (light grey), the fittings (junction bodies, connectors and clips as grey
+//! cylinders and balls of their size, [`crate::fittings`]) and the contacts (dots
+//! with the force direction), sorted far to near (painter's algorithm).
 //!
 //! Self-contained: the scene data is an inline JSON block (`#v3d-data`, mm) and a
 //! few lines of inline JavaScript (`view3d.js`, no libraries, no network) turn the
@@ -25,6 +27,7 @@ use super::format::sig;
 use super::plots::CONTACT_COLOUR;
 use super::projection::VIRIDIS;
 use crate::findings::bend_radii;
+use crate::fittings::FittingPiece;
 use crate::study::magnitude;
 use crate::svg::escape;
 
@@ -44,10 +47,16 @@ pub(crate) const PRESETS: [(&str, f64, f64); 4] = [
 ];
 
 /// The colour quantities: key in the data, label, unit.
-const QUANTITIES: [(&str, &str, &str); 3] = [
+const QUANTITIES: [(&str, &str, &str); 5] = [
     ("f", "|f| internal force", "N"),
     ("m", "|m| internal moment", "N·m"),
     ("rb", "bend radius", "mm"),
+    (
+        "u",
+        "bend-radius utilisation (min_bend_radius / bend radius)",
+        "1",
+    ),
+    ("d", "moved from the reference", "mm"),
 ];
 
 /// Screen axes of a view: right `u`, up `v` and depth `d` (into the screen), world
@@ -104,6 +113,37 @@ struct Rod {
     m: Vec<f64>,
     /// Bend radius, mm (`null` where straight).
     rb: Vec<Option<f64>>,
+    /// Distance of each vertex from the same vertex of the same hose in the reference
+    /// result, mm (`null` where the reference has no such hose or another number of
+    /// vertices).
+    d: Vec<Option<f64>>,
+    /// Bend-radius utilisation: the allowed minimum bend radius over the bend radius
+    /// (1 at the limit, above 1 violated, 0 where straight); `null` without a limit.
+    u: Vec<Option<f64>>,
+}
+
+/// `|a − b|`, mm, of two positions in m (rounded as the data).
+fn distance_mm(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    mm(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
+}
+
+/// The per-vertex distance of `rod` from the hose of the same name in `reference`.
+fn moved(rod: &crate::result::RodResult, reference: Option<&ReportRun>) -> Vec<Option<f64>> {
+    let other = reference.and_then(|r| {
+        r.doc
+            .rods
+            .iter()
+            .find(|o| o.name == rod.name && o.position_m.len() == rod.position_m.len())
+    });
+    match other {
+        Some(o) => rod
+            .position_m
+            .iter()
+            .zip(&o.position_m)
+            .map(|(a, b)| Some(distance_mm(a, b)).filter(|d| d.is_finite()))
+            .collect(),
+        None => vec![None; rod.position_m.len()],
+    }
 }
 
 /// One contact, mm and N.
@@ -114,6 +154,59 @@ struct ContactPoint {
     /// The unit normal (force direction on the hose) scaled to 1 mm.
     n: [f64; 3],
     f: f64,
+    /// The obstacle (mesh or other hose).
+    with: String,
+}
+
+/// One solid piece of a fitting (junction body, connector, clip; see
+/// [`crate::fittings`]) drawn as a line as wide as the piece (a ball: a dot), mm.
+#[derive(Serialize)]
+struct Part {
+    /// `"junction"`, `"connector"` or `"clip"`.
+    kind: &'static str,
+    name: String,
+    a: [f64; 3],
+    b: [f64; 3],
+    /// Diameter, mm.
+    w: f64,
+}
+
+/// Fill colour of each kind of fitting.
+const PART_COLOURS: [(&str, &str); 3] = [
+    ("junction", "#6e6e6e"),
+    ("connector", "#3a3a3a"),
+    ("clip", "#111111"),
+];
+
+fn part_colour(kind: &str) -> &'static str {
+    PART_COLOURS
+        .iter()
+        .find(|(k, _)| *k == kind)
+        .map_or("#000000", |(_, c)| c)
+}
+
+fn parts(doc: &crate::result::ResultDoc) -> Vec<Part> {
+    let mut out = Vec::new();
+    for fitting in crate::fittings::fittings(doc) {
+        for piece in fitting.pieces {
+            let (a, b, r) = match piece {
+                FittingPiece::Cylinder {
+                    start_m,
+                    end_m,
+                    radius_m,
+                } => (start_m, end_m, radius_m),
+                FittingPiece::Ball { centre_m, radius_m } => (centre_m, centre_m, radius_m),
+            };
+            out.push(Part {
+                kind: fitting.kind.as_str(),
+                name: fitting.name.clone(),
+                a: mm3(&a),
+                b: mm3(&b),
+                w: mm(2.0 * r),
+            });
+        }
+    }
+    out
 }
 
 #[derive(Serialize)]
@@ -121,6 +214,7 @@ struct Run {
     label: String,
     rods: Vec<Rod>,
     contacts: Vec<ContactPoint>,
+    parts: Vec<Part>,
 }
 
 #[derive(Serialize)]
@@ -128,6 +222,36 @@ struct Mesh {
     name: String,
     /// Segments `[x0, y0, z0, x1, y1, z1]`, mm.
     seg: Vec<[f64; 6]>,
+    /// Surface polygons near the hoses, corners in mm (drawn shaded).
+    poly: Vec<Vec<[f64; 3]>>,
+}
+
+/// Opacity of the shaded environment (the hoses behind a part stay visible).
+const SURFACE_OPACITY: f64 = 0.22;
+
+/// The shade of a surface polygon seen along the view direction `d`: the grey of
+/// `|n · d|` (head light, both sides lit), `n` its unit normal by Newell's method;
+/// `None` for a polygon without area. The script computes it the same way.
+fn shade(poly: &[[f64; 3]], d: &[f64; 3]) -> Option<String> {
+    let mut n = [0.0; 3];
+    for (i, a) in poly.iter().enumerate() {
+        let b = &poly[(i + 1) % poly.len()];
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    let length = dot(&n, &n).sqrt();
+    if length.is_nan() || length <= 0.0 {
+        return None;
+    }
+    let light = (dot(&n, d) / length).abs();
+    let level = |base: f64| (base * (0.55 + 0.45 * light)).round() as u8;
+    Some(format!(
+        "#{:02x}{:02x}{:02x}",
+        level(196.0),
+        level(204.0),
+        level(214.0)
+    ))
 }
 
 #[derive(Serialize)]
@@ -162,6 +286,11 @@ struct Scene {
     viridis: [[f64; 3]; 5],
     #[serde(rename = "contactColour")]
     contact_colour: &'static str,
+    /// Colour of each kind of fitting.
+    #[serde(rename = "partColours")]
+    part_colours: std::collections::BTreeMap<&'static str, &'static str>,
+    #[serde(rename = "surfaceOpacity")]
+    surface_opacity: f64,
 }
 
 fn scene(runs: &[ReportRun]) -> Scene {
@@ -184,6 +313,15 @@ fn scene(runs: &[ReportRun]) -> Scene {
                         .into_iter()
                         .map(|r| Some(mm(r)).filter(|r| r.is_finite()))
                         .collect(),
+                    d: moved(rod, runs.first()),
+                    u: bend_radii(rod)
+                        .into_iter()
+                        .map(|r| {
+                            rod.min_bend_radius_m
+                                .map(|limit| (limit / r * 1e6).round() / 1e6)
+                                .filter(|u| u.is_finite())
+                        })
+                        .collect(),
                 })
                 .collect(),
             contacts: run
@@ -195,8 +333,10 @@ fn scene(runs: &[ReportRun]) -> Scene {
                     p: mm3(&c.point_m),
                     n: c.normal.map(|v| (v * 1e6).round() / 1e6),
                     f: c.force_n,
+                    with: c.with.clone(),
                 })
                 .collect(),
+            parts: parts(run.doc),
         })
         .collect();
     // The environment: each mesh once, from the first result that outlines it.
@@ -208,6 +348,11 @@ fn scene(runs: &[ReportRun]) -> Scene {
             }
             env.push(Mesh {
                 name: outline.name.clone(),
+                poly: outline
+                    .surface_m
+                    .iter()
+                    .map(|p| p.iter().map(mm3).collect())
+                    .collect(),
                 seg: outline
                     .segments_m
                     .iter()
@@ -237,6 +382,10 @@ fn scene(runs: &[ReportRun]) -> Scene {
     ranges.insert("m", range(all(&|r| r.m.clone())));
     let [tight, loose] = range(all(&|r| r.rb.iter().flatten().copied().collect()));
     ranges.insert("rb", [tight, loose.min(10.0 * tight)]);
+    let [_, farthest] = range(all(&|r| r.d.iter().flatten().copied().collect()));
+    ranges.insert("d", [0.0, farthest.max(1e-3)]);
+    let [_, most] = range(all(&|r| r.u.iter().flatten().copied().collect()));
+    ranges.insert("u", [0.0, most.max(1.0)]);
     let quantities = QUANTITIES
         .iter()
         .map(|(key, label, unit)| (*key, Quantity { label, unit }))
@@ -245,9 +394,12 @@ fn scene(runs: &[ReportRun]) -> Scene {
     // that turning the view never leaves the frame.
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    let hoses = runs_data
-        .iter()
-        .flat_map(|r| r.rods.iter().flat_map(|rod| rod.p.iter().copied()));
+    let hoses = runs_data.iter().flat_map(|r| {
+        r.rods
+            .iter()
+            .flat_map(|rod| rod.p.iter().copied())
+            .chain(r.parts.iter().flat_map(|p| [p.a, p.b]))
+    });
     let outlines = env.iter().flat_map(|m| {
         m.seg
             .iter()
@@ -285,6 +437,8 @@ fn scene(runs: &[ReportRun]) -> Scene {
         },
         viridis: VIRIDIS,
         contact_colour: CONTACT_COLOUR,
+        part_colours: PART_COLOURS.into_iter().collect(),
+        surface_opacity: SURFACE_OPACITY,
     }
 }
 
@@ -306,6 +460,31 @@ fn first_frame(svg: &mut String, scene: &Scene) {
     let [lo, hi] = scene.ranges["f"];
     let mut items: Vec<(f64, String)> = Vec::new();
     for mesh in &scene.env {
+        for poly in &mesh.poly {
+            let Some(fill) = shade(poly, &axes.d) else {
+                continue;
+            };
+            let mut points = String::new();
+            let mut depth = 0.0;
+            for p in poly {
+                let q = project(view, &axes, p);
+                let _ = write!(
+                    points,
+                    "{}{:.2},{:.2}",
+                    if points.is_empty() { "" } else { " " },
+                    q.0,
+                    q.1
+                );
+                depth += q.2;
+            }
+            items.push((
+                depth / poly.len() as f64,
+                format!(
+                    "<polygon class=\"v3d-surface\" data-name=\"{}\" points=\"{points}\" fill=\"{fill}\" fill-opacity=\"{SURFACE_OPACITY}\"/>",
+                    escape(&mesh.name)
+                ),
+            ));
+        }
         for s in &mesh.seg {
             let a = project(view, &axes, &[s[0], s[1], s[2]]);
             let b = project(view, &axes, &[s[3], s[4], s[5]]);
@@ -344,6 +523,24 @@ fn first_frame(svg: &mut String, scene: &Scene) {
                 ));
             }
         }
+        for part in &run.parts {
+            let a = project(view, &axes, &part.a);
+            let b = project(view, &axes, &part.b);
+            items.push((
+                0.5 * (a.2 + b.2),
+                format!(
+                    "<line class=\"v3d-part\" data-kind=\"{}\" data-name=\"{}\" x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"{}\" stroke-width=\"{:.2}\" stroke-linecap=\"round\"/>",
+                    part.kind,
+                    escape(&part.name),
+                    a.0,
+                    a.1,
+                    b.0,
+                    b.1,
+                    part_colour(part.kind),
+                    (part.w * view.scale).max(3.0)
+                ),
+            ));
+        }
     }
     // Far first; a stable sort keeps the script's order for equal depths.
     items.sort_by(|x, y| y.0.total_cmp(&x.0));
@@ -369,8 +566,9 @@ fn first_frame(svg: &mut String, scene: &Scene) {
             }
             let _ = writeln!(
                 svg,
-                "<circle class=\"v3d-contact\" data-rod=\"{}\" data-force-n=\"{}\" cx=\"{:.2}\" cy=\"{:.2}\" r=\"4\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\"/>",
+                "<circle class=\"v3d-contact\" data-rod=\"{}\" data-with=\"{}\" data-force-n=\"{}\" cx=\"{:.2}\" cy=\"{:.2}\" r=\"4\" fill=\"{CONTACT_COLOUR}\" stroke=\"#ffffff\"/>",
                 escape(&c.rod),
+                escape(&c.with),
                 c.f,
                 p.0,
                 p.1
@@ -400,7 +598,7 @@ fn legend(svg: &mut String, scene: &Scene) {
     let [lo, hi] = scene.ranges["f"];
     let _ = writeln!(
         svg,
-        "<text id=\"v3d-legend-title\" x=\"{:.1}\" y=\"{:.1}\" font-weight=\"bold\">|f| internal force [N]</text>\n<text id=\"v3d-legend-top\" x=\"{:.1}\" y=\"{:.1}\">{}</text>\n<text id=\"v3d-legend-bottom\" x=\"{:.1}\" y=\"{:.1}\">{}</text>\n</g>",
+        "<text id=\"v3d-legend-title\" x=\"{:.1}\" y=\"{:.1}\" font-weight=\"bold\">|f| internal force [N]</text>\n<text id=\"v3d-legend-top\" x=\"{:.1}\" y=\"{:.1}\">{}</text>\n<text id=\"v3d-legend-bottom\" x=\"{:.1}\" y=\"{:.1}\">{}</text>",
         DRAW_WIDTH - 80.0,
         TOP - 24.0,
         x + 20.0,
@@ -410,6 +608,22 @@ fn legend(svg: &mut String, scene: &Scene) {
         TOP + BAR + 4.0,
         sig(lo)
     );
+    // Key of the fittings and contacts (fixed colours).
+    let key = PART_COLOURS
+        .iter()
+        .copied()
+        .chain([("contact", CONTACT_COLOUR)]);
+    for (i, (kind, colour)) in key.enumerate() {
+        let y = TOP + BAR + 34.0 + 18.0 * i as f64;
+        let _ = writeln!(
+            svg,
+            "<rect class=\"v3d-key\" x=\"{x:.1}\" y=\"{:.1}\" width=\"16\" height=\"10\" fill=\"{colour}\"/><text x=\"{:.1}\" y=\"{:.1}\">{kind}</text>",
+            y - 9.0,
+            x + 20.0,
+            y
+        );
+    }
+    svg.push_str("</g>\n");
 }
 
 /// The scene as JSON safe inside an XHTML `<script>` (no `<`, `>` or `&`).
@@ -448,6 +662,13 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
         );
     }
     html.push_str("</select></label>\n");
+    if runs.len() > 1 {
+        let _ = writeln!(
+            html,
+            "<label><input type=\"checkbox\" id=\"v3d-overlay\" checked=\"checked\"/> {} overlaid (dashed)</label>",
+            escape(runs[0].label)
+        );
+    }
     for (name, yaw, pitch) in PRESETS {
         let _ = write!(
             html,

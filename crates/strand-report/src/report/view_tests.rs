@@ -445,13 +445,20 @@ const scene = byId["v3d-scene"].children;
 function drawn(cls) {
   return scene.filter((n) => n.attrs["class"] === cls).map((n) => ["x1", "y1", "x2", "y2"].map((k) => Number(n.attrs[k])));
 }
-for (const cls of ["v3d-env", "v3d-edge"]) {
+for (const cls of ["v3d-env", "v3d-edge", "v3d-part"]) {
   const a = lines(cls), b = drawn(cls);
-  if (a.length !== b.length || a.length === 0) { throw new Error(cls + ": " + a.length + " vs " + b.length); }
+  if (a.length !== b.length || (a.length === 0 && cls !== "v3d-part")) { throw new Error(cls + ": " + a.length + " vs " + b.length); }
   a.forEach((l, i) => l.forEach((v, k) => {
     if (Math.abs(v - b[i][k]) > 0.011) { throw new Error(cls + " " + i + ": " + l + " vs " + b[i]); }
   }));
 }
+const polys = [...html.matchAll(/<polygon class="v3d-surface"[^>]*? points="([^"]*)"/g)].map((m) => m[1]);
+const drawnPolys = scene.filter((n) => n.attrs["class"] === "v3d-surface").map((n) => n.attrs.points);
+if (polys.length !== drawnPolys.length || polys.length === 0) { throw new Error("surfaces: " + polys.length + " vs " + drawnPolys.length); }
+polys.forEach((p, i) => {
+  const a = p.split(/[ ,]/).map(Number), b = drawnPolys[i].split(/[ ,]/).map(Number);
+  if (a.length !== b.length || a.some((v, k) => Math.abs(v - b[k]) > 0.011)) { throw new Error("surface " + i + ": " + p + " vs " + drawnPolys[i]); }
+});
 if (byId["v3d-svg"].attrs["data-interactive"] !== "true") { throw new Error("not interactive"); }
 // A preset (top view) and the bend-radius quantity redraw without errors.
 iso.listeners.click();
@@ -461,5 +468,57 @@ byId["v3d-quantity"].value = "rb"; byId["v3d-quantity"].listeners.change();
 if (!/bend radius/.test(byId["v3d-legend-title"].textContent)) { throw new Error("legend"); }
 byId["v3d-svg"].listeners.mouseover({ target: scene.find((n) => n.attrs["class"] === "v3d-edge") });
 if (!/s = .* mm, \|f\| = .* N/.test(byId["v3d-readout"].textContent)) { throw new Error("readout: " + byId["v3d-readout"].textContent); }
+byId["v3d-svg"].listeners.mouseover({ target: scene.find((n) => n.attrs["class"] === "v3d-contact") });
+if (!/^contact of rod with box: 7\.500 N$/.test(byId["v3d-readout"].textContent)) { throw new Error("contact readout: " + byId["v3d-readout"].textContent); }
 console.log("ok");
 "#;
+
+/// The 3D view's data: bend-radius utilisation (limit over radius) where a limit is
+/// stated, the distance moved from the reference per vertex, and the box's surface
+/// (its six faces inside the outline box) as polygons.
+#[test]
+fn the_3d_view_carries_utilisation_movement_and_surfaces() {
+    let mut base = with_box();
+    base.rods[0].curvature_1pm[1] = [3.0, 4.0, 0.0]; // bend radius 200 mm
+    base.rods[0].min_bend_radius_m = Some(0.1);
+    let mut moved = base.clone();
+    moved.rods[0].position_m[2][2] += 0.003; // 3 mm up at the end
+    let html = report_html(
+        "box",
+        &[
+            ReportRun {
+                label: "base",
+                doc: &base,
+            },
+            ReportRun {
+                label: "moved",
+                doc: &moved,
+            },
+        ],
+    );
+    let xml = parse(&html);
+    let data = xml
+        .descendants()
+        .find(|n| n.attribute("id") == Some("v3d-data"))
+        .unwrap();
+    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let rod = &scene["runs"][1]["rods"][0];
+    assert_eq!(rod["u"][1].as_f64(), Some(0.5));
+    assert!(rod["u"][0].as_f64() == Some(0.0), "straight: 0");
+    assert!(
+        scene["runs"][0]["rods"][1]["u"][0].is_null(),
+        "no limit: null"
+    );
+    let d: Vec<f64> = rod["d"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(d, [0.0, 0.0, 3.0]);
+    // The box lies inside the outline region: its 12 triangles, unclipped.
+    let polygons = scene["env"][0]["poly"].as_array().unwrap();
+    assert_eq!(polygons.len(), 12);
+    assert!(polygons.iter().all(|p| p.as_array().unwrap().len() == 3));
+    assert!(html.contains("id=\"v3d-overlay\""));
+}
