@@ -338,9 +338,7 @@ fn solve_case(
             None => dir,
         }
     });
-    // CAD out: tubes (OBJ, binary STL) and centrelines (VTP) in the case's length unit.
-    let unit = ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol());
-    let written = write_results_in(&dir, &doc, &unit).map_err(|e| Failure {
+    let written = write_results_in(&dir, &doc, &export_unit(&built)).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
     })?;
@@ -377,4 +375,10 @@ fn solve_case(
         );
         Ok(Exit::NotConverged)
     }
+}
+
+/// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
+/// of `solve`, `study` and `batch`: the case's length unit.
+pub(crate) fn export_unit(built: &BuiltCase) -> ExportUnit {
+    ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol())
 }
