@@ -360,9 +360,29 @@ fn solve_case(
     if doc.converged {
         Ok(Exit::Success)
     } else {
+        // A stall: the residual it reached is this model's floor at this start.
+        let floor = match doc.termination.as_str() {
+            "stagnated"
+                if doc.residual_n <= strand_solve::ROUND_OFF_STALL * doc.residual_floor_n =>
+            {
+                format!(
+                    "; the residual stopped decreasing at {} N, the round-off floor of this \
+                     model (estimated {} N): the state is the equilibrium to round-off; set \
+                     tolerance_n to at least {} N to accept it",
+                    number(doc.residual_n),
+                    number(doc.residual_floor_n),
+                    number(doc.residual_n)
+                )
+            }
+            "stagnated" => format!(
+                "; the residual stopped decreasing at {} N while the energy stayed constant",
+                number(doc.residual_n)
+            ),
+            _ => String::new(),
+        };
         let _ = writeln!(
             err,
-            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations); \
+            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations{floor}); \
              results written with \"converged\": false",
             built.origin,
             variant
