@@ -21,7 +21,7 @@ pub enum Termination {
     /// The residual stopped decreasing above the tolerance while the energy no longer
     /// changed beyond round-off: for [`crate::SolverSettings::stagnation_iterations`]
     /// iterations, or when no trial step was accepted after three such iterates. The
-    /// returned residual is the floor the iteration reached; within 1000 times
+    /// returned residual is the floor the iteration reached; within 100 times
     /// [`SolveReport::residual_floor_n`] no continuation is tried after it.
     Stagnated,
     /// A non-finite number appeared.
