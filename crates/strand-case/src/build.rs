@@ -146,10 +146,11 @@ pub(crate) fn build(
             source,
         })?;
 
+    let clips = clip_specs(clips, &attachments.bodies);
     let mut system = System {
         rods,
         bodies: attachments.bodies,
-        clips: clip_specs(clips),
+        clips,
         gravity,
     };
     let system_error = |source| CaseError::System {

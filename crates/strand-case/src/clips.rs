@@ -97,10 +97,14 @@ pub struct ClipDef {
     /// a chain of joints. Default: the base is fixed in space.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub on: Option<String>,
-    /// The base frame: in the world, or in the body frame of the junction `on`.
-    /// May be omitted for a clip on a moulded rod (one with a `nominal` shape) held in
-    /// space: the base is then the rod's nominal frame at `at`
-    /// ([`strand_rod::NominalRod::clip_frame`]), where the clip holds it stress-free.
+    /// The base frame: in the world, or in the body frame of the junction `on` (the
+    /// output frame of the clip `on`).
+    /// May be omitted for a clip on a moulded rod (one with a `nominal` shape): the
+    /// base is then the rod's nominal frame at `at`
+    /// ([`strand_rod::NominalRod::clip_frame`]), where the clip holds it stress-free;
+    /// carried by a junction (or a clip), that frame is taken relative to the
+    /// junction's `position` and `orientation` as given (the carrier clip's output
+    /// frame at joint value 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<ClipFrameDef>,
     /// The joint.
@@ -283,7 +287,7 @@ pub(crate) fn resolve_clips(
         let nominal_base = def.base.is_none();
         let base = match &def.base {
             Some(base) => pose(report, &format!("{item}.base"), unit, base)?,
-            None if file.rods[rod].nominal.is_some() && def.on.is_none() => Pose {
+            None if file.rods[rod].nominal.is_some() => Pose {
                 position: Vector3::zeros(),
                 orientation: UnitQuaternion::identity(),
             },
@@ -292,8 +296,8 @@ pub(crate) fn resolve_clips(
                     format!("{item}.base"),
                     "missing field `base`",
                     "give the clip's base frame (position, direction, normal); only a clip \
-                     held in space on a rod with a `nominal` shape may omit it (its base is \
-                     then the nominal frame at `at`)",
+                     on a rod with a `nominal` shape may omit it (its base is then the \
+                     nominal frame at `at`)",
                 ));
             }
         };
@@ -631,9 +635,47 @@ pub(crate) fn place_clips(
     Ok(spec)
 }
 
-/// The clips as [`ClipSpec`]s, in file order.
-pub(crate) fn clip_specs(clips: Vec<PendingClip>) -> Vec<ClipSpec> {
-    clips.into_iter().map(|c| c.spec).collect()
+/// `a` followed by `b` (`b` given in `a`'s coordinates).
+fn compose(a: &Pose, b: &Pose) -> Pose {
+    Pose {
+        position: a.transform_point(&b.position),
+        orientation: a.orientation * b.orientation,
+    }
+}
+
+/// The clips as [`ClipSpec`]s, in file order. A clip on a moulded rod without `base`
+/// (its base the nominal frame, in the world) carried by a junction or an earlier
+/// clip gets that frame in its carrier's coordinates: relative to the junction's pose
+/// in `bodies` (as given: the pose of a mounted one, the initial guess of a free one)
+/// or to the carrier clip's output frame at joint value 0, so that the clip holds
+/// the rod at its nominal frame when the carriers are where the case puts them.
+pub(crate) fn clip_specs(
+    clips: Vec<PendingClip>,
+    bodies: &[strand_system::BodySpec],
+) -> Vec<ClipSpec> {
+    let mut outputs: Vec<Pose> = Vec::with_capacity(clips.len());
+    let mut specs = Vec::with_capacity(clips.len());
+    for clip in clips {
+        let mut spec = clip.spec;
+        let carrier = match (spec.body, spec.parent) {
+            (Some(body), _) => Some(bodies[body.0].pose),
+            (None, Some(parent)) => Some(outputs[parent]),
+            (None, None) => None,
+        };
+        if let Some(carrier) = carrier
+            && clip.nominal_base
+        {
+            let inverse = carrier.orientation.inverse();
+            spec.base = Pose {
+                position: inverse * (spec.base.position - carrier.position),
+                orientation: inverse * spec.base.orientation,
+            };
+        }
+        let base = carrier.map_or(spec.base, |c| compose(&c, &spec.base));
+        outputs.push(compose(&base, &spec.offset));
+        specs.push(spec);
+    }
+    specs
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ pub enum Keep {
     Summary,
     /// `result.json` and `state.json`.
     Results,
-    /// Every file: also one CSV per rod, `rods.vtp` and `tubes.obj`.
+    /// Every file: also one CSV per rod, `rods.vtp`, `tubes.obj` and `tubes.stl`.
     #[default]
     All,
 }
@@ -95,7 +95,7 @@ pub enum Command {
         #[arg(long)]
         yes: bool,
         /// Files kept per solved variant: `all` (result.json, state.json, rod CSVs,
-        /// rods.vtp, tubes.obj), `results` (result.json, state.json) or `summary`
+        /// rods.vtp, tubes.obj, tubes.stl), `results` (result.json, state.json) or `summary`
         /// (state.json and a result.json thinned to the summary's peaks).
         #[arg(long, value_enum, default_value_t = Keep::All)]
         keep: Keep,

@@ -338,9 +338,7 @@ fn solve_case(
             None => dir,
         }
     });
-    // CAD out: tubes (OBJ, binary STL) and centrelines (VTP) in the case's length unit.
-    let unit = ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol());
-    let written = write_results_in(&dir, &doc, &unit).map_err(|e| Failure {
+    let written = write_results_in(&dir, &doc, &export_unit(&built)).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
     })?;
@@ -362,9 +360,29 @@ fn solve_case(
     if doc.converged {
         Ok(Exit::Success)
     } else {
+        // A stall: the residual it reached is this model's floor at this start.
+        let floor = match doc.termination.as_str() {
+            "stagnated"
+                if doc.residual_n <= strand_solve::ROUND_OFF_STALL * doc.residual_floor_n =>
+            {
+                format!(
+                    "; the residual stopped decreasing at {} N, the round-off floor of this \
+                     model (estimated {} N): the state is the equilibrium to round-off; set \
+                     tolerance_n to at least {} N to accept it",
+                    number(doc.residual_n),
+                    number(doc.residual_floor_n),
+                    number(doc.residual_n)
+                )
+            }
+            "stagnated" => format!(
+                "; the residual stopped decreasing at {} N while the energy stayed constant",
+                number(doc.residual_n)
+            ),
+            _ => String::new(),
+        };
         let _ = writeln!(
             err,
-            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations); \
+            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations{floor}); \
              results written with \"converged\": false",
             built.origin,
             variant
@@ -377,4 +395,10 @@ fn solve_case(
         );
         Ok(Exit::NotConverged)
     }
+}
+
+/// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
+/// of `solve`, `study` and `batch`: the case's length unit.
+pub(crate) fn export_unit(built: &BuiltCase) -> ExportUnit {
+    ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol())
 }

@@ -14,7 +14,7 @@ use std::time::Instant;
 use strand_case::{BASE_VARIANT, BuiltCase, Case, warm_start};
 use strand_report::{
     ArcOrigin, ResultDoc, StudyPeak, StudyRun, Timing, arc_origin, collect, name_connectors,
-    study_csv, study_peaks, study_svg, write_atomic, write_results,
+    study_csv, study_peaks, study_svg, write_atomic, write_results_in,
 };
 use strand_solve::{Solution, SolverSettings};
 
@@ -158,7 +158,8 @@ pub(crate) fn run(
         doc.variant = Some(name.clone());
         doc.warm_start = warm;
         doc.base_iterations = warm.then_some(base_solution.report.iterations);
-        write_results(&dir.join(name), &doc).map_err(not_written)?;
+        write_results_in(&dir.join(name), &doc, &crate::commands::export_unit(built))
+            .map_err(not_written)?;
         docs.push(doc);
     }
 

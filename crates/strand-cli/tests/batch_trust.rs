@@ -445,6 +445,7 @@ fn kept_files_shrink_but_the_summary_stays_the_same() {
                 "rods.vtp",
                 "state.json",
                 "tubes.obj",
+                "tubes.stl",
             ],
             _ => &["result.json", "state.json"],
         };

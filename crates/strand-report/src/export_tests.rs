@@ -150,6 +150,50 @@ fn vtp_point_data_reads_back_exactly() {
     assert_eq!(names, ["hose_a", "hose-b"]);
 }
 
+/// In a case unit (mm), the lengths of `rods.vtp` (points and arc length) are in that
+/// unit and say so in their names; forces and moments stay in N and N·m.
+#[test]
+fn vtp_lengths_follow_the_export_unit() {
+    let d = helix_doc();
+    let text = rods_vtp_in(&d, &ExportUnit::new(1e-3, "mm"));
+    let xml = roxmltree::Document::parse(&text).expect("well-formed XML");
+    let array = |name: &str| {
+        xml.descendants()
+            .find(|n| n.has_tag_name("DataArray") && n.attribute("Name") == Some(name))
+            .unwrap_or_else(|| panic!("no {name}"))
+    };
+    let close = |got: Vec<f64>, metres: Vec<f64>| {
+        assert_eq!(got.len(), metres.len());
+        for (g, m) in got.iter().zip(&metres) {
+            assert!(
+                (g - m * 1e3).abs() <= 1e-12 * (m * 1e3).abs().max(1.0),
+                "{g} {m}"
+            );
+        }
+    };
+    close(
+        numbers(array("s_mm")),
+        d.rods.iter().flat_map(|r| r.s_m.clone()).collect(),
+    );
+    close(
+        numbers(array("position_mm")),
+        d.rods
+            .iter()
+            .flat_map(|r| r.position_m.iter().flatten().copied())
+            .collect(),
+    );
+    assert_eq!(
+        numbers(array("force_N")),
+        d.rods
+            .iter()
+            .flat_map(|r| r.force_n.iter().flatten().copied())
+            .collect::<Vec<_>>()
+    );
+    for metres in ["s_m", "position_m"] {
+        assert!(!text.contains(&format!("Name=\"{metres}\"")), "{metres}");
+    }
+}
+
 /// Distance of `p` from the line through `a` and `b`, and the parameter of the foot.
 fn line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> (f64, f64) {
     let d = b - a;
@@ -278,6 +322,7 @@ fn write_results_adds_the_vtp_and_the_tubes() {
             "hose-b.csv",
             "rods.vtp",
             "tubes.obj",
+            "tubes.stl",
             "result.json"
         ]
     );

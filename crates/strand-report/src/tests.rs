@@ -113,12 +113,19 @@ fn writes_json_and_csv_and_reads_back() {
             dir.join("beam.csv"),
             dir.join("rods.vtp"),
             dir.join("tubes.obj"),
+            dir.join("tubes.stl"),
             dir.join("result.json")
         ]
     );
     assert_eq!(
         listing(&dir),
-        vec!["beam.csv", "result.json", "rods.vtp", "tubes.obj"],
+        vec![
+            "beam.csv",
+            "result.json",
+            "rods.vtp",
+            "tubes.obj",
+            "tubes.stl"
+        ],
         "no temporary files remain"
     );
     let text = std::fs::read_to_string(dir.join("result.json")).unwrap();

@@ -1,8 +1,9 @@
 //! The rod centrelines as VTK XML PolyData (`rods.vtp`, ASCII), for ParaView.
 //!
 //! One polyline (`<Lines>` cell) per rod through its vertices, in the order of
-//! [`ResultDoc::rods`]. Point data, per vertex (SI units, the unit in every name):
-//! `s_m`, `force_N` (3 components), `moment_Nm` (3), `force_magnitude_N`,
+//! [`ResultDoc::rods`]. Point data, per vertex (the unit in every name; lengths in the
+//! export unit, [`rods_vtp_in`], forces and moments in N and N·m):
+//! `s_m` (`s_mm` in mm), `force_N` (3 components), `moment_Nm` (3), `force_magnitude_N`,
 //! `moment_magnitude_Nm`, `tangential_force_N`, `shear_force_N`,
 //! `bending_moment_Nm`, `torsion_Nm`, `curvature_1pm` (3, section frame),
 //! `bend_radius_<unit>` (1/|κ| in the unit of the points, `inf` where straight),
@@ -22,8 +23,11 @@ use crate::svg::escape;
 /// A point-data array of the `.vtp`: its name, number of components, and how to get
 /// the values of one rod (flattened, `components` numbers per vertex).
 pub struct VtkPointArray {
-    /// Array name (with its unit suffix).
+    /// Array name (with its unit suffix); for a [`VtkPointArray::length`] array the
+    /// stem, completed by the export unit (`s` → `s_mm`).
     pub name: &'static str,
+    /// Whether the values are lengths in m, written in the export unit.
+    pub length: bool,
     /// Components per point (1 for scalars, 3 for vectors).
     pub components: usize,
     /// The flattened values of one rod.
@@ -39,47 +43,56 @@ fn flat(values: &[[f64; 3]]) -> Vec<f64> {
 /// written after them).
 pub const VTK_POINT_ARRAYS: [VtkPointArray; 9] = [
     VtkPointArray {
-        name: "s_m",
+        name: "s",
+        length: true,
         components: 1,
         values: |r| r.s_m.clone(),
     },
     VtkPointArray {
         name: "force_N",
+        length: false,
         components: 3,
         values: |r| flat(&r.force_n),
     },
     VtkPointArray {
         name: "moment_Nm",
+        length: false,
         components: 3,
         values: |r| flat(&r.moment_nm),
     },
     VtkPointArray {
         name: "force_magnitude_N",
+        length: false,
         components: 1,
         values: |r| r.force_n.iter().map(magnitude).collect(),
     },
     VtkPointArray {
         name: "moment_magnitude_Nm",
+        length: false,
         components: 1,
         values: |r| r.moment_nm.iter().map(magnitude).collect(),
     },
     VtkPointArray {
         name: "tangential_force_N",
+        length: false,
         components: 1,
         values: |r| r.tangential_force_n.clone(),
     },
     VtkPointArray {
         name: "shear_force_N",
+        length: false,
         components: 1,
         values: |r| r.shear_force_n.clone(),
     },
     VtkPointArray {
         name: "bending_moment_Nm",
+        length: false,
         components: 1,
         values: |r| r.bending_moment_nm.clone(),
     },
     VtkPointArray {
         name: "torsion_Nm",
+        length: false,
         components: 1,
         values: |r| r.torsion_nm.clone(),
     },
@@ -224,8 +237,9 @@ pub fn rods_vtp(doc: &ResultDoc) -> String {
     rods_vtp_in(doc, &crate::cad::ExportUnit::metre())
 }
 
-/// As [`rods_vtp`], with the point coordinates in `unit` (array `position_<unit>`,
-/// e.g. `position_mm`); the point-data arrays stay in SI units, as named.
+/// As [`rods_vtp`], with the point coordinates (array `position_<unit>`, e.g.
+/// `position_mm`) and the length arrays (`s_<unit>`) in `unit`; forces and moments stay
+/// in N and N·m, as named.
 pub fn rods_vtp_in(doc: &ResultDoc, unit: &crate::cad::ExportUnit) -> String {
     let rods = &doc.rods;
     let points: usize = rods.iter().map(|r| r.position_m.len()).sum();
@@ -260,15 +274,22 @@ pub fn rods_vtp_in(doc: &ResultDoc, unit: &crate::cad::ExportUnit) -> String {
     );
     out.push_str("<PointData Scalars=\"force_magnitude_N\" Vectors=\"force_N\">\n");
     for array in &VTK_POINT_ARRAYS {
+        let (name, scale) = if array.length {
+            (format!("{}_{}", array.name, unit.symbol), unit.metres)
+        } else {
+            (array.name.to_string(), 1.0)
+        };
         let _ = write!(
             out,
             "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">",
-            escape(array.name),
+            escape(&name),
             array.components
         );
         push_values(
             &mut out,
-            rods.iter().flat_map(|r| (array.values)(r)),
+            rods.iter()
+                .flat_map(|r| (array.values)(r))
+                .map(|v| v / scale),
             6 * array.components,
         );
         out.push_str("</DataArray>\n");

@@ -96,30 +96,22 @@ pub fn write_atomic(path: &Path, content: &[u8]) -> Result<(), ReportError> {
 }
 
 /// Writes `DIR/result.json`, `DIR/<rod>.csv` for every rod, `DIR/rods.vtp` (the
-/// centrelines with their sectional quantities for ParaView, [`crate::rods_vtp`]) and
-/// `DIR/tubes.obj` (tube surface meshes, [`crate::tubes_obj`]), creating `DIR` if
-/// missing. Returns the written paths (`result.json` last: it is renamed into place
+/// centrelines with their sectional quantities for ParaView, [`crate::rods_vtp`]),
+/// `DIR/tubes.obj` (tube surface meshes, [`crate::tubes_obj`]) and `DIR/tubes.stl` (the
+/// same surfaces as binary STL, [`crate::tubes_stl`]), geometry in m, creating `DIR`
+/// if missing. Returns the written paths (`result.json` last: it is renamed into place
 /// only after every other file, so its presence marks a complete set).
 pub fn write_results(dir: &Path, doc: &ResultDoc) -> Result<Vec<PathBuf>, ReportError> {
-    write_results_with(dir, doc, &ExportUnit::metre(), false)
+    write_results_in(dir, doc, &ExportUnit::metre())
 }
 
-/// As [`write_results`], with `rods.vtp` and `tubes.obj` in `unit` (the case's length
-/// unit) and also `DIR/tubes.stl`, the tube surfaces as binary STL in `unit`
-/// ([`crate::tubes_stl`]): CAD out. `result.json` and the CSV files stay in SI units.
+/// As [`write_results`], with the geometry of `rods.vtp`, `tubes.obj` and `tubes.stl`
+/// in `unit` (the case's length unit: CAD out). `result.json` and the CSV files stay
+/// in SI units.
 pub fn write_results_in(
     dir: &Path,
     doc: &ResultDoc,
     unit: &ExportUnit,
-) -> Result<Vec<PathBuf>, ReportError> {
-    write_results_with(dir, doc, unit, true)
-}
-
-fn write_results_with(
-    dir: &Path,
-    doc: &ResultDoc,
-    unit: &ExportUnit,
-    stl: bool,
 ) -> Result<Vec<PathBuf>, ReportError> {
     if let Some(bad) = doc.rods.iter().find(|r| !is_safe_name(&r.name)) {
         return Err(ReportError::UnsafeName(bad.name.clone()));
@@ -143,9 +135,7 @@ fn write_results_with(
         "tubes.obj",
         crate::tube::tubes_obj_in(doc, unit).as_bytes(),
     )?;
-    if stl {
-        staged.add(dir, "tubes.stl", &crate::cad::tubes_stl(doc, unit))?;
-    }
+    staged.add(dir, "tubes.stl", &crate::cad::tubes_stl(doc, unit))?;
     staged.add(dir, "result.json", &json)?;
     staged.commit()
 }

@@ -8,7 +8,7 @@ use strand_system::{Model, SystemState};
 
 use crate::constraints::Constraints;
 use crate::gauge::Gauge;
-use crate::iteration::{Iteration, Workspace};
+use crate::iteration::{Iteration, Workspace, stalled_at_floor};
 use crate::report::Solution;
 use crate::{
     InitialStateError, SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle,
@@ -224,11 +224,13 @@ impl<'m> Solver<'m> {
             }
         }
         let mut solution = self.iterate(start, settings);
+        // Stalled at the round-off floor: final (a continuation reaches the same floor).
+        let at_floor = stalled_at_floor(&solution.report);
         // Iterations of a direct attempt that continuation replaced still count.
         let mut replaced_iterations = 0;
         let mut continuation_iterations = 0;
         let mut continuation_steps = 0;
-        if settings.load_continuation && !solution.report.converged {
+        if settings.load_continuation && !solution.report.converged && !at_floor {
             let ramped =
                 continuation::ramp(self.model, self.constraints, initial.clone(), settings)?;
             continuation_iterations = ramped.iterations;
@@ -238,8 +240,8 @@ impl<'m> Solver<'m> {
                 solution = ramped;
             }
         }
-        if let Some(start) =
-            unsupported.filter(|_| settings.support_continuation && !solution.report.converged)
+        if let Some(start) = unsupported
+            .filter(|_| settings.support_continuation && !solution.report.converged && !at_floor)
         {
             // The start came from another design: move the supports there and back.
             let ramped =
@@ -258,6 +260,7 @@ impl<'m> Solver<'m> {
         if settings.stiffness_continuation
             && self.constraints.is_some()
             && !solution.report.converged
+            && !at_floor
             && stiffness::stiffness_ratio(self.model.system()) > settings.stiffness_threshold
         {
             let stiffened =

@@ -18,8 +18,11 @@ pub enum Termination {
     /// predicted, even with the largest damping (or the residual in the round-off
     /// regime).
     LineSearchFailed,
-    /// The residual stopped decreasing above the tolerance for
-    /// [`crate::SolverSettings::stagnation_iterations`] iterations.
+    /// The residual stopped decreasing above the tolerance while the energy no longer
+    /// changed beyond round-off: for [`crate::SolverSettings::stagnation_iterations`]
+    /// iterations, or when no trial step was accepted after three such iterates. The
+    /// returned residual is the floor the iteration reached; within 100 times
+    /// [`SolveReport::residual_floor_n`] no continuation is tried after it.
     Stagnated,
     /// A non-finite number appeared.
     NotFinite,

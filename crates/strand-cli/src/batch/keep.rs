@@ -2,15 +2,15 @@
 //! sweeps fit on disk ([`crate::args::Keep`]).
 //!
 //! - `all` (default): `result.json`, `state.json`, one CSV per rod, `rods.vtp`,
-//!   `tubes.obj`;
-//! - `results`: `result.json` and `state.json` (no CSV, VTK or OBJ files);
+//!   `tubes.obj`, `tubes.stl` (geometry in the case's length unit);
+//! - `results`: `result.json` and `state.json` (no CSV, VTK, OBJ or STL files);
 //! - `summary`: `state.json` (resume needs it) and a **thin** `result.json` that holds
 //!   only what `summary.csv` reads: per rod the one force, moment and curvature vector
 //!   where the peak |f|, |m| and the tightest bend are, the reactions and the smallest
 //!   clearance. Every summary number is computed from the thin file exactly as from
 //!   the full one (bit for bit); `strand report` needs `all` or `results`.
 
-use strand_report::{ResultDoc, magnitude};
+use strand_report::{ExportUnit, ResultDoc, magnitude};
 
 use crate::args::Keep;
 
@@ -59,8 +59,13 @@ pub(crate) fn kept_doc(doc: ResultDoc, keep: Keep) -> ResultDoc {
 }
 
 /// Bytes of the files a variant with result `doc` (the full one) and a `state.json`
-/// of `state_bytes` writes under `keep`.
-pub(crate) fn variant_bytes(doc: &ResultDoc, state_bytes: usize, keep: Keep) -> u64 {
+/// of `state_bytes` writes under `keep`, its geometry in `unit`.
+pub(crate) fn variant_bytes(
+    doc: &ResultDoc,
+    state_bytes: usize,
+    keep: Keep,
+    unit: &ExportUnit,
+) -> u64 {
     let json = |d: &ResultDoc| serde_json::to_vec_pretty(d).map_or(0, |v| v.len());
     let files = match keep {
         Keep::Summary => json(&thin(doc)),
@@ -72,8 +77,9 @@ pub(crate) fn variant_bytes(doc: &ResultDoc, state_bytes: usize, keep: Keep) -> 
                     .iter()
                     .map(|r| strand_report::rod_csv(r).len())
                     .sum::<usize>()
-                + strand_report::rods_vtp(doc).len()
-                + strand_report::tubes_obj(doc).len()
+                + strand_report::rods_vtp_in(doc, unit).len()
+                + strand_report::tubes_obj_in(doc, unit).len()
+                + strand_report::tubes_stl(doc, unit).len()
         }
     };
     (files + state_bytes) as u64

@@ -207,8 +207,14 @@ pub(crate) fn run(
             &vec![0; full_json],
         ))
         .map_or(0, |v| v.len());
-        [options.keep, crate::args::Keep::Summary]
-            .map(|keep| keep::variant_bytes(&doc, state_bytes, keep))
+        [options.keep, crate::args::Keep::Summary].map(|keep| {
+            keep::variant_bytes(
+                &doc,
+                state_bytes,
+                keep,
+                &crate::commands::export_unit(&base),
+            )
+        })
     };
     let total = estimate::check_size(
         &options.out.display().to_string(),

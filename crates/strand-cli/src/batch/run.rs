@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use strand_case::{BuiltCase, Case};
-use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, write_results};
+use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in};
 use strand_solve::{Solution, SolverSettings};
 use strand_system::SystemState;
 
@@ -440,7 +440,7 @@ impl<'a> Runner<'a> {
         let doc = kept_doc(result_doc(id, built, solution, warm, timing), self.keep);
         let written = std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
-            // `result.json` is exactly these bytes (`write_results` writes them), so
+            // `result.json` is exactly these bytes (`write_results_in` writes them), so
             // `state.json` can record their checksum before they are written.
             .and_then(|()| serde_json::to_vec_pretty(&doc).map_err(|e| e.to_string()))
             .map(|result_json| StoredState::from_state(&solution.state, &result_json))
@@ -449,10 +449,10 @@ impl<'a> Runner<'a> {
                 write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
             })
             .and_then(|()| match self.keep {
-                Keep::All => write_results(dir, &doc)
+                Keep::All => write_results_in(dir, &doc, &crate::commands::export_unit(built))
                     .map(|_| ())
                     .map_err(|e| e.to_string()),
-                // The same bytes `write_results` writes, without the other files.
+                // The same bytes `write_results_in` writes, without the other files.
                 Keep::Results | Keep::Summary => serde_json::to_vec_pretty(&doc)
                     .map_err(|e| e.to_string())
                     .and_then(|json| {

@@ -18,7 +18,7 @@ const FOLLOW_TURN: f64 = 0.1;
 /// accepted when it reduces the residual. The energy is a sum of terms (strain, weight,
 /// loads) much larger than itself: measured, a converged clipped hose (0.04 J) shows
 /// differences of 5e-13 J along a Newton step of 7e-9 m.
-const ENERGY_NOISE: f64 = 1e-10;
+pub(super) const ENERGY_NOISE: f64 = 1e-10;
 
 /// Lengths tried along a direction of negative curvature (each a quarter of the last).
 const NEGATIVE_CURVATURE_TRIALS: usize = 5;

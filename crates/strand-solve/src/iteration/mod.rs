@@ -29,6 +29,10 @@
 //!    classification of the returned state.
 
 mod globalise;
+mod stall;
+
+pub use stall::ROUND_OFF_STALL;
+pub(crate) use stall::stalled_at_floor;
 
 use strand_system::{Evaluation, Model, Residual, SystemState};
 
@@ -251,7 +255,7 @@ impl<'a> Iteration<'a> {
                 {
                     break Termination::Converged;
                 }
-                break stop;
+                break self.stall_or(stop);
             }
         };
         self.finish(termination)
