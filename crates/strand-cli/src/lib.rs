@@ -39,6 +39,7 @@ pub mod bench;
 mod commands;
 mod findings;
 pub mod limits;
+mod motion;
 mod progress;
 mod report;
 mod study;
