@@ -30,6 +30,9 @@ pub struct FollowSettings {
     /// Steps that take at most this many Newton iterations double the next step,
     /// up to the requested step (default 3).
     pub easy_iterations: usize,
+    /// The first step of each direction, as a fraction of the requested step (default
+    /// 1/8): small, so that the rate a jump is measured against is known early.
+    pub first_fraction: f64,
     /// Whether steps start from the secant extrapolation of the last two states
     /// (default) instead of the last state.
     pub predictor: bool,
@@ -42,6 +45,7 @@ impl Default for FollowSettings {
             jump_ratio: 4.0,
             jump_floor_m: 1e-3,
             easy_iterations: 3,
+            first_fraction: 1.0 / 8.0,
             predictor: true,
         }
     }
@@ -239,6 +243,47 @@ struct Branch<'a> {
 }
 
 impl Branch<'_> {
+    /// One solve of the case built at `value`, warm-started from `last` (with the
+    /// predictor when there is a previous point). A start inside an obstacle (the
+    /// predictor pushed a resting hose into it, or a moving part moved into the hose)
+    /// is retried from the last state; `Err(reason)` if that starts inside too.
+    fn attempt(
+        &self,
+        built: &BuiltCase,
+        last: &Point,
+        value: f64,
+    ) -> Result<Result<Solution, String>, CaseError> {
+        let predicted = match (&self.previous, self.settings.predictor) {
+            (Some(p), true) => Some(extrapolate(
+                &p.state,
+                &last.state,
+                (value - last.value) / (last.value - p.value),
+            )),
+            _ => None,
+        };
+        let settings = SolverSettings {
+            nested_iteration: false,
+            load_continuation: false,
+            support_continuation: false,
+            max_iterations: built
+                .settings
+                .max_iterations
+                .min(built.settings.continuation_step_iterations),
+            ..built.settings.clone()
+        };
+        let attempt = match predicted.map(|p| built.solve_from(p, &settings)) {
+            Some(Err(SolveError::StartsInside(_))) | None => {
+                built.solve_from(last.state.clone(), &settings)
+            }
+            Some(other) => other,
+        };
+        match attempt {
+            Ok(solution) => Ok(Ok(solution)),
+            Err(SolveError::StartsInside(inside)) => Ok(Err(inside.to_string())),
+            Err(e) => Err(solve_error(built, e)),
+        }
+    }
+
     fn run(
         &mut self,
         mut last: Point,
@@ -246,7 +291,7 @@ impl Branch<'_> {
         direction: f64,
         on_step: &mut dyn FnMut(MotionStep),
     ) -> Result<Option<StepOutcome>, CaseError> {
-        let mut h = self.largest;
+        let mut h = (self.largest * self.settings.first_fraction).max(self.smallest);
         for (target, target_built) in targets {
             let (mut solves, mut iterations, mut events) = (0, 0, Vec::new());
             loop {
@@ -258,36 +303,10 @@ impl Branch<'_> {
                 } else {
                     self.case.build_motion(self.motion, value, self.segments)?
                 };
-                let predicted = match (&self.previous, self.settings.predictor) {
-                    (Some(p), true) => Some(extrapolate(
-                        &p.state,
-                        &last.state,
-                        (value - last.value) / (last.value - p.value),
-                    )),
-                    _ => None,
-                };
-                let settings = SolverSettings {
-                    nested_iteration: false,
-                    load_continuation: false,
-                    support_continuation: false,
-                    max_iterations: built
-                        .settings
-                        .max_iterations
-                        .min(built.settings.continuation_step_iterations),
-                    ..built.settings.clone()
-                };
-                // A start inside an obstacle (the predictor pushed a resting hose into
-                // it, or a moving part moved into the hose) is retried from the last
-                // state, then at a smaller step.
-                let attempt = match predicted.map(|p| built.solve_from(p, &settings)) {
-                    Some(Err(SolveError::StartsInside(_))) | None => {
-                        built.solve_from(last.state.clone(), &settings)
-                    }
-                    Some(other) => other,
-                };
+                let attempt = self.attempt(&built, &last, value)?;
                 let solution = match attempt {
                     Ok(solution) => solution,
-                    Err(SolveError::StartsInside(inside)) => {
+                    Err(inside) => {
                         solves += 1;
                         let size = (value - last.value).abs();
                         if size <= self.smallest * (1.0 + 1e-9) {
@@ -303,12 +322,27 @@ impl Branch<'_> {
                         h = (size * 0.5).max(self.smallest);
                         continue;
                     }
-                    Err(e) => return Err(solve_error(&built, e)),
                 };
                 solves += 1;
                 iterations += solution.report.iterations;
                 let size = (value - last.value).abs();
                 let at_smallest = size <= self.smallest * (1.0 + 1e-9);
+                // At the smallest step, a state that cannot be followed may have
+                // lost its branch (a fold): solve with every aid of the solver (its
+                // own continuation, the full iteration budget) to find where the
+                // hoses go.
+                let solution = if !solution.report.converged && at_smallest {
+                    match built.solve_from(last.state.clone(), &built.settings) {
+                        Ok(s) => {
+                            solves += 1;
+                            iterations += s.report.iterations;
+                            s
+                        }
+                        Err(_) => solution,
+                    }
+                } else {
+                    solution
+                };
                 if !solution.report.converged {
                     if at_smallest {
                         return Ok(Some(StepOutcome {
@@ -328,9 +362,25 @@ impl Branch<'_> {
                 }
                 let moved = jump_m(&last.state, &solution.state);
                 let rate = moved / size;
-                let suspicious = self.rate_m.is_some_and(|r| {
-                    rate > self.settings.jump_ratio * r && moved > self.settings.jump_floor_m
-                });
+                let suspicious = moved > self.settings.jump_floor_m
+                    && match self.rate_m {
+                        Some(r) => rate > self.settings.jump_ratio * r,
+                        // No rate yet: a smooth path moves about half as far in half
+                        // the step; a jump does not.
+                        None if !at_smallest => {
+                            let half = last.value + 0.5 * (value - last.value);
+                            let built = self.case.build_motion(self.motion, half, self.segments)?;
+                            solves += 1;
+                            match self.attempt(&built, &last, half)? {
+                                Ok(s) if s.report.converged => {
+                                    iterations += s.report.iterations;
+                                    jump_m(&last.state, &s.state) > 0.75 * moved
+                                }
+                                _ => true,
+                            }
+                        }
+                        None => true,
+                    };
                 if suspicious && !at_smallest {
                     h = (size * 0.5).max(self.smallest);
                     continue;

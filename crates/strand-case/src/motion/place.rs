@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use super::MotionPose;
 use crate::environment::AxisAngleDef;
 use crate::error::{CaseError, Reporter};
-use crate::schema::{CaseFile, OrientationDef, Vec3};
+use crate::schema::{CaseFile, EndDef, OrientationDef, Vec3};
 use crate::units::LengthUnit;
 
 /// Every motion of `file`, validated, in file order.
@@ -86,6 +86,33 @@ fn vector(map: &Isometry3<f64>, v: &Vec3) -> Vec3 {
 pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> CaseFile {
     let rides = |m: &Option<String>| m.as_deref() == Some(motion);
     let mut file = file.clone();
+    // A route (initial guess) starts and ends where its rod is held: its end points
+    // move with the parts holding them.
+    let held_by_moving = |end: &EndDef| match end {
+        EndDef::Connector(c) | EndDef::ConnectorPin(c) => {
+            file.connectors.iter().any(|(n, d)| n == c && rides(&d.moves_with))
+        }
+        EndDef::Port(j, _) | EndDef::PortPin(j, _) => {
+            file.junctions.iter().any(|(n, d)| n == j && rides(&d.moves_with))
+        }
+        _ => false,
+    };
+    let moves: Vec<[bool; 2]> = file
+        .rods
+        .iter()
+        .map(|r| [held_by_moving(&r.start), held_by_moving(&r.end)])
+        .collect();
+    for (rod, [start, end]) in file.rods.iter_mut().zip(moves) {
+        if let Some(route) = rod.route.as_mut().filter(|r| !r.is_empty()) {
+            if start {
+                route[0] = point(map, &route[0]);
+            }
+            if end {
+                let last = route.len() - 1;
+                route[last] = point(map, &route[last]);
+            }
+        }
+    }
     for (_, c) in &mut file.connectors {
         if rides(&c.moves_with) {
             c.position = point(map, &c.position);
