@@ -153,6 +153,8 @@ pub(crate) fn run(
     let mut solved: Vec<Solved> = Vec::new();
     let mut path_events: Vec<(f64, MotionEvent)> = Vec::new();
     let mut failure: Option<Failure> = None;
+    let mut writing_s = 0.0;
+    let following = Instant::now();
     let end = follow(
         &case,
         motion,
@@ -165,6 +167,8 @@ pub(crate) fn run(
                 return;
             }
             let id = id_of(step.value);
+            let writing = Instant::now();
+            let _count = WriteTime(&mut writing_s, writing);
             match step_doc(&step, &label(step.value)) {
                 Ok(doc) => {
                     let unit = ExportUnit::new(step.built.length_unit.metres(), step.built.length_unit.symbol());
@@ -198,6 +202,7 @@ pub(crate) fn run(
     if let Some(f) = failure {
         return Err(f);
     }
+    let following_s = following.elapsed().as_secs_f64() - writing_s;
     let unit_case = case.build_motion(motion, 0.0, segments)?.length_unit;
     let (metres, symbol) = (unit_case.metres(), unit_case.symbol());
     let mut events = events_of(&solved, &path_events);
@@ -253,7 +258,7 @@ pub(crate) fn run(
     per_step.sort_unstable();
     let _ = writeln!(
         out,
-        "{} pose(s) solved in {:.3} s; {total_iterations} Newton iterations in all; warm-started poses: median {} iteration(s), at most {}",
+        "{} pose(s) solved in {:.3} s (path following {following_s:.3} s, the rest reading, writing and the envelope); {total_iterations} Newton iterations in all; warm-started poses: median {} iteration(s), at most {}",
         solved.len(),
         started.elapsed().as_secs_f64(),
         per_step.get(per_step.len() / 2).copied().unwrap_or(0),
@@ -299,6 +304,15 @@ pub(crate) fn run(
             );
         }
         Ok(Exit::NotConverged)
+    }
+}
+
+/// Adds the time from its start to `total` (s) when dropped.
+struct WriteTime<'a>(&'a mut f64, Instant);
+
+impl Drop for WriteTime<'_> {
+    fn drop(&mut self) {
+        *self.0 += self.1.elapsed().as_secs_f64();
     }
 }
 
