@@ -55,7 +55,14 @@ pub(crate) fn execute(
             segments,
             motion: Some(pose),
             ..
-        } => crate::motion::solve_pose(case, pose, dir.as_deref(), segments.map(|n| n as usize), out, err),
+        } => crate::motion::solve_pose(
+            case,
+            pose,
+            dir.as_deref(),
+            segments.map(|n| n as usize),
+            out,
+            err,
+        ),
         Command::Motion {
             case,
             motion,
@@ -382,7 +389,7 @@ pub(crate) fn write_solved(
         variant,
         base_iterations,
     } = *solved;
-    let mut doc = collect(&built.name, &built.model, solution, timing.clone());
+    let mut doc = collect(&built.name, &built.model, solution, timing);
     add_contacts(&mut doc, built, solution)?;
     name_connectors(&mut doc, &built.connector_names);
     doc.variant = variant.map(str::to_string);

@@ -13,12 +13,16 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use strand_case::motion::{FollowSettings, MotionEvent, MotionRange, MotionStep, follow, parse_value};
+use strand_case::motion::{
+    FollowSettings, MotionEvent, MotionRange, MotionStep, follow, parse_value,
+};
 use strand_case::{BuiltCase, Case};
 use strand_report::motion::{
     MotionEventRecord, MotionRow, doc_events, envelope_obj, events_csv, motion_csv, motion_svg,
 };
-use strand_report::{ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in};
+use strand_report::{
+    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
+};
 
 use crate::Exit;
 use crate::commands::{Failure, add_contacts};
@@ -54,7 +58,11 @@ pub(crate) fn parse_pose(case: &Case, text: &str) -> Result<(String, f64, String
 
 fn names(case: &Case) -> String {
     let n = case.motion_names();
-    if n.is_empty() { "none".into() } else { n.join(", ") }
+    if n.is_empty() {
+        "none".into()
+    } else {
+        n.join(", ")
+    }
 }
 
 /// The case built at the pose `NAME=VALUE` (for `strand solve --motion`), with the
@@ -140,15 +148,20 @@ pub(crate) fn run(
             )));
         }
     }
-    let dir = dir.map(Path::to_path_buf).unwrap_or_else(|| {
-        Path::new("out").join(format!("{}-{motion}", case.name))
-    });
+    let dir = dir
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| Path::new("out").join(format!("{}-{motion}", case.name)));
     let ids: Vec<(f64, String)> = values
         .iter()
         .enumerate()
         .map(|(k, v)| (*v, step_id(k, values.len())))
         .collect();
-    let id_of = |v: f64| ids.iter().find(|(x, _)| *x == v).map(|(_, id)| id.clone()).unwrap_or_default();
+    let id_of = |v: f64| {
+        ids.iter()
+            .find(|(x, _)| *x == v)
+            .map(|(_, id)| id.clone())
+            .unwrap_or_default()
+    };
     let label = |v: f64| format!("{motion}={v}{}", pose.unit);
     let mut solved: Vec<Solved> = Vec::new();
     let mut path_events: Vec<(f64, MotionEvent)> = Vec::new();
@@ -171,7 +184,10 @@ pub(crate) fn run(
             let _count = WriteTime(&mut writing_s, writing);
             match step_doc(&step, &label(step.value)) {
                 Ok(doc) => {
-                    let unit = ExportUnit::new(step.built.length_unit.metres(), step.built.length_unit.symbol());
+                    let unit = ExportUnit::new(
+                        step.built.length_unit.metres(),
+                        step.built.length_unit.symbol(),
+                    );
                     if let Err(e) = write_results_in(&dir.join("steps").join(&id), &doc, &unit) {
                         failure = Some(write_failure(&step.built.origin, e));
                         return;
@@ -242,7 +258,9 @@ pub(crate) fn run(
         .unwrap_or_default();
     let (obj, envelopes) = envelope_obj(&docs, &radii, metres, symbol);
     let title = format!("{}: motion '{motion}'", case.name);
-    let svg = motion_svg(&title, parameter, &pose.unit, &rows, &events, metres, symbol);
+    let svg = motion_svg(
+        &title, parameter, &pose.unit, &rows, &events, metres, symbol,
+    );
     std::fs::create_dir_all(&dir).map_err(|e| write_failure(&case.origin, e))?;
     for (name, content) in [
         ("motion.csv", csv.as_bytes()),
@@ -274,7 +292,11 @@ pub(crate) fn run(
             pose.unit,
             number(e.between[0]),
             number(e.between[1]),
-            if e.detail.is_empty() { String::new() } else { format!(": {}", e.detail) }
+            if e.detail.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", e.detail)
+            }
         );
     }
     worst_lines(out, &solved, &pose.unit, metres, symbol);
@@ -287,7 +309,11 @@ pub(crate) fn run(
             number(env.pitch_m / metres)
         );
     }
-    let _ = writeln!(out, "written: {}/motion.csv, events.csv, motion.svg, envelope.obj, steps/", dir.display());
+    let _ = writeln!(
+        out,
+        "written: {}/motion.csv, events.csv, motion.svg, envelope.obj, steps/",
+        dir.display()
+    );
     if end.failed.is_empty() && solved.iter().all(|s| s.doc.converged) {
         Ok(Exit::Success)
     } else {
@@ -388,15 +414,35 @@ fn worst_lines(out: &mut dyn Write, solved: &[Solved], unit: &str, metres: f64, 
         let each = |f: &dyn Fn(&strand_report::RodResult) -> f64| -> Vec<(f64, f64)> {
             solved
                 .iter()
-                .filter_map(|s| s.doc.rods.iter().find(|r| &r.name == rod).map(|r| (s.value, f(r))))
+                .filter_map(|s| {
+                    s.doc
+                        .rods
+                        .iter()
+                        .find(|r| &r.name == rod)
+                        .map(|r| (s.value, f(r)))
+                })
                 .collect()
         };
-        let max = |v: Vec<(f64, f64)>| v.into_iter().fold((f64::NAN, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
-        let min = |v: Vec<(f64, f64)>| v.into_iter().fold((f64::NAN, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        let max = |v: Vec<(f64, f64)>| {
+            v.into_iter().fold(
+                (f64::NAN, f64::NEG_INFINITY),
+                |a, b| if b.1 > a.1 { b } else { a },
+            )
+        };
+        let min = |v: Vec<(f64, f64)>| {
+            v.into_iter().fold(
+                (f64::NAN, f64::INFINITY),
+                |a, b| if b.1 < a.1 { b } else { a },
+            )
+        };
         let (vf, f) = max(each(&|r| peak(&r.force_n)));
         let (vm, m) = max(each(&|r| peak(&r.moment_nm)));
         let (vb, b) = min(each(&|r| {
-            1.0 / r.curvature_1pm.iter().map(|k| k[0].hypot(k[1])).fold(0.0, f64::max)
+            1.0 / r
+                .curvature_1pm
+                .iter()
+                .map(|k| k[0].hypot(k[1]))
+                .fold(0.0, f64::max)
         }));
         let _ = writeln!(
             out,
@@ -423,6 +469,11 @@ fn worst_lines(out: &mut dyn Write, solved: &[Solved], unit: &str, metres: f64, 
         }
     }
     for (with, d, v) in obstacles {
-        let _ = writeln!(out, "worst clearance to {with}: {} {symbol} at {} {unit}", number(d / metres), number(v));
+        let _ = writeln!(
+            out,
+            "worst clearance to {with}: {} {symbol} at {} {unit}",
+            number(d / metres),
+            number(v)
+        );
     }
 }

@@ -20,7 +20,11 @@ fn strand(args: &[&str]) -> (Option<i32>, String, String) {
         .output()
         .unwrap();
     let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
-    (output.status.code(), text(output.stdout), text(output.stderr))
+    (
+        output.status.code(),
+        text(output.stdout),
+        text(output.stderr),
+    )
 }
 
 #[test]
@@ -60,12 +64,30 @@ fn hinge_motion_writes_every_output() {
     // equilibrium; on the hinge a cold start at 45° finds another one).
     let engine = case("cooler_hose_engine_roll.ron");
     let seq = tmp.path().join("roll");
-    let (code, out, err) = strand(&["motion", &engine, "--motion", "engine_roll", "--range", "0deg..4deg:2deg", "--out", seq.to_str().unwrap()]);
+    let (code, out, err) = strand(&[
+        "motion",
+        &engine,
+        "--motion",
+        "engine_roll",
+        "--range",
+        "0deg..4deg:2deg",
+        "--out",
+        seq.to_str().unwrap(),
+    ]);
     assert_eq!(code, Some(0), "{out}{err}");
     let single = tmp.path().join("single");
-    let (code, out, err) = strand(&["solve", &engine, "--motion", "engine_roll=4deg", "--out", single.to_str().unwrap()]);
+    let (code, out, err) = strand(&[
+        "solve",
+        &engine,
+        "--motion",
+        "engine_roll=4deg",
+        "--out",
+        single.to_str().unwrap(),
+    ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let read = |p: &Path| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
     let a = read(&single.join("result.json"));
     let b = read(&seq.join("steps/002/result.json"));
     assert_eq!(a["variant"], "engine_roll=4deg");
@@ -88,10 +110,35 @@ fn bad_motion_input_is_a_clear_error_with_nothing_written() {
     let d = dir.to_str().unwrap();
     let hinge = case("door_hinge_cable.ron");
     for (args, expect) in [
-        (vec!["motion", &hinge, "--motion", "lid", "--range", "0..10:1", "--out", d], "no motion named 'lid' (defined: door)"),
-        (vec!["motion", &hinge, "--motion", "door", "--range", "0mm..10mm:1mm", "--out", d], "is in mm, but motion 'door' is measured in deg"),
-        (vec!["motion", &hinge, "--motion", "door", "--range", "0..90", "--out", d], "is not a range"),
-        (vec!["solve", &hinge, "--motion", "door", "--out", d], "write NAME=VALUE"),
+        (
+            vec![
+                "motion", &hinge, "--motion", "lid", "--range", "0..10:1", "--out", d,
+            ],
+            "no motion named 'lid' (defined: door)",
+        ),
+        (
+            vec![
+                "motion",
+                &hinge,
+                "--motion",
+                "door",
+                "--range",
+                "0mm..10mm:1mm",
+                "--out",
+                d,
+            ],
+            "is in mm, but motion 'door' is measured in deg",
+        ),
+        (
+            vec![
+                "motion", &hinge, "--motion", "door", "--range", "0..90", "--out", d,
+            ],
+            "is not a range",
+        ),
+        (
+            vec!["solve", &hinge, "--motion", "door", "--out", d],
+            "write NAME=VALUE",
+        ),
     ] {
         let (code, out, err) = strand(&args);
         assert_eq!(code, Some(2), "{args:?}: {out}{err}");
@@ -106,10 +153,16 @@ fn bad_motion_input_is_a_clear_error_with_nothing_written() {
         std::fs::write(&p, text).unwrap();
         p.to_str().unwrap().to_string()
     };
-    let unknown = write("unknown.ron", text.replace("moves_with: \"door\"", "moves_with: \"lid\""));
+    let unknown = write(
+        "unknown.ron",
+        text.replace("moves_with: \"door\"", "moves_with: \"lid\""),
+    );
     let (code, _, err) = strand(&["check", &unknown]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("connectors 'door'.moves_with: no motion named 'lid'"), "{err}");
+    assert!(
+        err.contains("connectors 'door'.moves_with: no motion named 'lid'"),
+        "{err}"
+    );
     let keyed = write(
         "keyed.ron",
         text.replace(
@@ -117,20 +170,47 @@ fn bad_motion_input_is_a_clear_error_with_nothing_written() {
             "moves: [Keyframes(frames: [(at: 0), (at: 45, rotation: (axis: (0, 0, 1), angle_deg: 45))])]",
         ),
     );
-    let (code, _, err) = strand(&["motion", &keyed, "--motion", "door", "--range", "0deg..90deg:5deg", "--out", d]);
+    let (code, _, err) = strand(&[
+        "motion",
+        &keyed,
+        "--motion",
+        "door",
+        "--range",
+        "0deg..90deg:5deg",
+        "--out",
+        d,
+    ]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("90 deg is outside motion 'door''s keyframes (0..45 deg)"), "{err}");
+    assert!(
+        err.contains("90 deg is outside motion 'door''s keyframes (0..45 deg)"),
+        "{err}"
+    );
     let far = write(
         "far.ron",
         text.replace(
             "moves: [Rotate(axis: (0, 0, 1), point: (0, 0, 0))]",
             "moves: [Translate(direction: (1, 0, 0))]",
         )
-        .replace("unit: \"deg\", moves: [Translate", "unit: \"mm\", moves: [Translate"),
+        .replace(
+            "unit: \"deg\", moves: [Translate",
+            "unit: \"mm\", moves: [Translate",
+        ),
     );
-    let (code, _, err) = strand(&["motion", &far, "--motion", "door", "--range", "0mm..200mm:10mm", "--out", d]);
+    let (code, _, err) = strand(&[
+        "motion",
+        &far,
+        "--motion",
+        "door",
+        "--range",
+        "0mm..200mm:10mm",
+        "--out",
+        d,
+    ]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("at motion pose door = ") && err.contains("mm"), "{err}");
+    assert!(
+        err.contains("at motion pose door = ") && err.contains("mm"),
+        "{err}"
+    );
     assert!(!dir.exists());
 }
 
@@ -168,12 +248,24 @@ fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
         dir.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(3), "{out}{err}");
-    assert!(err.contains("motion 'raise' ended at") && err.contains("inside"), "{err}");
+    assert!(
+        err.contains("motion 'raise' ended at") && err.contains("inside"),
+        "{err}"
+    );
     let csv = std::fs::read_to_string(dir.join("motion.csv")).unwrap();
-    let status: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap()).collect();
+    let status: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(2).unwrap())
+        .collect();
     assert_eq!(status.last(), Some(&"failed"), "{csv}");
     assert!(status.iter().filter(|s| **s == "ok").count() >= 2, "{csv}");
-    for id in csv.lines().skip(1).filter(|l| l.contains(",ok,")).map(|l| l.split(',').next().unwrap()) {
+    for id in csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.contains(",ok,"))
+        .map(|l| l.split(',').next().unwrap())
+    {
         assert!(dir.join("steps").join(id).join("result.json").is_file());
     }
 }

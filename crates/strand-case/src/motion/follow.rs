@@ -8,7 +8,7 @@
 //! [`MotionEvent::SnapThrough`], never taken silently. A step that still fails at the
 //! smallest step ends that direction of the motion ([`FollowEnd::failed`]).
 
-use strand_solve::{SolveError, Solution, SolverSettings};
+use strand_solve::{Solution, SolveError, SolverSettings};
 use strand_system::SystemState;
 
 use super::extrapolate;
@@ -297,7 +297,11 @@ impl Branch<'_> {
             loop {
                 let remaining = (target - last.value) * direction;
                 let reaches = h >= remaining * (1.0 - 1e-9);
-                let value = if reaches { target } else { last.value + direction * h };
+                let value = if reaches {
+                    target
+                } else {
+                    last.value + direction * h
+                };
                 let built = if reaches {
                     target_built.clone()
                 } else {

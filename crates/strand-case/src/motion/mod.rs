@@ -57,9 +57,7 @@ use serde::{Deserialize, Serialize};
 use crate::environment::AxisAngleDef;
 use crate::schema::Vec3;
 
-pub use follow::{
-    FollowEnd, FollowSettings, MotionEvent, MotionStep, StepOutcome, follow, jump_m,
-};
+pub use follow::{FollowEnd, FollowSettings, MotionEvent, MotionStep, StepOutcome, follow, jump_m};
 pub use pose::MotionPose;
 pub use predict::extrapolate;
 pub use range::{MotionRange, RangeError, parse_value};

@@ -89,12 +89,14 @@ pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> Case
     // A route (initial guess) starts and ends where its rod is held: its end points
     // move with the parts holding them.
     let held_by_moving = |end: &EndDef| match end {
-        EndDef::Connector(c) | EndDef::ConnectorPin(c) => {
-            file.connectors.iter().any(|(n, d)| n == c && rides(&d.moves_with))
-        }
-        EndDef::Port(j, _) | EndDef::PortPin(j, _) => {
-            file.junctions.iter().any(|(n, d)| n == j && rides(&d.moves_with))
-        }
+        EndDef::Connector(c) | EndDef::ConnectorPin(c) => file
+            .connectors
+            .iter()
+            .any(|(n, d)| n == c && rides(&d.moves_with)),
+        EndDef::Port(j, _) | EndDef::PortPin(j, _) => file
+            .junctions
+            .iter()
+            .any(|(n, d)| n == j && rides(&d.moves_with)),
         _ => false,
     };
     let moves: Vec<[bool; 2]> = file
@@ -143,10 +145,10 @@ pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> Case
     for e in &mut file.environment {
         if rides(&e.moves_with) {
             let r0 = e.rotation.as_ref().map_or(UnitQuaternion::identity(), |r| {
-                nalgebra::Unit::try_new(Vector3::from(r.axis), 0.0).map_or(
-                    UnitQuaternion::identity(),
-                    |axis| UnitQuaternion::from_axis_angle(&axis, r.angle_deg.to_radians()),
-                )
+                nalgebra::Unit::try_new(Vector3::from(r.axis), 0.0)
+                    .map_or(UnitQuaternion::identity(), |axis| {
+                        UnitQuaternion::from_axis_angle(&axis, r.angle_deg.to_radians())
+                    })
             });
             let r = map.rotation * r0;
             e.position = point(map, &e.position);

@@ -41,7 +41,11 @@ pub(crate) const MOTION_UNITS: &str = "\"deg\", \"mm\" or \"m\"";
 fn nonzero(report: &Reporter, item: &str, v: &[f64; 3]) -> Result<Unit<Vector3<f64>>, CaseError> {
     let v = report.finite3(item, v, "")?;
     Unit::try_new(v, 0.0).ok_or_else(|| {
-        report.invalid(item, "the direction is zero", "give a non-zero vector, e.g. (1, 0, 0)")
+        report.invalid(
+            item,
+            "the direction is zero",
+            "give a non-zero vector, e.g. (1, 0, 0)",
+        )
     })
 }
 
@@ -123,8 +127,12 @@ impl MotionPose {
                     let r = UnitQuaternion::from_axis_angle(axis, (per * p).to_radians());
                     Isometry3::from_parts(Translation3::from(point - r * point), r)
                 }
-                Move::Translate { step } => Isometry3::translation(step.x * p, step.y * p, step.z * p),
-                Move::Keyframes { frames } => keyframe_at(frames, p) * keyframe_at(frames, 0.0).inverse(),
+                Move::Translate { step } => {
+                    Isometry3::translation(step.x * p, step.y * p, step.z * p)
+                }
+                Move::Keyframes { frames } => {
+                    keyframe_at(frames, p) * keyframe_at(frames, 0.0).inverse()
+                }
             };
             map = step * map;
         }
@@ -142,7 +150,10 @@ fn keyframes(
     if frames.len() < 2 {
         return Err(report.invalid(
             format!("{at}.frames"),
-            format!("{} keyframe(s): a keyframe motion needs at least two", frames.len()),
+            format!(
+                "{} keyframe(s): a keyframe motion needs at least two",
+                frames.len()
+            ),
             "add a keyframe for each end of the motion, e.g. (at: 0) and (at: 90, rotation: ...)",
         ));
     }
@@ -164,11 +175,15 @@ fn keyframes(
             None => UnitQuaternion::identity(),
             Some(def) => {
                 let axis = nonzero(report, &format!("{item}.rotation.axis"), &def.axis)?;
-                let deg = report.finite(&format!("{item}.rotation.angle_deg"), def.angle_deg, "°")?;
+                let deg =
+                    report.finite(&format!("{item}.rotation.angle_deg"), def.angle_deg, "°")?;
                 UnitQuaternion::from_axis_angle(&axis, deg.to_radians())
             }
         };
-        out.push((p, Isometry3::from_parts(Translation3::from(center - r * center + t), r)));
+        out.push((
+            p,
+            Isometry3::from_parts(Translation3::from(center - r * center + t), r),
+        ));
     }
     let (first, last) = (out[0].0, out[out.len() - 1].0);
     if !(first <= 0.0 && 0.0 <= last) {

@@ -158,15 +158,33 @@ mod tests {
     #[test]
     fn values_and_units() {
         let r = MotionRange::parse("0..90:10", "hinge", "deg").unwrap();
-        assert_eq!(r.values(), (0..=9).map(|k| 10.0 * k as f64).collect::<Vec<_>>());
+        assert_eq!(
+            r.values(),
+            (0..=9).map(|k| 10.0 * k as f64).collect::<Vec<_>>()
+        );
         let r = MotionRange::parse("0..1:0.3", "lift", "mm").unwrap();
         assert_eq!(r.values().len(), 5);
         assert_eq!(*r.values().last().unwrap(), 1.0);
         assert_eq!(parse_value("-2.5e1deg", "x", "deg"), Ok(-25.0));
-        assert!(matches!(parse_value("4rad", "x", "deg"), Err(RangeError::Unit { .. })));
-        assert!(matches!(MotionRange::parse("0..90", "x", "deg"), Err(RangeError::Form { .. })));
-        assert!(matches!(MotionRange::parse("5..1:1", "x", "deg"), Err(RangeError::Empty { .. })));
-        assert!(matches!(MotionRange::parse("0..1:0", "x", "deg"), Err(RangeError::Empty { .. })));
-        assert!(matches!(MotionRange::parse("0..1e9:1", "x", "deg"), Err(RangeError::TooMany { .. })));
+        assert!(matches!(
+            parse_value("4rad", "x", "deg"),
+            Err(RangeError::Unit { .. })
+        ));
+        assert!(matches!(
+            MotionRange::parse("0..90", "x", "deg"),
+            Err(RangeError::Form { .. })
+        ));
+        assert!(matches!(
+            MotionRange::parse("5..1:1", "x", "deg"),
+            Err(RangeError::Empty { .. })
+        ));
+        assert!(matches!(
+            MotionRange::parse("0..1:0", "x", "deg"),
+            Err(RangeError::Empty { .. })
+        ));
+        assert!(matches!(
+            MotionRange::parse("0..1e9:1", "x", "deg"),
+            Err(RangeError::TooMany { .. })
+        ));
     }
 }

@@ -24,7 +24,10 @@ fn v_matrix(w: &Vector3<f64>) -> Matrix3<f64> {
         (0.5, 1.0 / 6.0)
     } else {
         let t2 = theta * theta;
-        ((1.0 - theta.cos()) / t2, (theta - theta.sin()) / (t2 * theta))
+        (
+            (1.0 - theta.cos()) / t2,
+            (theta - theta.sin()) / (t2 * theta),
+        )
     };
     Matrix3::identity() + k * a + k * k * b
 }

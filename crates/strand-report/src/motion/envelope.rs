@@ -64,7 +64,8 @@ impl Grid {
     }
 
     fn centre(&self, i: [i64; 3]) -> Vector3<f64> {
-        self.origin + Vector3::new(i[0] as f64 + 0.5, i[1] as f64 + 0.5, i[2] as f64 + 0.5) * self.pitch
+        self.origin
+            + Vector3::new(i[0] as f64 + 0.5, i[1] as f64 + 0.5, i[2] as f64 + 0.5) * self.pitch
     }
 
     /// Marks every voxel whose centre is within `reach` of segment `a b`.
@@ -83,7 +84,11 @@ impl Grid {
             for y in range(1) {
                 for x in range(0) {
                     let p = self.centre([x, y, z]);
-                    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                    let t = if len2 > 0.0 {
+                        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
                     if (p - (a + ab * t)).norm() <= reach {
                         self.set([x, y, z]);
                     }
@@ -101,8 +106,16 @@ impl Grid {
             for z in -1..self.dims[2] as i64 {
                 for y in -1..self.dims[1] as i64 {
                     for x in -1..self.dims[0] as i64 {
-                        let cell = |k: usize| [x + (k & 1) as i64, y + ((k >> 1) & 1) as i64, z + ((k >> 2) & 1) as i64];
-                        let mask: u8 = (0..8).filter(|&k| self.get(cell(k))).fold(0, |m, k| m | (1 << k));
+                        let cell = |k: usize| {
+                            [
+                                x + (k & 1) as i64,
+                                y + ((k >> 1) & 1) as i64,
+                                z + ((k >> 2) & 1) as i64,
+                            ]
+                        };
+                        let mask: u8 = (0..8)
+                            .filter(|&k| self.get(cell(k)))
+                            .fold(0, |m, k| m | (1 << k));
                         if mask == 0 || mask == 0xff {
                             continue;
                         }
@@ -147,7 +160,12 @@ fn face_connected(mask: u8) -> bool {
 
 /// The envelope of rod `rod` over the poses `docs` (in order of the parameter), with
 /// tube radius `radius_m` and voxel pitch `pitch_m`; `None` if no pose has the rod.
-pub fn envelope_of(docs: &[&ResultDoc], rod: &str, radius_m: f64, pitch_m: f64) -> Option<Envelope> {
+pub fn envelope_of(
+    docs: &[&ResultDoc],
+    rod: &str,
+    radius_m: f64,
+    pitch_m: f64,
+) -> Option<Envelope> {
     let lines: Vec<Vec<Vector3<f64>>> = docs
         .iter()
         .filter_map(|d| d.rods.iter().find(|r| r.name == rod))
@@ -162,7 +180,8 @@ pub fn envelope_of(docs: &[&ResultDoc], rod: &str, radius_m: f64, pitch_m: f64) 
     }
     let margin = reach + 2.0 * pitch_m;
     let origin = lo.add_scalar(-margin);
-    let dims = [0, 1, 2].map(|a| (((hi[a] - lo[a] + 2.0 * margin) / pitch_m).ceil() as usize).max(1));
+    let dims =
+        [0, 1, 2].map(|a| (((hi[a] - lo[a] + 2.0 * margin) / pitch_m).ceil() as usize).max(1));
     let mut grid = Grid {
         origin,
         pitch: pitch_m,
@@ -179,7 +198,11 @@ pub fn envelope_of(docs: &[&ResultDoc], rod: &str, radius_m: f64, pitch_m: f64) 
         if let Some(next) = lines.get(k + 1).filter(|n| n.len() == line.len()) {
             for j in 1..=BETWEEN {
                 let t = j as f64 / (BETWEEN + 1) as f64;
-                let mid: Vec<Vector3<f64>> = line.iter().zip(next).map(|(a, b)| a + (b - a) * t).collect();
+                let mid: Vec<Vector3<f64>> = line
+                    .iter()
+                    .zip(next)
+                    .map(|(a, b)| a + (b - a) * t)
+                    .collect();
                 sweep(&mid);
             }
         }
@@ -249,7 +272,12 @@ fn boundary(grid: &Grid) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
 /// The envelope of every rod over the poses `docs` as one OBJ (one object per hose),
 /// coordinates in the unit of `metres` m per unit named `unit` (the case's), with the
 /// voxel pitch of each hose a third of its tube radius (`radius_m` per rod name).
-pub fn envelope_obj(docs: &[&ResultDoc], radius_m: &[(String, f64)], metres: f64, unit: &str) -> (String, Vec<Envelope>) {
+pub fn envelope_obj(
+    docs: &[&ResultDoc],
+    radius_m: &[(String, f64)],
+    metres: f64,
+    unit: &str,
+) -> (String, Vec<Envelope>) {
     let mut obj = format!(
         "# strand motion envelope: the space each hose sweeps over the motion, closed mesh, {unit}\n"
     );
@@ -261,10 +289,22 @@ pub fn envelope_obj(docs: &[&ResultDoc], radius_m: &[(String, f64)], metres: f64
         };
         let _ = writeln!(obj, "o {rod}_envelope");
         for v in &env.vertices {
-            let _ = writeln!(obj, "v {} {} {}", v[0] / metres, v[1] / metres, v[2] / metres);
+            let _ = writeln!(
+                obj,
+                "v {} {} {}",
+                v[0] / metres,
+                v[1] / metres,
+                v[2] / metres
+            );
         }
         for t in &env.triangles {
-            let _ = writeln!(obj, "f {} {} {}", t[0] + offset + 1, t[1] + offset + 1, t[2] + offset + 1);
+            let _ = writeln!(
+                obj,
+                "f {} {} {}",
+                t[0] + offset + 1,
+                t[1] + offset + 1,
+                t[2] + offset + 1
+            );
         }
         offset += env.vertices.len();
         envelopes.push(env);
@@ -303,7 +343,11 @@ mod tests {
             }
         }
         // Every directed edge once, and its reverse once.
-        assert!(edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
+        assert!(
+            edges
+                .iter()
+                .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+        );
         // Outward normals: the signed volume is the filled volume.
         let volume: f64 = t
             .iter()

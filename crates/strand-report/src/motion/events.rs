@@ -27,7 +27,13 @@ pub struct MotionEventRecord {
     pub detail: String,
 }
 
-fn record(kind: &str, what: String, between: [f64; 2], at: f64, detail: String) -> MotionEventRecord {
+fn record(
+    kind: &str,
+    what: String,
+    between: [f64; 2],
+    at: f64,
+    detail: String,
+) -> MotionEventRecord {
     MotionEventRecord {
         kind: kind.to_string(),
         what,
@@ -66,7 +72,8 @@ fn closing_at(
     with: &str,
 ) -> f64 {
     let mid = 0.5 * (previous.0 + next);
-    let Some((v0, d0)) = earlier.and_then(|(v, doc)| clearance_of(doc, rod, with).map(|d| (v, d))) else {
+    let Some((v0, d0)) = earlier.and_then(|(v, doc)| clearance_of(doc, rod, with).map(|d| (v, d)))
+    else {
         return mid;
     };
     let Some(d1) = clearance_of(previous.1, rod, with) else {
@@ -111,7 +118,13 @@ pub fn doc_events(
     for (rod, with) in before.iter().filter(|p| !after.contains(p)) {
         let gap = clearance_of(next.1, rod, with)
             .map_or(String::new(), |d| format!("clearance {:.4e} m after it", d));
-        out.push(record("contact_opened", format!("{rod} / {with}"), between, next.0, gap));
+        out.push(record(
+            "contact_opened",
+            format!("{rod} / {with}"),
+            between,
+            next.0,
+            gap,
+        ));
     }
     for clip in &next.1.clips {
         let was = previous
@@ -121,8 +134,18 @@ pub fn doc_events(
             .find(|c| c.name == clip.name)
             .is_some_and(|c| c.at_limit);
         if clip.at_limit != was {
-            let kind = if clip.at_limit { "clip_at_limit" } else { "clip_off_limit" };
-            out.push(record(kind, clip.name.clone(), between, next.0, String::new()));
+            let kind = if clip.at_limit {
+                "clip_at_limit"
+            } else {
+                "clip_off_limit"
+            };
+            out.push(record(
+                kind,
+                clip.name.clone(),
+                between,
+                next.0,
+                String::new(),
+            ));
         }
     }
     let key = |f: &crate::Finding| (f.kind, f.rod.clone(), f.with.clone());

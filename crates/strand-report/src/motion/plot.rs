@@ -35,9 +35,16 @@ pub fn motion_svg(
     metres: f64,
     length_unit: &str,
 ) -> String {
-    let solved: Vec<(f64, &crate::ResultDoc)> = rows.iter().filter_map(|r| r.doc.map(|d| (r.value, d))).collect();
-    let rods = union(solved.iter().map(|(_, d)| *d), |d| d.rods.iter().map(|r| r.name.as_str()).collect());
-    let obstacles = union(solved.iter().map(|(_, d)| *d), |d| d.clearance.iter().map(|c| c.with.as_str()).collect());
+    let solved: Vec<(f64, &crate::ResultDoc)> = rows
+        .iter()
+        .filter_map(|r| r.doc.map(|d| (r.value, d)))
+        .collect();
+    let rods = union(solved.iter().map(|(_, d)| *d), |d| {
+        d.rods.iter().map(|r| r.name.as_str()).collect()
+    });
+    let obstacles = union(solved.iter().map(|(_, d)| *d), |d| {
+        d.clearance.iter().map(|c| c.with.as_str()).collect()
+    });
     let per_rod = |f: &dyn Fn(&crate::RodResult) -> f64| -> Vec<Series> {
         rods.iter()
             .map(|r| {
@@ -50,8 +57,16 @@ pub fn motion_svg(
             .collect()
     };
     let mut panels: Vec<(String, String, Vec<Series>)> = vec![
-        ("force".into(), "peak |f| [N]".into(), per_rod(&|r| peak(&r.force_n))),
-        ("moment".into(), "peak |m| [N·m]".into(), per_rod(&|r| peak(&r.moment_nm))),
+        (
+            "force".into(),
+            "peak |f| [N]".into(),
+            per_rod(&|r| peak(&r.force_n)),
+        ),
+        (
+            "moment".into(),
+            "peak |m| [N·m]".into(),
+            per_rod(&|r| peak(&r.moment_nm)),
+        ),
         (
             "bend_radius".into(),
             format!("min bend radius [{length_unit}]"),
@@ -72,12 +87,22 @@ pub fn motion_svg(
                 (o.to_string(), points)
             })
             .collect();
-        panels.push(("clearance".into(), format!("min clearance [{length_unit}]"), series));
+        panels.push((
+            "clearance".into(),
+            format!("min clearance [{length_unit}]"),
+            series,
+        ));
     }
     let (x_min, x_max) = rows
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.value), b.max(r.value)));
-    let (x_min, x_max) = if x_min < x_max { (x_min, x_max) } else { (x_min - 1.0, x_min + 1.0) };
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(r.value), b.max(r.value))
+        });
+    let (x_min, x_max) = if x_min < x_max {
+        (x_min, x_max)
+    } else {
+        (x_min - 1.0, x_min + 1.0)
+    };
     let height = TOP + panels.len() as f64 * (HEIGHT + GAP) + 20.0;
     let mut svg = String::new();
     let _ = writeln!(
@@ -92,8 +117,13 @@ pub fn motion_svg(
     );
     let x_label = format!("{parameter} [{unit}]");
     for (k, (id, label, series)) in panels.iter().enumerate() {
-        let values = series.iter().flat_map(|(_, p)| p.iter().map(|(_, y)| *y)).filter(|y| y.is_finite());
-        let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
+        let values = series
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|(_, y)| *y))
+            .filter(|y| y.is_finite());
+        let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
         let (y_step, y_min, y_max) = tick_range(lo, hi);
         let (x_step, _, _) = tick_range(0.0, x_max - x_min);

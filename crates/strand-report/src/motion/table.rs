@@ -94,11 +94,23 @@ pub fn motion_csv(
 ) -> String {
     let docs = || rows.iter().filter_map(|r| r.doc);
     let rods = union(docs(), |d| d.rods.iter().map(|r| r.name.as_str()).collect());
-    let obstacles = union(docs(), |d| d.clearance.iter().map(|c| c.with.as_str()).collect());
-    let reactions = union(docs(), |d| d.reactions.iter().map(|r| r.name.as_str()).collect());
+    let obstacles = union(docs(), |d| {
+        d.clearance.iter().map(|c| c.with.as_str()).collect()
+    });
+    let reactions = union(docs(), |d| {
+        d.reactions.iter().map(|r| r.name.as_str()).collect()
+    });
     let mut header: Vec<String> = vec!["id".into(), format!("{parameter} [{unit}]")];
     header.extend(
-        ["status", "warm_start", "iterations", "solves", "residual_N", "stable"].map(String::from),
+        [
+            "status",
+            "warm_start",
+            "iterations",
+            "solves",
+            "residual_N",
+            "stable",
+        ]
+        .map(String::from),
     );
     for r in &rods {
         header.push(format!("{r} peak |f| [N]"));
@@ -112,7 +124,11 @@ pub fn motion_csv(
         header.push(format!("{a} |F| [N]"));
         header.push(format!("{a} |M| [N·m]"));
     }
-    let mut csv = header.iter().map(|h| field(h)).collect::<Vec<_>>().join(",");
+    let mut csv = header
+        .iter()
+        .map(|h| field(h))
+        .collect::<Vec<_>>()
+        .join(",");
     csv.push('\n');
     for row in rows {
         let mut cells = vec![field(&row.id), num(row.value)];
