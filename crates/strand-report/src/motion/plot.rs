@@ -103,6 +103,8 @@ pub fn motion_svg(
     } else {
         (x_min - 1.0, x_min + 1.0)
     };
+    // Ticks at whole multiples of a nice step, the axis rounded outwards to them.
+    let (x_step, x_min, x_max) = tick_range(x_min, x_max);
     let height = TOP + panels.len() as f64 * (HEIGHT + GAP) + 20.0;
     let mut svg = String::new();
     let _ = writeln!(
@@ -126,7 +128,6 @@ pub fn motion_svg(
         });
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
         let (y_step, y_min, y_max) = tick_range(lo, hi);
-        let (x_step, _, _) = tick_range(0.0, x_max - x_min);
         let panel = Panel {
             left: LEFT,
             right: RIGHT,
@@ -137,7 +138,6 @@ pub fn motion_svg(
             y_min,
             y_max,
         };
-        // Ticks from x_min in nice steps.
         panel.draw_axes(&mut svg, x_step, y_step, &x_label, label, label);
         for (s, (name, points)) in series.iter().enumerate() {
             let colour = COLOURS[s % COLOURS.len()];
