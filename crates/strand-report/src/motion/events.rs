@@ -11,8 +11,8 @@ use crate::{FindingKind, ResultDoc};
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MotionEventRecord {
     /// `contact_closed`, `contact_opened`, `clip_at_limit`, `clip_off_limit`,
-    /// `bend_radius_limit_crossed`, `bend_radius_limit_cleared`,
-    /// `clearance_limit_crossed`, `clearance_limit_cleared`, `snap_through`,
+    /// `<limit>_limit_crossed` and `<limit>_limit_cleared` for the limits
+    /// `bend_radius`, `clearance`, `connector_force`, `connector_moment`, `snap_through`,
     /// `stability_lost`, `stability_regained`.
     pub kind: String,
     /// What it concerns (`hose3 / brackets`, a clip's name).
@@ -152,6 +152,8 @@ pub fn doc_events(
     let name = |k: FindingKind| match k {
         FindingKind::BendRadius => "bend_radius",
         FindingKind::Clearance => "clearance",
+        FindingKind::ConnectorForce => "connector_force",
+        FindingKind::ConnectorMoment => "connector_moment",
     };
     let what = |f: &crate::Finding| match &f.with {
         Some(w) => format!("{} / {w}", f.rod),
@@ -164,7 +166,7 @@ pub fn doc_events(
                 what(f),
                 between,
                 next.0,
-                format!("{:.4e} m < limit {:.4e} m", f.value_m, f.limit_m),
+                f.describe(1.0, "m"),
             ));
         }
     }
