@@ -402,7 +402,7 @@ pub(crate) fn write_solved(
             None => dir,
         }
     });
-    let written = write_results_in(&dir, &doc, &export_unit(&built)).map_err(|e| Failure {
+    let written = write_results_in(&dir, &doc, &export_unit(built)).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
     })?;
