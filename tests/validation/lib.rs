@@ -24,6 +24,7 @@ mod harness;
 mod heavy_cantilever;
 mod helix;
 mod junction;
+mod motion;
 mod moulded_clips;
 mod predeformed;
 mod report;

@@ -84,6 +84,7 @@ pub(crate) fn build(
     let min_bend_radius = min_bend_radii(&report, unit, file)?;
     let min_clearance = crate::limits::min_clearances(&report, unit, file)?;
     let connector_limits = crate::limits::connector_limits(&report, file)?;
+    crate::motion::check(&report, unit, file)?;
     let attachments = build_attachments(&report, unit, file)?;
     let mut clips = resolve_clips(&report, unit, file)?;
     if file.rods.is_empty() {

@@ -116,6 +116,11 @@ pub struct ClipDef {
     /// Output frame relative to the joint's moving frame (default: the same frame).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset: Option<ClipFrameDef>,
+    /// The motion this clip's `base` rides on (only a base in the world, not `on` a junction or clip) (optional; see [`crate::motion`]): the part is
+    /// where it is written at the motion's parameter 0 and moves rigidly with the
+    /// motion, `moves_with: "engine_roll"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_with: Option<String>,
 }
 
 /// A clip converted to SI, its vertex not yet known.

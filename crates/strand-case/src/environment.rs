@@ -56,6 +56,11 @@ pub struct EnvironmentDef {
     /// before the translation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<AxisAngleDef>,
+    /// The motion this mesh rides on (optional; see [`crate::motion`]): the part is
+    /// where it is written at the motion's parameter 0 and moves rigidly with the
+    /// motion, `moves_with: "engine_roll"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_with: Option<String>,
 }
 
 fn unit_scale() -> f64 {

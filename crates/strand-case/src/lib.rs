@@ -40,6 +40,7 @@ mod ends;
 mod environment;
 mod error;
 mod limits;
+pub mod motion;
 mod nominal;
 pub mod schema;
 mod sections;

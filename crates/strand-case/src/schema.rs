@@ -92,6 +92,16 @@ pub struct CaseFile {
     /// (see [`EnvironmentDef`]; paths relative to the case file).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub environment: Vec<EnvironmentDef>,
+    /// Named motions of groups of parts, in file order (optional): `{ "engine_roll":
+    /// (unit: "deg", moves: [Rotate(axis: (1, 0, 0), point: (0, 0, -80))]) }` (see
+    /// [`crate::motion`]). Parts ride on one with `moves_with: "engine_roll"`.
+    #[serde(
+        default,
+        deserialize_with = "ordered_motions",
+        serialize_with = "serialize_ordered_map",
+        skip_serializing_if = "Vec::is_empty"
+    )]
+    pub motions: Vec<(String, crate::motion::MotionDef)>,
 }
 
 /// The units of a case file.
@@ -352,6 +362,20 @@ where
     )
 }
 
+/// [`ordered_map`] for `motions`.
+fn ordered_motions<'de, D>(
+    deserializer: D,
+) -> Result<Vec<(String, crate::motion::MotionDef)>, D::Error>
+where
+    D: Deserializer<'de>,
+{
+    ordered_entries(
+        deserializer,
+        "motion",
+        "a map of named motions, e.g. { \"engine_roll\": (unit: \"deg\", moves: [Rotate(axis: (1, 0, 0), point: (0, 0, 0))]) }",
+    )
+}
+
 /// [`ordered_map`] for `clips`.
 fn ordered_clips<'de, D>(deserializer: D) -> Result<Vec<(String, ClipDef)>, D::Error>
 where
@@ -534,6 +558,11 @@ pub struct ConnectorDef {
     /// limit, checked after the solve: `findings`); none when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_moment: Option<f64>,
+    /// The motion this part rides on (optional; see [`crate::motion`]): the part is
+    /// where it is written at the motion's parameter 0 and moves rigidly with the
+    /// motion, `moves_with: "engine_roll"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_with: Option<String>,
 }
 
 /// A port of a junction, in the junction's body frame:
@@ -589,4 +618,9 @@ pub struct JunctionDef {
         serialize_with = "serialize_ordered_map"
     )]
     pub ports: Vec<(String, PortDef)>,
+    /// The motion this junction rides on (only a `fixed` one) (optional; see [`crate::motion`]): the part is
+    /// where it is written at the motion's parameter 0 and moves rigidly with the
+    /// motion, `moves_with: "engine_roll"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_with: Option<String>,
 }

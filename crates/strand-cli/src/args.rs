@@ -53,6 +53,29 @@ pub enum Command {
         /// the solution of the case itself [default output: out/<case name>/<variant>].
         #[arg(long, value_name = "NAME")]
         variant: Option<String>,
+        /// Solve the case with the parts of a motion moved to a pose, cold:
+        /// `--motion engine_roll=4deg` [default output: out/<case name>/<NAME=VALUE>].
+        #[arg(long, value_name = "NAME=VALUE", conflicts_with = "variant")]
+        motion: Option<String>,
+    },
+    /// Follow a motion of the case's parts (defined under `motions`) from the case's
+    /// pose in both directions, warm-started: DIR/motion.csv, DIR/events.csv,
+    /// DIR/motion.svg, DIR/envelope.obj and DIR/steps/<k>/ (see README, "Motions").
+    Motion {
+        /// The case file (RON).
+        case: PathBuf,
+        /// The motion to drive.
+        #[arg(long, value_name = "NAME")]
+        motion: String,
+        /// Parameter values FROM..TO:STEP in the motion's unit, e.g. -8deg..8deg:0.5deg.
+        #[arg(long, value_name = "FROM..TO:STEP", allow_hyphen_values = true)]
+        range: String,
+        /// Output directory [default: out/<case name>-<motion>].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Override the number of segments of every rod.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
+        segments: Option<u32>,
     },
     /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
     /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.

@@ -40,11 +40,41 @@ pub(crate) fn execute(
             out: dir,
             segments,
             variant,
+            motion: None,
         } => solve_case(
             case,
             dir.as_deref(),
             segments.map(|n| n as usize),
             variant.as_deref(),
+            out,
+            err,
+        ),
+        Command::Solve {
+            case,
+            out: dir,
+            segments,
+            motion: Some(pose),
+            ..
+        } => crate::motion::solve_pose(
+            case,
+            pose,
+            dir.as_deref(),
+            segments.map(|n| n as usize),
+            out,
+            err,
+        ),
+        Command::Motion {
+            case,
+            motion,
+            range,
+            out: dir,
+            segments,
+        } => crate::motion::run(
+            case,
+            motion,
+            range,
+            dir.as_deref(),
+            segments.map(|n| n as usize),
             out,
             err,
         ),
@@ -325,8 +355,42 @@ fn solve_case(
     };
     timing.solve = solution.report.solve_seconds;
     timing.total = started.elapsed().as_secs_f64();
-    let mut doc = collect(&built.name, &built.model, &solution, timing);
-    add_contacts(&mut doc, &built, &solution)?;
+    let solved = Solved {
+        built: &built,
+        solution: &solution,
+        timing,
+        variant,
+        base_iterations,
+    };
+    write_solved(&solved, dir, out, err)
+}
+
+/// A solved case (or variant, or pose: `variant` names it) to write and summarise.
+pub(crate) struct Solved<'a> {
+    pub built: &'a BuiltCase,
+    pub solution: &'a strand_solve::Solution,
+    pub timing: Timing,
+    pub variant: Option<&'a str>,
+    pub base_iterations: Option<usize>,
+}
+
+/// Writes the results of a solve to `dir` [default out/<case>/<variant>] and prints
+/// its summary and findings; the exit status says whether it converged.
+pub(crate) fn write_solved(
+    solved: &Solved,
+    dir: Option<&Path>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    let Solved {
+        built,
+        solution,
+        timing,
+        variant,
+        base_iterations,
+    } = *solved;
+    let mut doc = collect(&built.name, &built.model, solution, timing);
+    add_contacts(&mut doc, built, solution)?;
     name_connectors(&mut doc, &built.connector_names);
     doc.variant = variant.map(str::to_string);
     doc.warm_start = base_iterations.is_some();
@@ -338,11 +402,11 @@ fn solve_case(
             None => dir,
         }
     });
-    let written = write_results_in(&dir, &doc, &export_unit(&built)).map_err(|e| Failure {
+    let written = write_results_in(&dir, &doc, &export_unit(built)).map_err(|e| Failure {
         exit: Exit::Failure,
         message: format!("{}: results not written: {e}", built.origin),
     })?;
-    let _ = write!(out, "{}", summary(&built, &doc, &written));
+    let _ = write!(out, "{}", summary(built, &doc, &written));
     let unit = built.length_unit;
     let _ = write!(
         out,

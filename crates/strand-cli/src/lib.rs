@@ -7,6 +7,11 @@
 //! ```text
 //! strand solve CASE [--out DIR] [--segments N]   solve, write DIR/result.json + DIR/<rod>.csv
 //! strand solve CASE --variant NAME [...]         solve a variant, warm-started from the case's solution
+//! strand solve CASE --motion NAME=VALUE [...]   solve the case with a motion's parts at one pose (cold)
+//! strand motion CASE --motion NAME --range FROM..TO:STEP [--out DIR] [--segments N]
+//!                                                follow a motion both ways from the case's pose,
+//!                                                warm-started; DIR/motion.csv, events.csv,
+//!                                                motion.svg, envelope.obj, steps/<k>/
 //! strand study CASE [--variants base,a,b] [--out DIR] [--segments N]
 //!                                                solve variants; DIR/study.svg, DIR/study.csv,
 //!                                                DIR/<variant>/result.json
@@ -28,7 +33,7 @@
 //! | 0 | success: solved and converged / case is valid |
 //! | 1 | internal error, or the results could not be written (I/O) |
 //! | 2 | invalid input: case file missing or unreadable, bad RON, validation error, bad command line |
-//! | 3 | solved but not converged: results are written, with `"converged": false` |
+//! | 3 | solved but not converged: results are written, with `"converged": false` (`motion`: a step failed; the poses before it are written) |
 //!
 //! Errors go to stderr as `error: <message>`; the message names the case file (and
 //! `line:column` for syntax errors). Bad input never panics.
@@ -39,6 +44,7 @@ pub mod bench;
 mod commands;
 mod findings;
 pub mod limits;
+mod motion;
 mod progress;
 mod report;
 mod study;

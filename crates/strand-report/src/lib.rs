@@ -53,6 +53,7 @@ mod csv;
 mod environment;
 mod findings;
 mod fittings;
+pub mod motion;
 mod outline;
 mod palette;
 mod provenance;

@@ -1,0 +1,99 @@
+//! The motions of a [`Case`]: looking one up and building the case at a pose.
+
+use super::MotionPose;
+use super::place::moved;
+use crate::error::{CaseError, Reporter};
+use crate::units::LengthUnit;
+use crate::{BuiltCase, Case, build};
+
+impl Case {
+    /// The names of the case's motions, in file order.
+    pub fn motion_names(&self) -> Vec<&str> {
+        self.file.motions.iter().map(|(n, _)| n.as_str()).collect()
+    }
+
+    /// Motion `name`, validated; an unknown name is an error listing the defined
+    /// motions.
+    pub fn motion(&self, name: &str) -> Result<MotionPose, CaseError> {
+        let report = Reporter {
+            origin: &self.origin,
+        };
+        let unit = LengthUnit::parse(&self.file.units.length).ok_or_else(|| {
+            report.invalid(
+                "units.length",
+                format!("unknown length unit \"{}\"", self.file.units.length),
+                format!("use {}", LengthUnit::ACCEPTED),
+            )
+        })?;
+        let Some((_, def)) = self.file.motions.iter().find(|(n, _)| n == name) else {
+            let names = self.motion_names();
+            let (message, hint) = if names.is_empty() {
+                (
+                    format!("no motion named '{name}': the case defines no motions"),
+                    "add it under `motions: { \"name\": (unit: \"deg\", moves: [...]) }` (see cases/README.md, Motions)".to_string(),
+                )
+            } else {
+                (
+                    format!("no motion named '{name}' (defined: {})", names.join(", ")),
+                    "use one of the defined motions".to_string(),
+                )
+            };
+            return Err(report.invalid("motions", message, hint));
+        };
+        MotionPose::compile(&report, unit, name, def)
+    }
+
+    /// Validates the case with the parts riding on motion `name` moved to parameter
+    /// `value` (the motion's unit) and builds its model, like [`Case::build`]. A value
+    /// outside the motion's keyframes, or a pose the case cannot be built at (a held
+    /// end out of the rod's reach), is an error naming the motion and the value.
+    pub fn build_motion(
+        &self,
+        name: &str,
+        value: f64,
+        segments: Option<usize>,
+    ) -> Result<BuiltCase, CaseError> {
+        let motion = self.motion(name)?;
+        let at = format!("{name} = {value} {}", motion.unit);
+        let Some(map) = motion.map_at(value) else {
+            let report = Reporter {
+                origin: &self.origin,
+            };
+            return Err(report.invalid(
+                format!("motions '{name}'"),
+                format!(
+                    "{value} {} is outside the motion's keyframes ({}..{} {})",
+                    motion.unit, motion.domain.0, motion.domain.1, motion.unit
+                ),
+                "choose values within the keyframes, or add keyframes that cover them",
+            ));
+        };
+        let file = moved(&self.file, name, &map);
+        build::build(&self.name, &self.origin, &file, segments, &self.environment)
+            .map_err(|e| at_pose(e, &at))
+    }
+}
+
+/// `error` of the case built at a pose, with the pose named.
+fn at_pose(error: CaseError, at: &str) -> CaseError {
+    match error {
+        CaseError::Invalid {
+            origin,
+            item,
+            message,
+            hint,
+        } => CaseError::Invalid {
+            origin,
+            item: format!("at motion pose {at}: {item}"),
+            message,
+            hint,
+        },
+        CaseError::System { origin, source } => CaseError::Invalid {
+            origin,
+            item: format!("at motion pose {at}"),
+            message: source.to_string(),
+            hint: "the parts cannot be placed there: shorten the motion's range or check its axis and point".to_string(),
+        },
+        other => other,
+    }
+}

@@ -1,0 +1,479 @@
+//! `strand motion CASE --motion NAME --range FROM..TO:STEP --out DIR`: the case over a
+//! motion of its parts, followed quasi-statically from the case's own pose in both
+//! directions ([`strand_case::motion::follow`]); and the pose of
+//! `strand solve CASE --motion NAME=VALUE`.
+//!
+//! Writes `DIR/steps/<k>/` (the results of each pose, `k` in order of the parameter),
+//! `DIR/motion.csv`, `DIR/events.csv`, `DIR/motion.svg` and `DIR/envelope.obj`
+//! (see [`strand_report::motion`]), each atomically. A direction that fails even at
+//! the smallest step ends there: the poses solved so far are written, the reason is
+//! printed, and the exit status is 3.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use strand_case::motion::{
+    FollowSettings, MotionEvent, MotionRange, MotionStep, follow, parse_value,
+};
+use strand_case::{BuiltCase, Case};
+use strand_report::motion::{
+    MotionEventRecord, MotionRow, doc_events, envelope_obj, events_csv, motion_csv, motion_svg,
+};
+use strand_report::{
+    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
+};
+
+use crate::Exit;
+use crate::commands::{Failure, add_contacts};
+use crate::summary::number;
+
+fn invalid(message: String) -> Failure {
+    Failure {
+        exit: Exit::InvalidInput,
+        message,
+    }
+}
+
+fn write_failure(origin: &str, e: impl std::fmt::Display) -> Failure {
+    Failure {
+        exit: Exit::Failure,
+        message: format!("{origin}: results not written: {e}"),
+    }
+}
+
+/// `NAME=VALUE` of `--motion`, split and checked against the case.
+pub(crate) fn parse_pose(case: &Case, text: &str) -> Result<(String, f64, String), Failure> {
+    let (name, value) = text.split_once('=').ok_or_else(|| {
+        invalid(format!(
+            "--motion '{text}': write NAME=VALUE, e.g. --motion engine_roll=4deg (motions: {})",
+            names(case)
+        ))
+    })?;
+    let motion = case.motion(name.trim())?;
+    let value = parse_value(value, &motion.name, &motion.unit)
+        .map_err(|e| invalid(format!("{}: --motion: {e}", case.origin)))?;
+    Ok((motion.name, value, motion.unit))
+}
+
+fn names(case: &Case) -> String {
+    let n = case.motion_names();
+    if n.is_empty() {
+        "none".into()
+    } else {
+        n.join(", ")
+    }
+}
+
+/// The case built at the pose `NAME=VALUE` (for `strand solve --motion`), with the
+/// label of the pose (`engine_roll=4deg`).
+pub(crate) fn build_pose(
+    path: &Path,
+    pose: &str,
+    segments: Option<usize>,
+) -> Result<(BuiltCase, String), Failure> {
+    let case = Case::from_path(path)?;
+    crate::limits::check_case(&case)?;
+    let (name, value, unit) = parse_pose(&case, pose)?;
+    let built = case.build_motion(&name, value, segments)?;
+    Ok((built, format!("{name}={value}{unit}")))
+}
+
+/// `strand solve CASE --motion NAME=VALUE`: the case at one pose, solved cold.
+pub(crate) fn solve_pose(
+    path: &Path,
+    pose: &str,
+    dir: Option<&Path>,
+    segments: Option<usize>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    let started = Instant::now();
+    let (built, label) = build_pose(path, pose, segments)?;
+    let build = started.elapsed().as_secs_f64();
+    let solution = crate::study::solve_cold(&built)?;
+    let timing = Timing {
+        build,
+        solve: solution.report.solve_seconds,
+        total: started.elapsed().as_secs_f64(),
+        ..Timing::default()
+    };
+    let solved = crate::commands::Solved {
+        built: &built,
+        solution: &solution,
+        timing,
+        variant: Some(&label),
+        base_iterations: None,
+    };
+    crate::commands::write_solved(&solved, dir, out, err)
+}
+
+/// The folder name of pose `k` of `count`.
+fn step_id(k: usize, count: usize) -> String {
+    let width = count.saturating_sub(1).to_string().len().max(3);
+    format!("{k:0width$}")
+}
+
+/// One solved pose, kept for the tables.
+struct Solved {
+    id: String,
+    value: f64,
+    doc: ResultDoc,
+    solves: usize,
+    iterations: usize,
+}
+
+/// `strand motion`.
+pub(crate) fn run(
+    path: &Path,
+    motion: &str,
+    range: &str,
+    dir: Option<&Path>,
+    segments: Option<usize>,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
+    let started = Instant::now();
+    let case = Case::from_path(path)?;
+    crate::limits::check_case(&case)?;
+    let pose = case.motion(motion)?;
+    let range = MotionRange::parse(range, motion, &pose.unit)
+        .map_err(|e| invalid(format!("{}: --range: {e}", case.origin)))?;
+    let values = range.values();
+    for v in [range.from, range.to] {
+        if !pose.contains(v) {
+            return Err(invalid(format!(
+                "{}: --range: {v} {} is outside motion '{motion}''s keyframes ({}..{} {})\n  hint: choose a range within the keyframes, or add keyframes that cover it",
+                case.origin, pose.unit, pose.domain.0, pose.domain.1, pose.unit
+            )));
+        }
+    }
+    let dir = dir
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| Path::new("out").join(format!("{}-{motion}", case.name)));
+    let ids: Vec<(f64, String)> = values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| (*v, step_id(k, values.len())))
+        .collect();
+    let id_of = |v: f64| {
+        ids.iter()
+            .find(|(x, _)| *x == v)
+            .map(|(_, id)| id.clone())
+            .unwrap_or_default()
+    };
+    let label = |v: f64| format!("{motion}={v}{}", pose.unit);
+    let mut solved: Vec<Solved> = Vec::new();
+    let mut path_events: Vec<(f64, MotionEvent)> = Vec::new();
+    let mut failure: Option<Failure> = None;
+    let mut writing_s = 0.0;
+    let following = Instant::now();
+    let end = follow(
+        &case,
+        motion,
+        &values,
+        range.step,
+        segments,
+        &FollowSettings::default(),
+        &mut |step: MotionStep| {
+            if failure.is_some() {
+                return;
+            }
+            let id = id_of(step.value);
+            let writing = Instant::now();
+            let _count = WriteTime(&mut writing_s, writing);
+            match step_doc(&step, &label(step.value)) {
+                Ok(doc) => {
+                    let unit = ExportUnit::new(
+                        step.built.length_unit.metres(),
+                        step.built.length_unit.symbol(),
+                    );
+                    if let Err(e) = write_results_in(&dir.join("steps").join(&id), &doc, &unit) {
+                        failure = Some(write_failure(&step.built.origin, e));
+                        return;
+                    }
+                    let _ = writeln!(
+                        out,
+                        "{:>10} {}  {}  {} iteration(s) in {} solve(s){}",
+                        number(step.value),
+                        pose.unit,
+                        if doc.converged { "ok" } else { "not converged" },
+                        step.iterations,
+                        step.solves,
+                        if doc.stable { "" } else { "  UNSTABLE" }
+                    );
+                    path_events.extend(step.events.iter().map(|e| (step.value, e.clone())));
+                    solved.push(Solved {
+                        id,
+                        value: step.value,
+                        doc,
+                        solves: step.solves,
+                        iterations: step.iterations,
+                    });
+                }
+                Err(f) => failure = Some(f),
+            }
+        },
+    )?;
+    if let Some(f) = failure {
+        return Err(f);
+    }
+    let following_s = following.elapsed().as_secs_f64() - writing_s;
+    let unit_case = case.build_motion(motion, 0.0, segments)?.length_unit;
+    let (metres, symbol) = (unit_case.metres(), unit_case.symbol());
+    let mut events = events_of(&solved, &path_events);
+    events.sort_by(|a, b| a.at.total_cmp(&b.at));
+    solved.sort_by(|a, b| a.value.total_cmp(&b.value));
+    let mut rows: Vec<MotionRow> = solved
+        .iter()
+        .map(|s| MotionRow {
+            id: s.id.clone(),
+            value: s.value,
+            doc: Some(&s.doc),
+            solves: s.solves,
+            iterations: s.iterations,
+        })
+        .collect();
+    for f in &end.failed {
+        rows.push(MotionRow {
+            id: String::new(),
+            value: f.value,
+            doc: None,
+            solves: 0,
+            iterations: 0,
+        });
+    }
+    rows.sort_by(|a, b| a.value.total_cmp(&b.value));
+    let parameter = motion;
+    let csv = motion_csv(parameter, &pose.unit, &rows, metres, symbol);
+    let docs: Vec<&ResultDoc> = solved.iter().map(|s| &s.doc).collect();
+    let radii: Vec<(String, f64)> = docs
+        .first()
+        .map(|d| {
+            d.rods
+                .iter()
+                .map(|r| (r.name.clone(), strand_report::tube_radius(r).0))
+                .collect()
+        })
+        .unwrap_or_default();
+    let (obj, envelopes) = envelope_obj(&docs, &radii, metres, symbol);
+    let title = format!("{}: motion '{motion}'", case.name);
+    let svg = motion_svg(
+        &title, parameter, &pose.unit, &rows, &events, metres, symbol,
+    );
+    std::fs::create_dir_all(&dir).map_err(|e| write_failure(&case.origin, e))?;
+    for (name, content) in [
+        ("motion.csv", csv.as_bytes()),
+        ("events.csv", events_csv(&events, &pose.unit).as_bytes()),
+        ("motion.svg", svg.as_bytes()),
+        ("envelope.obj", obj.as_bytes()),
+    ] {
+        write_atomic(&dir.join(name), content).map_err(|e| write_failure(&case.origin, e))?;
+    }
+    let total_iterations: usize = solved.iter().map(|s| s.iterations).sum();
+    let warm: Vec<&Solved> = solved.iter().filter(|s| s.doc.warm_start).collect();
+    let mut per_step: Vec<usize> = warm.iter().map(|s| s.iterations).collect();
+    per_step.sort_unstable();
+    let _ = writeln!(
+        out,
+        "{} pose(s) solved in {:.3} s (path following {following_s:.3} s, the rest reading, writing and the envelope); {total_iterations} Newton iterations in all; warm-started poses: median {} iteration(s), at most {}",
+        solved.len(),
+        started.elapsed().as_secs_f64(),
+        per_step.get(per_step.len() / 2).copied().unwrap_or(0),
+        per_step.last().copied().unwrap_or(0)
+    );
+    for e in &events {
+        let _ = writeln!(
+            out,
+            "event {} {} at {} {} (between {} and {}){}",
+            e.kind,
+            e.what,
+            number(e.at),
+            pose.unit,
+            number(e.between[0]),
+            number(e.between[1]),
+            if e.detail.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", e.detail)
+            }
+        );
+    }
+    worst_lines(out, &solved, &pose.unit, metres, symbol);
+    for env in &envelopes {
+        let _ = writeln!(
+            out,
+            "envelope {}: {} triangles, voxel pitch {} {symbol}",
+            env.rod,
+            env.triangles.len(),
+            number(env.pitch_m / metres)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "written: {}/motion.csv, events.csv, motion.svg, envelope.obj, steps/",
+        dir.display()
+    );
+    if end.failed.is_empty() && solved.iter().all(|s| s.doc.converged) {
+        Ok(Exit::Success)
+    } else {
+        for f in &end.failed {
+            let _ = writeln!(
+                err,
+                "error: {}: motion '{motion}' ended at {} {} (last solved: {} {}): {}",
+                case.origin,
+                number(f.value),
+                pose.unit,
+                number(f.reached),
+                pose.unit,
+                f.reason
+            );
+        }
+        Ok(Exit::NotConverged)
+    }
+}
+
+/// Adds the time from its start to `total` (s) when dropped.
+struct WriteTime<'a>(&'a mut f64, Instant);
+
+impl Drop for WriteTime<'_> {
+    fn drop(&mut self) {
+        *self.0 += self.1.elapsed().as_secs_f64();
+    }
+}
+
+/// The result document of one pose.
+fn step_doc(step: &MotionStep, label: &str) -> Result<ResultDoc, Failure> {
+    let timing = Timing {
+        solve: step.solution.report.solve_seconds,
+        ..Timing::default()
+    };
+    let mut doc = collect(&step.built.name, &step.built.model, &step.solution, timing);
+    add_contacts(&mut doc, &step.built, &step.solution)?;
+    name_connectors(&mut doc, &step.built.connector_names);
+    doc.variant = Some(label.to_string());
+    doc.warm_start = step.warm;
+    Ok(doc)
+}
+
+/// The events of the motion: those of the path following, and those found between
+/// neighbouring poses along each direction from the case's pose.
+fn events_of(solved: &[Solved], path: &[(f64, MotionEvent)]) -> Vec<MotionEventRecord> {
+    let mut out = Vec::new();
+    for direction in [1.0, -1.0] {
+        let mut chain: Vec<&Solved> = solved
+            .iter()
+            .filter(|s| s.value * direction > 0.0 || s.value == 0.0)
+            .collect();
+        chain.sort_by(|a, b| (a.value * direction).total_cmp(&(b.value * direction)));
+        for k in 1..chain.len() {
+            let earlier = (k >= 2).then(|| (chain[k - 2].value, &chain[k - 2].doc));
+            out.extend(doc_events(
+                earlier,
+                (chain[k - 1].value, &chain[k - 1].doc),
+                (chain[k].value, &chain[k].doc),
+            ));
+        }
+    }
+    for (at, e) in path {
+        out.push(match e {
+            MotionEvent::SnapThrough { from, to, jump_m } => MotionEventRecord {
+                kind: "snap_through".into(),
+                what: "state".into(),
+                between: [*from, *to],
+                at: *to,
+                detail: format!("the hoses jumped by up to {jump_m:.4e} m within the smallest step (reached at pose {at})"),
+            },
+            MotionEvent::StabilityLost { at: v, negative_directions } => MotionEventRecord {
+                kind: "stability_lost".into(),
+                what: "state".into(),
+                between: [*v, *v],
+                at: *v,
+                detail: format!("{negative_directions} direction(s) of negative curvature"),
+            },
+            MotionEvent::StabilityRegained { at: v } => MotionEventRecord {
+                kind: "stability_regained".into(),
+                what: "state".into(),
+                between: [*v, *v],
+                at: *v,
+                detail: String::new(),
+            },
+        });
+    }
+    out
+}
+
+/// The worst pose of each quantity.
+fn worst_lines(out: &mut dyn Write, solved: &[Solved], unit: &str, metres: f64, symbol: &str) {
+    let rods: Vec<String> = solved
+        .first()
+        .map(|s| s.doc.rods.iter().map(|r| r.name.clone()).collect())
+        .unwrap_or_default();
+    let peak = |v: &[[f64; 3]]| v.iter().map(strand_report::magnitude).fold(0.0, f64::max);
+    for rod in &rods {
+        let each = |f: &dyn Fn(&strand_report::RodResult) -> f64| -> Vec<(f64, f64)> {
+            solved
+                .iter()
+                .filter_map(|s| {
+                    s.doc
+                        .rods
+                        .iter()
+                        .find(|r| &r.name == rod)
+                        .map(|r| (s.value, f(r)))
+                })
+                .collect()
+        };
+        let max = |v: Vec<(f64, f64)>| {
+            v.into_iter().fold(
+                (f64::NAN, f64::NEG_INFINITY),
+                |a, b| if b.1 > a.1 { b } else { a },
+            )
+        };
+        let min = |v: Vec<(f64, f64)>| {
+            v.into_iter().fold(
+                (f64::NAN, f64::INFINITY),
+                |a, b| if b.1 < a.1 { b } else { a },
+            )
+        };
+        let (vf, f) = max(each(&|r| peak(&r.force_n)));
+        let (vm, m) = max(each(&|r| peak(&r.moment_nm)));
+        let (vb, b) = min(each(&|r| {
+            1.0 / r
+                .curvature_1pm
+                .iter()
+                .map(|k| k[0].hypot(k[1]))
+                .fold(0.0, f64::max)
+        }));
+        let _ = writeln!(
+            out,
+            "worst {rod}: peak |f| {} N at {} {unit}; peak |m| {} N·m at {} {unit}; min bend radius {} {symbol} at {} {unit}",
+            number(f),
+            number(vf),
+            number(m),
+            number(vm),
+            number(b / metres),
+            number(vb)
+        );
+    }
+    let mut obstacles: Vec<(String, f64, f64)> = Vec::new();
+    for s in solved {
+        for c in &s.doc.clearance {
+            match obstacles.iter_mut().find(|o| o.0 == c.with) {
+                Some(o) if c.distance_m < o.1 => {
+                    o.1 = c.distance_m;
+                    o.2 = s.value;
+                }
+                Some(_) => {}
+                None => obstacles.push((c.with.clone(), c.distance_m, s.value)),
+            }
+        }
+    }
+    for (with, d, v) in obstacles {
+        let _ = writeln!(
+            out,
+            "worst clearance to {with}: {} {symbol} at {} {unit}",
+            number(d / metres),
+            number(v)
+        );
+    }
+}
