@@ -27,6 +27,7 @@ mod junction;
 mod moulded_clips;
 mod predeformed;
 mod report;
+mod sensitivity;
 mod start_checks;
 mod study;
 mod translation;

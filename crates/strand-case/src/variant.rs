@@ -23,6 +23,9 @@ rods.<rod>.start.position, rods.<rod>.end.position (Add/Set a vector; held ends 
 rods.<rod>.start.force, rods.<rod>.end.force (Add/Set a vector in N), \
 junctions.<junction>.mass (Add/Set a number in kg), \
 connectors.<connector>.position (Add/Set a vector), \
+clips.<clip>.at (Add/Set a number; clips placed by `at`), \
+clips.<clip>.base.position (Add/Set a vector; clips with a `base`), \
+environment.<mesh>.position (Add/Set a vector), \
 gravity (Add/Set a vector in m/s²)";
 
 /// The name `strand study` uses for the unchanged case; no variant may take it.
@@ -56,6 +59,9 @@ enum Target {
     Force(usize, Side),
     JunctionMass(usize),
     ConnectorPosition(usize),
+    ClipAt(usize),
+    ClipBasePosition(usize),
+    EnvironmentPosition(usize),
 }
 
 /// The rod fields a variant can change, as written after `rods.<rod>.`.
@@ -170,6 +176,52 @@ fn resolve(report: &Reporter, at: &str, file: &CaseFile, item: &str) -> Result<T
             "position",
         )
         .map(Target::ConnectorPosition);
+    }
+    if let Some(rest) = item.strip_prefix("clips.") {
+        let (field, target): (&str, fn(usize) -> Target) = if rest.ends_with(".base.position") {
+            ("base.position", Target::ClipBasePosition)
+        } else {
+            ("at", Target::ClipAt)
+        };
+        let name = rest
+            .strip_suffix(field)
+            .and_then(|n| n.strip_suffix('.'))
+            .unwrap_or(rest);
+        let defined: Vec<&str> = file.clips.iter().map(|(n, _)| n.as_str()).collect();
+        let Some(index) = file.clips.iter().position(|(n, _)| n == name) else {
+            return Err(report.invalid(
+                at,
+                format!("there is no clip named '{name}' with a field `{field}`"),
+                format!(
+                    "write clips.<clip>.at or clips.<clip>.base.position; clips: {}",
+                    if defined.is_empty() {
+                        "none".to_string()
+                    } else {
+                        defined.join(", ")
+                    }
+                ),
+            ));
+        };
+        return Ok(target(index));
+    }
+    if let Some(rest) = item.strip_prefix("environment.") {
+        let name = rest.strip_suffix(".position").unwrap_or(rest);
+        let defined: Vec<&str> = file.environment.iter().map(|e| e.name.as_str()).collect();
+        return match file.environment.iter().position(|e| e.name == name) {
+            Some(index) if rest.ends_with(".position") => Ok(Target::EnvironmentPosition(index)),
+            _ => Err(report.invalid(
+                at,
+                format!("'{rest}' is not the position of an environment mesh"),
+                format!(
+                    "write environment.<mesh>.position; meshes: {}",
+                    if defined.is_empty() {
+                        "none".to_string()
+                    } else {
+                        defined.join(", ")
+                    }
+                ),
+            )),
+        };
     }
     let Some(rest) = item.strip_prefix("rods.") else {
         return Err(unknown(
@@ -452,6 +504,35 @@ pub(crate) fn apply_changes(
                 let x = number(report, &at, item, amount, " in kg")?;
                 let mass = &mut out.junctions[j].1.mass;
                 *mass = changed(*mass, change, x);
+            }
+            Target::ClipAt(c) => {
+                let x = number(report, &at, item, amount, &unit)?;
+                let (name, clip) = &mut out.clips[c];
+                let Some(station) = clip.at.as_mut() else {
+                    return Err(report.invalid(
+                        &at,
+                        format!("clip '{name}' is placed by `at_point`, not by `at`"),
+                        "change a clip placed by its arc length `at`",
+                    ));
+                };
+                *station = changed(*station, change, x);
+            }
+            Target::ClipBasePosition(c) => {
+                let v = vector(report, &at, item, amount, &unit)?;
+                let (name, clip) = &mut out.clips[c];
+                let Some(base) = clip.base.as_mut() else {
+                    return Err(report.invalid(
+                        &at,
+                        format!("clip '{name}' has no `base` of its own"),
+                        "change the base position of a clip with a `base`",
+                    ));
+                };
+                base.position = changed3(&base.position, change, &v);
+            }
+            Target::EnvironmentPosition(e) => {
+                let v = vector(report, &at, item, amount, &unit)?;
+                let mesh = &mut out.environment[e];
+                mesh.position = changed3(&mesh.position, change, &v);
             }
             Target::ConnectorPosition(c) => {
                 let v = vector(report, &at, item, amount, &unit)?;

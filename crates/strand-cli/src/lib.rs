@@ -41,6 +41,7 @@ mod findings;
 pub mod limits;
 mod progress;
 mod report;
+mod sensitivity;
 mod study;
 pub mod summary;
 

@@ -1,0 +1,202 @@
+//! Design sensitivities (`strand_solve::sensitivity`) against central differences of
+//! full solves of the bundled cases: every output derivative (reactions, peaks, bend
+//! radii, clearances, junction pose, contact forces) with respect to lengths,
+//! connector positions, end positions and the T's mass, warm-started solves at
+//! `p ± fd` and `p ± 2fd` extrapolated (Richardson), to 1e-5 relative or 1e-9
+//! absolute.
+
+use std::collections::BTreeMap;
+
+use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase};
+use strand_report::{design_outputs, sensitivity_doc};
+use strand_solve::sensitivity::{Design, Sample, Sensitivities, SensitivitySettings};
+use strand_solve::{Solution, SolverSettings};
+
+use crate::common::cases_dir;
+
+/// Tolerance of the full solves of the reference (N).
+const REFERENCE_TOLERANCE_N: f64 = 1e-10;
+
+fn settings(built: &DesignedCase) -> SolverSettings {
+    SolverSettings {
+        tolerance_n: REFERENCE_TOLERANCE_N,
+        ..built.built.settings.clone()
+    }
+}
+
+fn solve(built: &DesignedCase, start: strand_system::SystemState) -> Solution {
+    let solution = built.built.solve_from(start, &settings(built)).unwrap();
+    assert!(solution.report.converged, "{:?}", solution.report);
+    solution
+}
+
+/// Named outputs of a design at a solution.
+fn outputs(built: &DesignedCase, solution: &Solution) -> BTreeMap<String, Sample> {
+    let b = &built.built;
+    let doc = sensitivity_doc(
+        &b.name,
+        &b.model,
+        solution,
+        built.contact.as_ref(),
+        &b.connector_names,
+    )
+    .unwrap();
+    design_outputs(&doc)
+        .into_iter()
+        .map(|o| {
+            (
+                o.name,
+                Sample {
+                    value: o.value,
+                    arg: o.arg,
+                },
+            )
+        })
+        .collect()
+}
+
+/// A parameter: item, component, scale (item units) and the difference step of the
+/// reference solves (item units).
+struct Param(&'static str, Option<usize>, f64, f64);
+
+/// Checks every output's derivative for every parameter of `case` against the
+/// differences of full solves; returns the number of derivatives compared. Outputs
+/// listed in `must` must be among them.
+fn check(case: &str, params: &[Param], must: &[&str]) -> usize {
+    let case = Case::from_path(cases_dir().join(case)).unwrap();
+    let design = CaseDesign::new(
+        &case,
+        params
+            .iter()
+            .map(|p| DesignParameter {
+                item: p.0.into(),
+                component: p.1,
+                scale: p.2,
+            })
+            .collect(),
+    );
+    let zeros = vec![0.0; params.len()];
+    let base_built = design.build(&zeros).unwrap();
+    let base = solve(&base_built, base_built.built.initial.clone());
+    let s = Sensitivities::compute(&design, &base, &SensitivitySettings::default()).unwrap();
+    let names: Vec<String> = outputs(&base_built, &base).into_keys().collect();
+    for m in must {
+        assert!(names.iter().any(|n| n == m), "no output {m} in {names:?}");
+    }
+    let mut compared = 0;
+    for (j, p) in params.iter().enumerate() {
+        let exact = s
+            .derivative(&design, &base, j, |built, at| {
+                let here = outputs(built, at);
+                names
+                    .iter()
+                    .map(|n| {
+                        here.get(n).copied().unwrap_or(Sample {
+                            value: f64::NAN,
+                            arg: usize::MAX,
+                        })
+                    })
+                    .collect()
+            })
+            .unwrap();
+        let at = |t: f64| {
+            let mut offsets = zeros.clone();
+            offsets[j] = t;
+            let built = design.build(&offsets).unwrap();
+            let solution = solve(&built, base.state.clone());
+            outputs(&built, &solution)
+        };
+        let fd = p.3;
+        let (up, down, up2, down2) = (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
+        let mut failures = Vec::new();
+        for (k, name) in names.iter().enumerate() {
+            let e = exact[k];
+            let get = |m: &BTreeMap<String, Sample>| m.get(name).copied();
+            let (Some(a), Some(b), Some(a2), Some(b2)) =
+                (get(&up), get(&down), get(&up2), get(&down2))
+            else {
+                continue;
+            };
+            // A peak whose location jumps within the steps has no two-sided derivative.
+            if e.one_sided || a.arg != b.arg || a2.arg != b2.arg {
+                continue;
+            }
+            let fine = (a.value - b.value) / (2.0 * fd);
+            let coarse = (a2.value - b2.value) / (4.0 * fd);
+            let reference = (4.0 * fine - coarse) / 3.0;
+            let error = (e.derivative - reference).abs();
+            compared += 1;
+            if error > 1e-5 * reference.abs() && error > 1e-9 {
+                failures.push(format!(
+                    "d {name} / d {}: sensitivity {:.9e}, solves {reference:.9e} (error {error:.2e})",
+                    p.0, e.derivative
+                ));
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+    compared
+}
+
+#[test]
+fn elastica_tip_force_follows_the_prescribed_tip_position() {
+    let n = check(
+        "elastica_fig2.ron",
+        &[
+            Param("rods.rod.end.position", Some(0), 1000.0, 1.0),
+            Param("rods.rod.end.position", Some(1), 1000.0, 1.0),
+        ],
+        &[
+            "rod.end.force_N.x",
+            "rod.end.force_N.y",
+            "rod.peak_moment_Nm",
+        ],
+    );
+    assert!(n > 10);
+}
+
+#[test]
+fn cooler_hose_outputs_follow_lengths_connector_positions_and_the_t_mass() {
+    let n = check(
+        "cooler_hose.ron",
+        &[
+            Param("rods.hose2.length", None, 1000.0, 1.0),
+            Param("rods.hose1.length", None, 1000.0, 1.0),
+            Param("connectors.oil_cooler.position", Some(2), 1000.0, 1.0),
+            Param("junctions.tee.mass", None, 1.0, 0.01),
+        ],
+        &[
+            "tee.position_m.z",
+            "hose2.peak_force_N",
+            "oil_cooler.force_N.z",
+        ],
+    );
+    assert!(n > 50);
+}
+
+#[test]
+fn harness_outputs_follow_lengths_and_connectors_with_the_hinge_on_its_stop() {
+    let n = check(
+        "harness_clips.ron",
+        &[
+            Param("rods.trunk.length", None, 1000.0, 1.0),
+            Param("connectors.lamp_left.position", Some(2), 1000.0, 1.0),
+            Param("junctions.breakout.mass", None, 1.0, 0.002),
+        ],
+        &["hinge.joint_value", "breakout.position_m.z"],
+    );
+    assert!(n > 50);
+}
+
+#[test]
+fn contact_forces_and_clearances_follow_the_connectors() {
+    let n = check(
+        "cooler_hose_contact.ron",
+        &[
+            Param("connectors.engine_stub.position", Some(2), 1000.0, 0.2),
+            Param("rods.hose3.length", None, 1000.0, 0.2),
+        ],
+        &["hose3.min_clearance_m"],
+    );
+    assert!(n > 20);
+}
