@@ -8,20 +8,32 @@
 use std::collections::BTreeMap;
 
 use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase};
-use strand_report::{design_outputs, sensitivity_doc};
+use strand_report::{OutputValue, design_outputs, sensitivity_doc};
 use strand_solve::sensitivity::{Design, Sample, Sensitivities, SensitivitySettings};
 use strand_solve::{Solution, SolverSettings};
 
 use crate::common::cases_dir;
 
-/// Tolerance of the full solves of the reference (N).
-const REFERENCE_TOLERANCE_N: f64 = 1e-10;
-
+/// Tolerance of the full solves of the reference (N): 1e-11 N where the case's
+/// round-off floor allows it (the reference's noise is this over `2 fd`), else 1e-10 N.
 fn settings(built: &DesignedCase) -> SolverSettings {
+    let floor = 4.0 * 2.0 * f64::EPSILON * largest_axial_stiffness_n(built);
     SolverSettings {
-        tolerance_n: REFERENCE_TOLERANCE_N,
+        tolerance_n: if floor < 2e-12 { 1e-11 } else { 1e-10 },
         ..built.built.settings.clone()
     }
+}
+
+/// The largest axial or shear stiffness of the case's rods, N.
+fn largest_axial_stiffness_n(built: &DesignedCase) -> f64 {
+    built
+        .built
+        .model
+        .system()
+        .rods
+        .iter()
+        .map(|r| r.rod.section().strain_stiffness().max())
+        .fold(0.0, f64::max)
 }
 
 fn solve(built: &DesignedCase, start: strand_system::SystemState) -> Solution {
@@ -30,8 +42,13 @@ fn solve(built: &DesignedCase, start: strand_system::SystemState) -> Solution {
     solution
 }
 
-/// Named outputs of a design at a solution.
-fn outputs(built: &DesignedCase, solution: &Solution) -> BTreeMap<String, Sample> {
+/// Named outputs of a design at a solution (peaks read at the base's arg when `pins`
+/// are given).
+fn outputs(
+    built: &DesignedCase,
+    solution: &Solution,
+    pins: Option<&[OutputValue]>,
+) -> BTreeMap<String, Sample> {
     let b = &built.built;
     let doc = sensitivity_doc(
         &b.name,
@@ -41,7 +58,7 @@ fn outputs(built: &DesignedCase, solution: &Solution) -> BTreeMap<String, Sample
         &b.connector_names,
     )
     .unwrap();
-    design_outputs(&doc)
+    design_outputs(&doc, pins)
         .into_iter()
         .map(|o| {
             (
@@ -61,8 +78,9 @@ struct Param(&'static str, Option<usize>, f64, f64);
 
 /// Checks every output's derivative for every parameter of `case` against the
 /// differences of full solves; returns the number of derivatives compared. Outputs
-/// listed in `must` must be among them.
-fn check(case: &str, params: &[Param], must: &[&str]) -> usize {
+/// starting with a name listed in `must` must be among them, and at least
+/// `min_active` rows (contacts, joint stops) must be active.
+fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usize {
     let case = Case::from_path(cases_dir().join(case)).unwrap();
     let design = CaseDesign::new(
         &case,
@@ -79,15 +97,31 @@ fn check(case: &str, params: &[Param], must: &[&str]) -> usize {
     let base_built = design.build(&zeros).unwrap();
     let base = solve(&base_built, base_built.built.initial.clone());
     let s = Sensitivities::compute(&design, &base, &SensitivitySettings::default()).unwrap();
-    let names: Vec<String> = outputs(&base_built, &base).into_keys().collect();
+    let pins: Vec<OutputValue> = outputs(&base_built, &base, None)
+        .into_iter()
+        .map(|(name, s)| OutputValue {
+            name,
+            value: s.value,
+            arg: s.arg,
+        })
+        .collect();
+    let names: Vec<String> = pins.iter().map(|o| o.name.clone()).collect();
     for m in must {
-        assert!(names.iter().any(|n| n == m), "no output {m} in {names:?}");
+        assert!(
+            names.iter().any(|n| n.starts_with(m)),
+            "no output {m} in {names:?}"
+        );
     }
+    assert!(
+        s.active.len() >= min_active,
+        "{} active rows, expected at least {min_active}",
+        s.active.len()
+    );
     let mut compared = 0;
     for (j, p) in params.iter().enumerate() {
         let exact = s
             .derivative(&design, &base, j, |built, at| {
-                let here = outputs(built, at);
+                let here = outputs(built, at, Some(&pins));
                 names
                     .iter()
                     .map(|n| {
@@ -104,7 +138,7 @@ fn check(case: &str, params: &[Param], must: &[&str]) -> usize {
             offsets[j] = t;
             let built = design.build(&offsets).unwrap();
             let solution = solve(&built, base.state.clone());
-            outputs(&built, &solution)
+            outputs(&built, &solution, Some(&pins))
         };
         let fd = p.3;
         let (up, down, up2, down2) = (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
@@ -117,10 +151,9 @@ fn check(case: &str, params: &[Param], must: &[&str]) -> usize {
             else {
                 continue;
             };
-            // A peak whose location jumps within the steps has no two-sided derivative.
-            if e.one_sided || a.arg != b.arg || a2.arg != b2.arg {
-                continue;
-            }
+            // Peaks are read at the base's arg-max on both sides (the derivative at the
+            // arg-max), whether or not the location jumps within the steps.
+            let _ = (a.arg, b.arg, a2.arg, b2.arg, e.one_sided);
             let fine = (a.value - b.value) / (2.0 * fd);
             let coarse = (a2.value - b2.value) / (4.0 * fd);
             let reference = (4.0 * fine - coarse) / 3.0;
@@ -143,14 +176,15 @@ fn elastica_tip_force_follows_the_prescribed_tip_position() {
     let n = check(
         "elastica_fig2.ron",
         &[
-            Param("rods.rod.end.position", Some(0), 1000.0, 1.0),
-            Param("rods.rod.end.position", Some(1), 1000.0, 1.0),
+            Param("rods.rod.end.position", Some(0), 1000.0, 0.01),
+            Param("rods.rod.end.position", Some(1), 1000.0, 0.01),
         ],
         &[
             "rod.end.force_N.x",
             "rod.end.force_N.y",
             "rod.peak_moment_Nm",
         ],
+        0,
     );
     assert!(n > 10);
 }
@@ -160,16 +194,17 @@ fn cooler_hose_outputs_follow_lengths_connector_positions_and_the_t_mass() {
     let n = check(
         "cooler_hose.ron",
         &[
-            Param("rods.hose2.length", None, 1000.0, 1.0),
-            Param("rods.hose1.length", None, 1000.0, 1.0),
-            Param("connectors.oil_cooler.position", Some(2), 1000.0, 1.0),
-            Param("junctions.tee.mass", None, 1.0, 0.01),
+            Param("rods.hose2.length", None, 1000.0, 0.05),
+            Param("rods.hose1.length", None, 1000.0, 0.05),
+            Param("connectors.oil_cooler.position", Some(2), 1000.0, 0.05),
+            Param("junctions.tee.mass", None, 100.0, 0.01),
         ],
         &[
             "tee.position_m.z",
             "hose2.peak_force_N",
             "oil_cooler.force_N.z",
         ],
+        0,
     );
     assert!(n > 50);
 }
@@ -179,11 +214,11 @@ fn harness_outputs_follow_lengths_and_connectors_with_the_hinge_on_its_stop() {
     let n = check(
         "harness_clips.ron",
         &[
-            Param("rods.trunk.length", None, 1000.0, 1.0),
-            Param("connectors.lamp_left.position", Some(2), 1000.0, 1.0),
-            Param("junctions.breakout.mass", None, 1.0, 0.002),
+            Param("rods.trunk.length", None, 1000.0, 0.1),
+            Param("connectors.lamp_left.position", Some(2), 1000.0, 0.2),
         ],
         &["hinge.joint_value", "breakout.position_m.z"],
+        1, // the hinge on its +0.02 rad stop
     );
     assert!(n > 50);
 }
@@ -193,10 +228,11 @@ fn contact_forces_and_clearances_follow_the_connectors() {
     let n = check(
         "cooler_hose_contact.ron",
         &[
-            Param("connectors.engine_stub.position", Some(2), 1000.0, 0.2),
-            Param("rods.hose3.length", None, 1000.0, 0.2),
+            Param("connectors.engine_stub.position", Some(2), 1000.0, 0.05),
+            Param("rods.hose3.length", None, 1000.0, 0.05),
         ],
-        &["hose3.min_clearance_m"],
+        &["hose3.min_clearance_m", "hose3.contact_force_N."],
+        1,
     );
     assert!(n > 20);
 }

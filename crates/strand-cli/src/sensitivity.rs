@@ -42,8 +42,10 @@ fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, Str
                 1.0 / unit.map_or(1.0, |u| u.metres()),
                 case.file.units.length.clone(),
             ),
-            Quantity::Mass => (1.0, "kg".to_string()),
-            Quantity::Force => (1.0, "N".to_string()),
+            // Loads enter the gradient linearly: large steps are exact and keep the
+            // round-off of the stiff forces small.
+            Quantity::Mass => (100.0, "kg".to_string()),
+            Quantity::Force => (100.0, "N".to_string()),
             Quantity::Acceleration => (10.0, "m/s2".to_string()),
             Quantity::Count => {
                 return Err(invalid(format!(
@@ -72,7 +74,11 @@ fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, Str
 }
 
 /// The named outputs of a design at a solution.
-fn outputs_at(built: &DesignedCase, solution: &Solution) -> Result<Vec<OutputValue>, Failure> {
+fn outputs_at(
+    built: &DesignedCase,
+    solution: &Solution,
+    pins: Option<&[OutputValue]>,
+) -> Result<Vec<OutputValue>, Failure> {
     let b = &built.built;
     let doc = sensitivity_doc(
         &b.name,
@@ -85,7 +91,7 @@ fn outputs_at(built: &DesignedCase, solution: &Solution) -> Result<Vec<OutputVal
         exit: Exit::Failure,
         message: format!("{}: contacts: {e}", b.origin),
     })?;
-    Ok(design_outputs(&doc))
+    Ok(design_outputs(&doc, pins))
 }
 
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
@@ -104,7 +110,7 @@ pub(crate) fn sensitivities(
     let s =
         Sensitivities::compute(&design, solution, &SensitivitySettings::default()).map_err(fail)?;
     let base_built = strand_solve::sensitivity::Design::build(&design, &vec![0.0; names.len()])?;
-    let base = outputs_at(&base_built, solution)?;
+    let base = outputs_at(&base_built, solution, None)?;
     let mut outputs: Vec<SensitivityOutput> = base
         .iter()
         .map(|o| SensitivityOutput {
@@ -118,7 +124,7 @@ pub(crate) fn sensitivities(
         let mut failure = None;
         let derivatives = s
             .derivative(&design, solution, j, |built, at| {
-                let here = outputs_at(built, at).unwrap_or_else(|e| {
+                let here = outputs_at(built, at, Some(&base)).unwrap_or_else(|e| {
                     failure = Some(e);
                     Vec::new()
                 });
@@ -141,7 +147,7 @@ pub(crate) fn sensitivities(
         if let Some(e) = failure {
             return Err(e);
         }
-        for ((o, d), b) in outputs.iter_mut().zip(&derivatives).zip(&base) {
+        for (o, d) in outputs.iter_mut().zip(&derivatives) {
             if d.derivative.is_finite() {
                 o.d.insert(name.clone(), d.derivative);
             }
@@ -149,7 +155,6 @@ pub(crate) fn sensitivities(
             if d.one_sided {
                 o.one_sided.push(name.clone());
             }
-            let _ = b;
         }
     }
     Ok(SensitivityDoc {

@@ -61,49 +61,70 @@ fn push3(out: &mut Vec<OutputValue>, stem: &str, v: &[f64; 3]) {
 
 /// Every named output of `doc`, in a fixed order (rods, reactions, clips, bodies,
 /// contacts).
-pub fn design_outputs(doc: &ResultDoc) -> Vec<OutputValue> {
+///
+/// With `pins` (the outputs of the base design), a peak or minimum is read where the
+/// base attains it (the vertex or obstacle of the base's `arg`), while `arg` still
+/// says where this document attains it: the derivative of a peak is then the
+/// derivative at the base's arg-max, and a differing `arg` marks it one-sided.
+pub fn design_outputs(doc: &ResultDoc, pins: Option<&[OutputValue]>) -> Vec<OutputValue> {
     let mut out = Vec::new();
+    let pinned = |name: &str| {
+        pins.and_then(|p| p.iter().find(|o| o.name == name))
+            .map(|o| o.arg)
+    };
+    // The extreme (value, arg), read at the pinned arg if there is one.
+    let read = |name: String, values: &[f64], extreme: (f64, usize)| {
+        let value = pinned(&name)
+            .and_then(|j| values.get(j).copied())
+            .unwrap_or(extreme.0);
+        OutputValue {
+            name,
+            value,
+            arg: extreme.1,
+        }
+    };
     for rod in &doc.rods {
-        let (force, jf) = peak(&rod.force_n);
-        let (moment, jm) = peak(&rod.moment_nm);
-        out.push(OutputValue {
-            name: format!("{}.peak_force_N", rod.name),
-            value: force,
-            arg: jf,
-        });
-        out.push(OutputValue {
-            name: format!("{}.peak_moment_Nm", rod.name),
-            value: moment,
-            arg: jm,
-        });
-        let (radius, jr) =
-            bend_radii(rod)
-                .into_iter()
-                .enumerate()
-                .fold(
-                    (f64::INFINITY, 0),
-                    |best, (j, r)| {
-                        if r < best.0 { (r, j) } else { best }
-                    },
-                );
-        if radius.is_finite() {
-            out.push(OutputValue {
-                name: format!("{}.min_bend_radius_m", rod.name),
-                value: radius,
-                arg: jr,
-            });
+        let forces: Vec<f64> = rod.force_n.iter().map(crate::magnitude).collect();
+        let moments: Vec<f64> = rod.moment_nm.iter().map(crate::magnitude).collect();
+        out.push(read(
+            format!("{}.peak_force_N", rod.name),
+            &forces,
+            peak(&rod.force_n),
+        ));
+        out.push(read(
+            format!("{}.peak_moment_Nm", rod.name),
+            &moments,
+            peak(&rod.moment_nm),
+        ));
+        let radii = bend_radii(rod);
+        let smallest = radii
+            .iter()
+            .enumerate()
+            .fold(
+                (f64::INFINITY, 0),
+                |best, (j, &r)| {
+                    if r < best.0 { (r, j) } else { best }
+                },
+            );
+        if smallest.0.is_finite() {
+            out.push(read(
+                format!("{}.min_bend_radius_m", rod.name),
+                &radii,
+                smallest,
+            ));
         }
         let clearances: Vec<_> = doc.clearance.iter().filter(|c| c.rod == rod.name).collect();
+        let distances: Vec<f64> = clearances.iter().map(|c| c.distance_m).collect();
         if let Some((k, nearest)) = clearances
             .iter()
             .enumerate()
             .min_by(|a, b| a.1.distance_m.total_cmp(&b.1.distance_m))
         {
-            out.push(OutputValue {
-                name: format!("{}.min_clearance_m", rod.name),
-                value: nearest.distance_m,
-                arg: k,
-            });
+            out.push(read(
+                format!("{}.min_clearance_m", rod.name),
+                &distances,
+                (nearest.distance_m, k),
+            ));
         }
         for c in clearances {
             out.push(OutputValue {

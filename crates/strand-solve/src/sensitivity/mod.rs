@@ -32,7 +32,7 @@
 //! (Richardson), with `h` from [`Design::step`] times
 //! [`SensitivitySettings::relative_step`]. The truncation error is `O(h⁴)` and the
 //! round-off `ε·C/h` (`C` the axial stiffness: the gradient's round-off): at the
-//! default `h` (1e-3 of the parameter's scale) both are far below 1e-6 of the
+//! default `h` (1e-4 of the parameter's scale) both are far below 1e-6 of the
 //! derivatives (most parameters — loads, masses, gravity, support positions — enter
 //! the gradient linearly at a fixed state, where the difference is exact). Outputs
 //! (reactions, peaks, clearances, …) follow by the chain rule, evaluated the same

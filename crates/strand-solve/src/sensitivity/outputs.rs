@@ -19,8 +19,8 @@ pub struct Sample {
 pub struct OutputDerivative {
     /// The output's unit per parameter unit.
     pub derivative: f64,
-    /// Whether the arg-max/arg-min differs on the two sides of the parameter: the
-    /// derivative is then one-sided (the central value averages the two sides).
+    /// Whether the arg-max/arg-min differs between the base and a side of the
+    /// difference: the derivative is then one-sided.
     pub one_sided: bool,
 }
 
@@ -59,10 +59,17 @@ impl Sensitivities {
     }
 
     /// The derivatives of the outputs that `outputs` computes from a design and a
-    /// solution, with respect to parameter `parameter`: central differences of steps
-    /// `h` and `2h` along the first-order path, extrapolated (error `O(h⁴)`),
-    /// one-sided where an output's arg differs on the two sides. `outputs` must return
-    /// the same number of samples at every point.
+    /// solution, with respect to parameter `parameter`, by the chain rule along the
+    /// first-order path: central differences of steps `h` and `2h`, extrapolated
+    /// (error `O(h⁴)`), at three steps `h`, `h/10`, `h/100` (`h` the parameter's
+    /// [`super::ParameterSensitivity::output_step`]). Per output, the largest step is
+    /// taken whose result the next smaller one confirms (to [`STEP_AGREEMENT`]);
+    /// otherwise the middle step when the smallest agrees with it better than with the
+    /// largest (the output is nonlinear at the scale of `h`: a rod near a limit
+    /// point), else the largest (the smaller steps see round-off of reactions summed
+    /// from stiff forces). One-sided where an output's arg on a side differs from its
+    /// arg at the base. `outputs` must return the same number of samples at every
+    /// point.
     pub fn derivative<D: Design>(
         &self,
         design: &D,
@@ -70,22 +77,54 @@ impl Sensitivities {
         parameter: usize,
         mut outputs: impl FnMut(&D::Built, &Solution) -> Vec<Sample>,
     ) -> Result<Vec<OutputDerivative>, SensitivityError> {
-        let h = self.parameters[parameter].step;
-        let mut samples = Vec::with_capacity(4);
-        for t in [h, -h, 2.0 * h, -2.0 * h] {
-            let (built, solution) = self.path_point(design, base, parameter, t)?;
-            samples.push(outputs(&built, &solution));
+        let (built, at) = self.path_point(design, base, parameter, 0.0)?;
+        let centre = outputs(&built, &at);
+        let count = centre.len();
+        let mut ladder: Vec<Vec<OutputDerivative>> = Vec::with_capacity(3);
+        for k in 0..3 {
+            let h = self.parameters[parameter].output_step * 0.1f64.powi(k);
+            let mut samples = Vec::with_capacity(4);
+            for t in [h, -h, 2.0 * h, -2.0 * h] {
+                let (built, solution) = self.path_point(design, base, parameter, t)?;
+                samples.push(outputs(&built, &solution));
+            }
+            ladder.push(
+                (0..count)
+                    .map(|j| {
+                        let value = |i: usize| samples[i].get(j).map_or(f64::NAN, |s| s.value);
+                        let fine = (value(0) - value(1)) / (2.0 * h);
+                        let coarse = (value(2) - value(3)) / (4.0 * h);
+                        OutputDerivative {
+                            derivative: (4.0 * fine - coarse) / 3.0,
+                            one_sided: samples
+                                .iter()
+                                .any(|s| s.get(j).is_none_or(|s| s.arg != centre[j].arg)),
+                        }
+                    })
+                    .collect(),
+            );
         }
-        let count = samples.iter().map(Vec::len).min().unwrap_or(0);
         Ok((0..count)
-            .map(|k| {
-                let fine = (samples[0][k].value - samples[1][k].value) / (2.0 * h);
-                let coarse = (samples[2][k].value - samples[3][k].value) / (4.0 * h);
+            .map(|j| {
+                let (large, middle, small) = (ladder[0][j], ladder[1][j], ladder[2][j]);
+                let apart =
+                    |a: OutputDerivative, b: OutputDerivative| (a.derivative - b.derivative).abs();
+                let scale = middle.derivative.abs();
+                let chosen = if apart(large, middle) <= STEP_AGREEMENT * scale {
+                    large
+                } else if apart(middle, small) < apart(large, middle) {
+                    middle
+                } else {
+                    large
+                };
                 OutputDerivative {
-                    derivative: (4.0 * fine - coarse) / 3.0,
-                    one_sided: samples[0][k].arg != samples[1][k].arg,
+                    derivative: chosen.derivative,
+                    one_sided: large.one_sided || middle.one_sided || small.one_sided,
                 }
             })
             .collect())
     }
 }
+
+/// Relative agreement of two steps' derivatives that confirms the larger step.
+pub const STEP_AGREEMENT: f64 = 1e-6;

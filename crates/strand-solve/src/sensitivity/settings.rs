@@ -20,6 +20,10 @@ pub struct SensitivitySettings {
     /// extrapolated central differences is negligible, large enough that the round-off
     /// `ε·|g|/h` is (`ε·C`, with `C` the axial stiffness, is the gradient's round-off).
     pub relative_step: f64,
+    /// The largest difference step of the outputs along the first-order path
+    /// ([`super::Sensitivities::derivative`], which also tries a tenth and a
+    /// hundredth of it) as a fraction of the parameter's scale.
+    pub output_relative_step: f64,
     /// The refinement of the derivative against the exact directional derivative of
     /// the KKT conditions stops when its residual is below this fraction of the
     /// right-hand side's (in the solver's combined force measure, N, and in m or rad
@@ -38,7 +42,8 @@ pub struct SensitivitySettings {
 impl Default for SensitivitySettings {
     fn default() -> Self {
         Self {
-            relative_step: 1e-3,
+            relative_step: 1e-4,
+            output_relative_step: 1e-4,
             refinement_tolerance: 1e-9,
             max_refinements: 8,
             near_zero_multiplier: 1e-6,
@@ -62,6 +67,7 @@ impl SensitivitySettings {
             }
         };
         positive("relative_step", self.relative_step)?;
+        positive("output_relative_step", self.output_relative_step)?;
         positive("refinement_tolerance", self.refinement_tolerance)?;
         positive("near_zero_multiplier", self.near_zero_multiplier)?;
         positive("near_zero_gap", self.near_zero_gap)?;

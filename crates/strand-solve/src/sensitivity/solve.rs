@@ -19,8 +19,11 @@ pub struct ParameterSensitivity {
     /// `dμ/dp` of every active row, in the order of [`Sensitivities::active`] (N or
     /// N·m per unit of the parameter).
     pub multipliers: Vec<f64>,
-    /// The difference step used, in the parameter's unit.
+    /// The difference step of `∂Φ/∂p`, in the parameter's unit.
     pub step: f64,
+    /// The difference step of the outputs along the first-order path, in the
+    /// parameter's unit.
+    pub output_step: f64,
     /// Residual of the linearised KKT conditions left by the derivative, relative to
     /// the size of their terms (the derivative's own accuracy check).
     pub kkt_residual: f64,
@@ -195,6 +198,7 @@ impl Sensitivities {
             state,
             multipliers,
             step: h,
+            output_step: settings.output_relative_step * design.step(j),
             kkt_residual,
             refinements,
         })
