@@ -224,12 +224,13 @@ fn harness_outputs_follow_lengths_and_connectors_with_the_hinge_on_its_stop() {
 }
 
 #[test]
-fn contact_forces_and_clearances_follow_the_connectors() {
+fn contact_forces_and_clearances_follow_the_connectors_and_the_bracket() {
     let n = check(
         "cooler_hose_contact.ron",
         &[
             Param("connectors.engine_stub.position", Some(2), 1000.0, 0.05),
             Param("rods.hose3.length", None, 1000.0, 0.05),
+            Param("environment.brackets.position", Some(2), 1000.0, 0.05),
         ],
         &["hose3.min_clearance_m", "hose3.contact_force_N."],
         1,
