@@ -37,7 +37,22 @@ fn largest_axial_stiffness_n(built: &DesignedCase) -> f64 {
 }
 
 fn solve(built: &DesignedCase, start: strand_system::SystemState) -> Solution {
-    let solution = built.built.solve_from(start, &settings(built)).unwrap();
+    solve_from(built, start, None)
+}
+
+/// Solves from `start`, or from `fallback` when `start` overlaps an obstacle (the
+/// base state against a bracket moved towards the hose).
+fn solve_from(
+    built: &DesignedCase,
+    start: strand_system::SystemState,
+    fallback: Option<strand_system::SystemState>,
+) -> Solution {
+    let solution = match (built.built.solve_from(start, &settings(built)), fallback) {
+        (Err(strand_solve::SolveError::StartsInside(_)), Some(other)) => {
+            built.built.solve_from(other, &settings(built)).unwrap()
+        }
+        (result, _) => result.unwrap(),
+    };
     assert!(solution.report.converged, "{:?}", solution.report);
     solution
 }
@@ -137,7 +152,11 @@ fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usiz
             let mut offsets = zeros.clone();
             offsets[j] = t;
             let built = design.build(&offsets).unwrap();
-            let solution = solve(&built, base.state.clone());
+            // Warm-started from the base state, or (when that overlaps a moved
+            // obstacle) from the first-order path point: the start only picks the
+            // branch, the solve converges to the tolerance at the changed design.
+            let (_, near) = s.path_point(&design, &base, j, t).unwrap();
+            let solution = solve_from(&built, base.state.clone(), Some(near.state));
             outputs(&built, &solution, Some(&pins))
         };
         let fd = p.3;
@@ -236,4 +255,55 @@ fn contact_forces_and_clearances_follow_the_connectors_and_the_bracket() {
         1,
     );
     assert!(n > 20);
+}
+
+#[test]
+fn the_command_writes_the_contract_and_rejects_bad_parameters_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sens");
+    let case = cases_dir().join("cooler_hose.ron");
+    let (exit, stdout, stderr) = crate::common::strand(&[
+        "sensitivity",
+        case.to_str().unwrap(),
+        "--param",
+        "hose2.length",
+        "--param",
+        "tee.mass",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(exit, strand_cli::Exit::Success, "{stderr}");
+    assert!(stdout.contains("d/dhose2.length"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sensitivity.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["parameters"][0]["name"], "hose2.length");
+    assert_eq!(json["parameters"][0]["unit"], "mm");
+    assert_eq!(json["parameters"][1]["unit"], "kg");
+    let outputs = json["outputs"].as_array().unwrap();
+    let peak = outputs
+        .iter()
+        .find(|o| o["name"] == "hose2.peak_force_N")
+        .unwrap();
+    assert!(peak["value"].as_f64().unwrap() > 0.0);
+    // A longer hose 2 lets the T down and relieves it (the study's finding).
+    assert!(peak["d"]["hose2.length"].as_f64().unwrap() < 0.0);
+    let csv = std::fs::read_to_string(out.join("sensitivity.csv")).unwrap();
+    assert!(csv.starts_with("output,value,d/dhose2.length [per mm],d/dtee.mass [per kg]"));
+    assert_eq!(csv.lines().count(), outputs.len() + 1);
+
+    let bad = dir.path().join("bad");
+    for param in ["hose2.segments", "nothing.length"] {
+        let (exit, _, stderr) = crate::common::strand(&[
+            "sensitivity",
+            case.to_str().unwrap(),
+            "--param",
+            param,
+            "--out",
+            bad.to_str().unwrap(),
+        ]);
+        assert_eq!(exit, strand_cli::Exit::InvalidInput, "{stderr}");
+        assert!(stderr.contains(param), "{stderr}");
+        assert!(!bad.exists());
+    }
 }

@@ -630,6 +630,69 @@ mod tests {
     },
 )"#;
 
+    #[test]
+    fn clip_stations_clip_bases_and_mesh_positions_are_variant_items() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+        let add = |item: &str, amount: Amount| crate::schema::VariantChange {
+            item: item.into(),
+            change: Change::Add(amount),
+        };
+        let report = crate::error::Reporter { origin: "test" };
+        let harness = Case::from_path(dir.join("harness_clips.ron")).unwrap();
+        let changed = super::apply_changes(
+            &report,
+            &harness.file,
+            "t",
+            &[
+                add("clips.grommet.at", Amount::Number(5.0)),
+                add(
+                    "clips.grommet.base.position",
+                    Amount::Vector([0.0, 0.0, 2.0]),
+                ),
+            ],
+        )
+        .unwrap();
+        let (old, new) = (&harness.file.clips[0].1, &changed.clips[0].1);
+        assert_eq!(new.at.unwrap(), old.at.unwrap() + 5.0);
+        let (old_base, new_base) = (old.base.as_ref().unwrap(), new.base.as_ref().unwrap());
+        assert_eq!(new_base.position[2], old_base.position[2] + 2.0);
+        // The changed case still builds (the clip moves along the trunk).
+        harness
+            .build_with_changes("t", &[add("clips.grommet.at", Amount::Number(5.0))], None)
+            .unwrap();
+        let contact = Case::from_path(dir.join("cooler_hose_contact.ron")).unwrap();
+        let moved = super::apply_changes(
+            &report,
+            &contact.file,
+            "t",
+            &[add(
+                "environment.brackets.position",
+                Amount::Vector([0.0, 0.0, -3.0]),
+            )],
+        )
+        .unwrap();
+        let at = |f: &crate::CaseFile| {
+            f.environment
+                .iter()
+                .find(|e| e.name == "brackets")
+                .unwrap()
+                .position[2]
+        };
+        assert_eq!(at(&moved), at(&contact.file) - 3.0);
+        let unknown = super::apply_changes(
+            &report,
+            &contact.file,
+            "t",
+            &[add(
+                "environment.nowhere.position",
+                Amount::Vector([0.0; 3]),
+            )],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(unknown.contains("meshes: radiator"), "{unknown}");
+    }
+
     fn case(text: &str) -> Case {
         Case::from_str(text, ORIGIN).unwrap()
     }
