@@ -28,6 +28,7 @@ mod motion;
 mod moulded_clips;
 mod predeformed;
 mod report;
+mod sensitivity;
 mod start_checks;
 mod study;
 mod translation;

@@ -36,6 +36,7 @@ mod attach;
 mod build;
 pub mod centreline;
 mod clips;
+mod design;
 mod ends;
 mod environment;
 mod error;
@@ -58,6 +59,7 @@ mod tests;
 use std::path::Path;
 
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
+pub use design::{CaseDesign, DesignParameter, DesignedCase};
 pub use ends::{FrameError, frame_from_tangent_normal};
 pub use environment::EnvironmentCache;
 pub use error::CaseError;

@@ -23,6 +23,9 @@ rods.<rod>.start.position, rods.<rod>.end.position (Add/Set a vector; held ends 
 rods.<rod>.start.force, rods.<rod>.end.force (Add/Set a vector in N), \
 junctions.<junction>.mass (Add/Set a number in kg), \
 connectors.<connector>.position (Add/Set a vector), \
+clips.<clip>.at (Add/Set a number; clips placed by `at`), \
+clips.<clip>.base.position (Add/Set a vector; clips with a `base`), \
+environment.<mesh>.position (Add/Set a vector), \
 gravity (Add/Set a vector in m/s²)";
 
 /// The name `strand study` uses for the unchanged case; no variant may take it.
@@ -56,6 +59,9 @@ enum Target {
     Force(usize, Side),
     JunctionMass(usize),
     ConnectorPosition(usize),
+    ClipAt(usize),
+    ClipBasePosition(usize),
+    EnvironmentPosition(usize),
 }
 
 /// The rod fields a variant can change, as written after `rods.<rod>.`.
@@ -170,6 +176,52 @@ fn resolve(report: &Reporter, at: &str, file: &CaseFile, item: &str) -> Result<T
             "position",
         )
         .map(Target::ConnectorPosition);
+    }
+    if let Some(rest) = item.strip_prefix("clips.") {
+        let (field, target): (&str, fn(usize) -> Target) = if rest.ends_with(".base.position") {
+            ("base.position", Target::ClipBasePosition)
+        } else {
+            ("at", Target::ClipAt)
+        };
+        let name = rest
+            .strip_suffix(field)
+            .and_then(|n| n.strip_suffix('.'))
+            .unwrap_or(rest);
+        let defined: Vec<&str> = file.clips.iter().map(|(n, _)| n.as_str()).collect();
+        let Some(index) = file.clips.iter().position(|(n, _)| n == name) else {
+            return Err(report.invalid(
+                at,
+                format!("there is no clip named '{name}' with a field `{field}`"),
+                format!(
+                    "write clips.<clip>.at or clips.<clip>.base.position; clips: {}",
+                    if defined.is_empty() {
+                        "none".to_string()
+                    } else {
+                        defined.join(", ")
+                    }
+                ),
+            ));
+        };
+        return Ok(target(index));
+    }
+    if let Some(rest) = item.strip_prefix("environment.") {
+        let name = rest.strip_suffix(".position").unwrap_or(rest);
+        let defined: Vec<&str> = file.environment.iter().map(|e| e.name.as_str()).collect();
+        return match file.environment.iter().position(|e| e.name == name) {
+            Some(index) if rest.ends_with(".position") => Ok(Target::EnvironmentPosition(index)),
+            _ => Err(report.invalid(
+                at,
+                format!("'{rest}' is not the position of an environment mesh"),
+                format!(
+                    "write environment.<mesh>.position; meshes: {}",
+                    if defined.is_empty() {
+                        "none".to_string()
+                    } else {
+                        defined.join(", ")
+                    }
+                ),
+            )),
+        };
     }
     let Some(rest) = item.strip_prefix("rods.") else {
         return Err(unknown(
@@ -453,6 +505,35 @@ pub(crate) fn apply_changes(
                 let mass = &mut out.junctions[j].1.mass;
                 *mass = changed(*mass, change, x);
             }
+            Target::ClipAt(c) => {
+                let x = number(report, &at, item, amount, &unit)?;
+                let (name, clip) = &mut out.clips[c];
+                let Some(station) = clip.at.as_mut() else {
+                    return Err(report.invalid(
+                        &at,
+                        format!("clip '{name}' is placed by `at_point`, not by `at`"),
+                        "change a clip placed by its arc length `at`",
+                    ));
+                };
+                *station = changed(*station, change, x);
+            }
+            Target::ClipBasePosition(c) => {
+                let v = vector(report, &at, item, amount, &unit)?;
+                let (name, clip) = &mut out.clips[c];
+                let Some(base) = clip.base.as_mut() else {
+                    return Err(report.invalid(
+                        &at,
+                        format!("clip '{name}' has no `base` of its own"),
+                        "change the base position of a clip with a `base`",
+                    ));
+                };
+                base.position = changed3(&base.position, change, &v);
+            }
+            Target::EnvironmentPosition(e) => {
+                let v = vector(report, &at, item, amount, &unit)?;
+                let mesh = &mut out.environment[e];
+                mesh.position = changed3(&mesh.position, change, &v);
+            }
             Target::ConnectorPosition(c) => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let (name, connector) = &mut out.connectors[c];
@@ -548,6 +629,69 @@ mod tests {
         "longer": [(item: "rods.hose1.length", change: Set(1200.5))],
     },
 )"#;
+
+    #[test]
+    fn clip_stations_clip_bases_and_mesh_positions_are_variant_items() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+        let add = |item: &str, amount: Amount| crate::schema::VariantChange {
+            item: item.into(),
+            change: Change::Add(amount),
+        };
+        let report = crate::error::Reporter { origin: "test" };
+        let harness = Case::from_path(dir.join("harness_clips.ron")).unwrap();
+        let changed = super::apply_changes(
+            &report,
+            &harness.file,
+            "t",
+            &[
+                add("clips.grommet.at", Amount::Number(5.0)),
+                add(
+                    "clips.grommet.base.position",
+                    Amount::Vector([0.0, 0.0, 2.0]),
+                ),
+            ],
+        )
+        .unwrap();
+        let (old, new) = (&harness.file.clips[0].1, &changed.clips[0].1);
+        assert_eq!(new.at.unwrap(), old.at.unwrap() + 5.0);
+        let (old_base, new_base) = (old.base.as_ref().unwrap(), new.base.as_ref().unwrap());
+        assert_eq!(new_base.position[2], old_base.position[2] + 2.0);
+        // The changed case still builds (the clip moves along the trunk).
+        harness
+            .build_with_changes("t", &[add("clips.grommet.at", Amount::Number(5.0))], None)
+            .unwrap();
+        let contact = Case::from_path(dir.join("cooler_hose_contact.ron")).unwrap();
+        let moved = super::apply_changes(
+            &report,
+            &contact.file,
+            "t",
+            &[add(
+                "environment.brackets.position",
+                Amount::Vector([0.0, 0.0, -3.0]),
+            )],
+        )
+        .unwrap();
+        let at = |f: &crate::CaseFile| {
+            f.environment
+                .iter()
+                .find(|e| e.name == "brackets")
+                .unwrap()
+                .position[2]
+        };
+        assert_eq!(at(&moved), at(&contact.file) - 3.0);
+        let unknown = super::apply_changes(
+            &report,
+            &contact.file,
+            "t",
+            &[add(
+                "environment.nowhere.position",
+                Amount::Vector([0.0; 3]),
+            )],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(unknown.contains("meshes: radiator"), "{unknown}");
+    }
 
     fn case(text: &str) -> Case {
         Case::from_str(text, ORIGIN).unwrap()

@@ -77,6 +77,20 @@ pub enum Command {
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
     },
+    /// Solve a case and differentiate every output (reactions, peak |f| and |m|,
+    /// bend radii, clearances, junction poses, contact forces) with respect to design
+    /// parameters: DIR/sensitivity.json and DIR/sensitivity.csv.
+    Sensitivity {
+        /// The case file (RON).
+        case: PathBuf,
+        /// A parameter, named as in `batch --vary` without values: hose2.length,
+        /// oil_cooler.position.z, tee.mass, gravity.z, hose1.end.force.x.
+        #[arg(long = "param", value_name = "NAME", required = true)]
+        params: Vec<String>,
+        /// Output directory.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
     /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
     /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.
     Study {

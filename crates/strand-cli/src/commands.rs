@@ -78,6 +78,11 @@ pub(crate) fn execute(
             out,
             err,
         ),
+        Command::Sensitivity {
+            case,
+            params,
+            out: dir,
+        } => crate::sensitivity::run(case, params, dir, out),
         Command::Study {
             case,
             variants,

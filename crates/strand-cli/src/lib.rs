@@ -47,6 +47,7 @@ pub mod limits;
 mod motion;
 mod progress;
 mod report;
+mod sensitivity;
 mod study;
 pub mod summary;
 

@@ -59,6 +59,7 @@ mod palette;
 mod provenance;
 mod report;
 mod result;
+mod sensitivity;
 mod study;
 mod surface;
 mod svg;
@@ -96,6 +97,10 @@ pub use report::{ReportInputError, ReportRun, check_result, report_html};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
     RodResult, Timing, collect, name_connectors,
+};
+pub use sensitivity::{
+    OutputValue, SensitivityDoc, SensitivityOutput, SensitivityParameter, design_outputs,
+    sensitivity_doc,
 };
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,

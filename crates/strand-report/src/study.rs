@@ -78,7 +78,7 @@ pub fn magnitude(v: &[f64; 3]) -> f64 {
 
 /// The largest magnitude in `values` and its vertex (the first on ties); NaN wins, so
 /// that a non-finite result is not hidden.
-fn peak(values: &[[f64; 3]]) -> (f64, usize) {
+pub(crate) fn peak(values: &[[f64; 3]]) -> (f64, usize) {
     let mut best = (f64::NEG_INFINITY, 0);
     for (j, v) in values.iter().enumerate() {
         let m = magnitude(v);

@@ -23,6 +23,7 @@ mod nested;
 mod newton;
 mod report;
 mod saddle;
+pub mod sensitivity;
 mod settings;
 mod sqp;
 pub mod stability;

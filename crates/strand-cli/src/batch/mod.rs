@@ -30,7 +30,7 @@ mod plan;
 mod plot;
 mod predict;
 mod run;
-mod spec;
+pub(crate) mod spec;
 mod state;
 mod summary;
 

@@ -24,7 +24,7 @@ pub(crate) const MAX_VALUES: usize = 10_000;
 
 /// What kind of number an item takes, with its units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Quantity {
+pub(crate) enum Quantity {
     Length,
     Mass,
     Force,
@@ -75,8 +75,8 @@ pub(crate) struct Vary {
 #[error("--vary {text}: {message} (hint: {hint})")]
 pub(crate) struct SpecError {
     text: String,
-    message: String,
-    hint: String,
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
 fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
@@ -149,7 +149,7 @@ pub(crate) fn canonical(value: f64) -> String {
 }
 
 /// The item of `label` (short or full form) and its quantity and component.
-fn resolve(
+pub(crate) fn resolve(
     text: &str,
     label: &str,
     file: &CaseFile,
@@ -174,6 +174,8 @@ fn resolve(
     let rods: Vec<&str> = file.rods.iter().map(|r| r.name.as_str()).collect();
     let junctions: Vec<&str> = file.junctions.iter().map(|(n, _)| n.as_str()).collect();
     let connectors: Vec<&str> = file.connectors.iter().map(|(n, _)| n.as_str()).collect();
+    let clips: Vec<&str> = file.clips.iter().map(|(n, _)| n.as_str()).collect();
+    let meshes: Vec<&str> = file.environment.iter().map(|e| e.name.as_str()).collect();
     let hint = format!(
         "vary e.g. <rod>.length, <rod>.segments, <rod>.end.position.z, <rod>.end.force.x, <junction>.mass, <connector>.position.x or gravity.z; {}; {}; {}",
         names("rods", rods.clone()),
@@ -181,9 +183,15 @@ fn resolve(
         names("connectors", connectors.clone())
     );
     let full = if stem == "gravity"
-        || ["rods.", "junctions.", "connectors."]
-            .iter()
-            .any(|p| stem.starts_with(p))
+        || [
+            "rods.",
+            "junctions.",
+            "connectors.",
+            "clips.",
+            "environment.",
+        ]
+        .iter()
+        .any(|p| stem.starts_with(p))
     {
         stem.to_string()
     } else {
@@ -198,6 +206,8 @@ fn resolve(
             prefixed(&rods, "rods."),
             prefixed(&junctions, "junctions."),
             prefixed(&connectors, "connectors."),
+            prefixed(&clips, "clips."),
+            prefixed(&meshes, "environment."),
         ]
         .into_iter()
         .flatten()
@@ -225,9 +235,14 @@ fn resolve(
         ("gravity", _) => Quantity::Acceleration,
         (_, "length") if full.starts_with("rods.") => Quantity::Length,
         (_, "segments") if full.starts_with("rods.") => Quantity::Count,
-        (_, "position") if full.starts_with("rods.") || full.starts_with("connectors.") => {
+        (_, "position")
+            if ["rods.", "connectors.", "clips.", "environment."]
+                .iter()
+                .any(|p| full.starts_with(p)) =>
+        {
             Quantity::Length
         }
+        (_, "at") if full.starts_with("clips.") => Quantity::Length,
         (_, "force") if full.starts_with("rods.") => Quantity::Force,
         (_, "mass") if full.starts_with("junctions.") => Quantity::Mass,
         _ => {

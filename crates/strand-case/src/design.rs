@@ -1,0 +1,122 @@
+//! A case as a parameterised [`Design`] for [`strand_solve::sensitivity`]: each
+//! parameter is a variant item (`rods.hose2.length`, `connectors.oil_cooler.position`
+//! with a component, `junctions.tee.mass`, `gravity`, …; see [`crate::VARIANT_ITEMS`])
+//! changed by an offset in the item's own unit (the case's length unit, kg, N, m/s²).
+//!
+//! ```no_run
+//! use strand_case::{Case, CaseDesign, DesignParameter};
+//! let case = Case::from_path("cases/cooler_hose.ron").unwrap();
+//! let design = CaseDesign::new(&case, vec![DesignParameter {
+//!     item: "rods.hose2.length".into(),
+//!     component: None,
+//!     scale: 1000.0, // 1 m in mm
+//! }]);
+//! ```
+
+use strand_solve::Constraints;
+use strand_solve::contact::Contact;
+use strand_solve::sensitivity::{Design, Designed};
+use strand_system::Model;
+
+use crate::schema::{Amount, Change, VariantChange};
+use crate::{BuiltCase, Case, CaseError};
+
+/// One parameter of a [`CaseDesign`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct DesignParameter {
+    /// The variant item, e.g. `rods.hose2.length` (see [`crate::VARIANT_ITEMS`]).
+    pub item: String,
+    /// For a vector item, the component (0, 1, 2 for x, y, z).
+    pub component: Option<usize>,
+    /// The parameter's typical size in the item's unit (the difference steps are a
+    /// small fraction of it): e.g. 1000 for a length in mm, 1 for a mass in kg.
+    pub scale: f64,
+}
+
+/// A case whose parameters are variant items, offset from the case's values.
+#[derive(Clone, Debug)]
+pub struct CaseDesign<'c> {
+    case: &'c Case,
+    parameters: Vec<DesignParameter>,
+}
+
+impl<'c> CaseDesign<'c> {
+    /// The design of `case` over `parameters`.
+    pub fn new(case: &'c Case, parameters: Vec<DesignParameter>) -> Self {
+        Self { case, parameters }
+    }
+
+    /// The parameters.
+    pub fn parameters(&self) -> &[DesignParameter] {
+        &self.parameters
+    }
+
+    /// The variant changes that offset every parameter by `offsets` (item units).
+    pub fn changes(&self, offsets: &[f64]) -> Vec<VariantChange> {
+        self.parameters
+            .iter()
+            .zip(offsets)
+            .filter(|(_, x)| **x != 0.0)
+            .map(|(p, &x)| VariantChange {
+                item: p.item.clone(),
+                change: Change::Add(match p.component {
+                    None => Amount::Number(x),
+                    Some(c) => {
+                        let mut v = [0.0; 3];
+                        v[c] = x;
+                        Amount::Vector(v)
+                    }
+                }),
+            })
+            .collect()
+    }
+}
+
+/// A built case with its contact constraints.
+pub struct DesignedCase {
+    /// The built case.
+    pub built: BuiltCase,
+    /// Contact with its environment, if it has one.
+    pub contact: Option<Contact>,
+}
+
+impl DesignedCase {
+    /// Wraps a built case with its contact.
+    pub fn new(built: BuiltCase) -> Self {
+        let contact = built.contact();
+        Self { built, contact }
+    }
+}
+
+impl Designed for DesignedCase {
+    fn model(&self) -> &Model {
+        &self.built.model
+    }
+    fn constraints(&self) -> Option<&dyn Constraints> {
+        self.contact.as_ref().map(|c| c as &dyn Constraints)
+    }
+}
+
+impl Design for CaseDesign<'_> {
+    type Built = DesignedCase;
+    type Error = CaseError;
+
+    fn parameter_count(&self) -> usize {
+        self.parameters.len()
+    }
+
+    fn step(&self, parameter: usize) -> f64 {
+        self.parameters[parameter].scale
+    }
+
+    fn build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
+        let changes = self.changes(offsets);
+        let built = if changes.is_empty() {
+            self.case.build(None)?
+        } else {
+            self.case
+                .build_with_changes("sensitivity", &changes, None)?
+        };
+        Ok(DesignedCase::new(built))
+    }
+}

@@ -1,0 +1,127 @@
+//! The KKT residual `Φ(δ, μ, p)` of a design at a point near the base equilibrium.
+
+use strand_system::{Model, SystemState};
+
+use super::{Design, Designed, SensitivityError};
+use crate::constraints::{Row, RowKey, limit_rows};
+use crate::gauge::Gauge;
+
+/// `Φ` at one point: the Lagrangian gradient in the base chart (N, N·m; the gauge
+/// entries zeroed) and the active rows' values (m, rad).
+#[derive(Clone, Debug)]
+pub(crate) struct Kkt {
+    /// `g − Σ μ_i a_i`, pulled back into the chart of the base state.
+    pub gradient: Vec<f64>,
+    /// The active rows' values, in the order of the active keys.
+    pub gaps: Vec<f64>,
+}
+
+impl Kkt {
+    /// `(4 fine − coarse) / 3`: Richardson extrapolation of central differences of
+    /// steps `h` (`fine`) and `2h` (`coarse`).
+    pub(crate) fn richardson(fine: &Kkt, coarse: &Kkt) -> Kkt {
+        let combine = |x: &[f64], y: &[f64]| -> Vec<f64> {
+            x.iter().zip(y).map(|(a, b)| (4.0 * a - b) / 3.0).collect()
+        };
+        Kkt {
+            gradient: combine(&fine.gradient, &coarse.gradient),
+            gaps: combine(&fine.gaps, &coarse.gaps),
+        }
+    }
+
+    /// `(a − b) / (2h)`, entry by entry: a central difference.
+    pub(crate) fn central(a: &Kkt, b: &Kkt, h: f64) -> Kkt {
+        let diff = |x: &[f64], y: &[f64]| -> Vec<f64> {
+            x.iter().zip(y).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        };
+        Kkt {
+            gradient: diff(&a.gradient, &b.gradient),
+            gaps: diff(&a.gaps, &b.gaps),
+        }
+    }
+}
+
+/// A point of the first-order path: the design at `offsets`, the base state moved by
+/// `delta` in its chart (held vertices on the design's supports), and the rows there.
+pub(crate) struct Point<B> {
+    pub built: B,
+    pub state: SystemState,
+    pub rows: Vec<Row>,
+}
+
+/// Builds the design at `offsets` and moves `base` by `delta` on it.
+pub(crate) fn point<D: Design>(
+    design: &D,
+    parameter: usize,
+    offsets: &[f64],
+    base: &SystemState,
+    delta: &[f64],
+) -> Result<Point<D::Built>, SensitivityError> {
+    let built = design
+        .build(offsets)
+        .map_err(|e| SensitivityError::Design {
+            parameter,
+            source: Box::new(e),
+        })?;
+    let model = built.model();
+    let expected = delta.len();
+    if model.dofs().len() != expected {
+        return Err(SensitivityError::Shape {
+            parameter,
+            given: model.dofs().len(),
+            expected,
+        });
+    }
+    let mut start = base.clone();
+    model.enforce_supports(&mut start);
+    let state = model.retract(&start, delta);
+    let rows = rows_at(model, built.constraints(), &state, parameter)?;
+    Ok(Point { built, state, rows })
+}
+
+/// Joint-limit and contact rows of `state`.
+pub(crate) fn rows_at(
+    model: &Model,
+    constraints: Option<&dyn crate::Constraints>,
+    state: &SystemState,
+    parameter: usize,
+) -> Result<Vec<Row>, SensitivityError> {
+    let mut rows = Vec::new();
+    limit_rows(model, state, &mut rows);
+    if let Some(c) = constraints {
+        c.rows(model, state, &mut rows)
+            .map_err(|source| SensitivityError::Constraint { parameter, source })?;
+    }
+    Ok(rows)
+}
+
+/// `Φ` at `point` with multipliers `mu` on the `active` keys; `delta` is the chart
+/// increment the point was made with (for the pull-back).
+pub(crate) fn residual<B: Designed>(
+    point: &Point<B>,
+    active: &[RowKey],
+    mu: &[f64],
+    delta: &[f64],
+    gauge: &Gauge,
+    parameter: usize,
+) -> Result<Kkt, SensitivityError> {
+    let model = point.built.model();
+    let mut eval = model.new_evaluation();
+    model.evaluate(&point.state, &mut eval, false);
+    let mut gradient = eval.gradient;
+    let mut gaps = Vec::with_capacity(active.len());
+    for (&key, &m) in active.iter().zip(mu) {
+        let row = point
+            .rows
+            .iter()
+            .find(|r| r.key == key)
+            .ok_or(SensitivityError::RowLost { parameter, key })?;
+        for &(k, a) in &row.gradient {
+            gradient[k] -= m * a;
+        }
+        gaps.push(row.value);
+    }
+    model.pull_back_gradient(delta, 1.0, &mut gradient);
+    gauge.fix_vector(&mut gradient);
+    Ok(Kkt { gradient, gaps })
+}

@@ -1,0 +1,159 @@
+//! Exact design sensitivities of an equilibrium (implicit function theorem).
+//!
+//! At a converged equilibrium `x(p)` of a design with parameters `p` (lengths, support
+//! positions, masses, gravity, …) the KKT conditions hold on the active rows `A`
+//! (contacts pressing, joint stops carrying a moment):
+//!
+//! ```text
+//!     Φ(δ, μ, p) = [ g(x ⊕ δ, p) − Σ μ_i a_i(x ⊕ δ, p) ]  = 0
+//!                  [ c_A(x ⊕ δ, p)                    ]
+//! ```
+//!
+//! with `δ` the increment in the solver's chart at `x` (positions added, frames
+//! `q ⊗ exp(δθ)`; the gradient pulled back into that chart), `μ` the multipliers
+//! (contact forces in N, stop moments in N·m) and `c_A` the active gaps (m, rad).
+//! Differentiating at `δ = 0`:
+//!
+//! ```text
+//!     [ K   −Aᵀ ] [ dδ/dp ]      [ ∂Φ_g/∂p ]
+//!     [ A    0  ] [ dμ/dp ]  = − [ ∂c_A/∂p ]
+//! ```
+//!
+//! `K` is the Hessian of the Lagrangian. It is solved with the sparse Cholesky factor
+//! of the energy Hessian `H` at the equilibrium (the gauge held as in the solve,
+//! [`crate::gauge`]) and a Schur complement on the few active rows, then refined
+//! against the exact directional derivative of `Φ` (the curvature of active contacts,
+//! `Σ μ_i ∇² c_i`, is the only difference between `K` and `H`): the result satisfies
+//! the linearised KKT system to the accuracy of that directional derivative.
+//!
+//! **How `∂/∂p` is computed:** by central differences of `Φ` in `p` at a fixed state
+//! (a [`Design`] rebuilds the model at `p ± h` and `p ± 2h`; the state keeps its
+//! unknowns, and the held vertices follow their supports), extrapolated
+//! (Richardson), with `h` from [`Design::step`] times
+//! [`SensitivitySettings::relative_step`]. The truncation error is `O(h⁴)` and the
+//! round-off `ε·C/h` (`C` the axial stiffness: the gradient's round-off): at the
+//! default `h` (1e-4 of the parameter's scale) both are far below 1e-6 of the
+//! derivatives (most parameters — loads, masses, gravity, support positions — enter
+//! the gradient linearly at a fixed state, where the difference is exact). Outputs
+//! (reactions, peaks, clearances, …) follow by the chain rule, evaluated the same
+//! way: differences of the output along the first-order path
+//! `(p ± h e_j, x ⊕ ±h dδ/dp_j, μ ± h dμ/dp_j)`
+//! ([`Sensitivities::derivative`]); a peak or minimum whose arg changes between the
+//! two sides is marked one-sided.
+//!
+//! Rows whose multiplier or gap is near zero are listed in
+//! [`Sensitivities::flagged`]: there the active set is about to change and the
+//! derivative holds on one side only.
+
+mod kkt;
+mod outputs;
+mod schur;
+mod settings;
+mod solve;
+#[cfg(test)]
+mod tests;
+
+use strand_system::Model;
+
+use crate::constraints::{ConstraintError, Constraints, RowKey};
+
+pub use outputs::{OutputDerivative, Sample};
+pub use settings::SensitivitySettings;
+pub use solve::{Flag, FlaggedRow, ParameterSensitivity, Sensitivities};
+
+/// A parameterised design: builds the model (and its inequality constraints) at given
+/// offsets of its parameters from the base design.
+///
+/// The model must keep the base design's numbering of unknowns at every offset (the
+/// same rods, segment counts, clips and bodies): a rod length changes its edges' rest
+/// lengths, not their number.
+pub trait Design {
+    /// What [`Design::build`] returns: the model and its constraints.
+    type Built: Designed;
+    /// Why a design could not be built.
+    type Error: std::error::Error + Send + Sync + 'static;
+
+    /// Number of parameters.
+    fn parameter_count(&self) -> usize;
+
+    /// The typical size of parameter `parameter`, in its own unit: the difference
+    /// step is [`SensitivitySettings::relative_step`] times this (e.g. 1000 for a
+    /// length in mm, the mass for a mass in kg).
+    fn step(&self, parameter: usize) -> f64;
+
+    /// The design at `offsets` (one per parameter, in each parameter's unit) from the
+    /// base design.
+    fn build(&self, offsets: &[f64]) -> Result<Self::Built, Self::Error>;
+}
+
+/// A built design: a model and the inequality constraints beyond joint limits.
+pub trait Designed {
+    /// The model.
+    fn model(&self) -> &Model;
+    /// Contact constraints, if any.
+    fn constraints(&self) -> Option<&dyn Constraints>;
+}
+
+/// Why sensitivities could not be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum SensitivityError {
+    /// The base solution did not converge: there is no equilibrium to differentiate.
+    #[error(
+        "the base solve did not converge (residual {residual_n:.3e} N): no equilibrium to differentiate"
+    )]
+    NotConverged {
+        /// Residual of the base solution, N.
+        residual_n: f64,
+    },
+    /// The design could not be built at an offset.
+    #[error("the design at a step of parameter {parameter}: {source}")]
+    Design {
+        /// The parameter stepped.
+        parameter: usize,
+        /// The design's error.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+    /// The built design does not have the base design's unknowns.
+    #[error(
+        "parameter {parameter} changes the model's unknowns ({given} instead of {expected}): keep segment counts fixed"
+    )]
+    Shape {
+        /// The parameter stepped.
+        parameter: usize,
+        /// Unknowns of the stepped model.
+        given: usize,
+        /// Unknowns of the base model.
+        expected: usize,
+    },
+    /// The Hessian at the equilibrium is not positive definite (an unstable state, or
+    /// one held only by its active constraints).
+    #[error(
+        "the Hessian at the equilibrium is not positive definite: sensitivities need a stable equilibrium whose energy Hessian is definite"
+    )]
+    NotPositiveDefinite,
+    /// An active row disappeared at a step of a parameter (the contact moved off its
+    /// patch within the difference step).
+    #[error(
+        "active constraint {key:?} is lost at a step of parameter {parameter}: the active set changes there"
+    )]
+    RowLost {
+        /// The parameter stepped.
+        parameter: usize,
+        /// The row.
+        key: RowKey,
+    },
+    /// The contact rows could not be evaluated at a step.
+    #[error("constraints at a step of parameter {parameter}: {source}")]
+    Constraint {
+        /// The parameter stepped.
+        parameter: usize,
+        /// The contact error.
+        source: ConstraintError,
+    },
+    /// The settings are invalid.
+    #[error(transparent)]
+    Settings(#[from] crate::SettingsError),
+    /// The sparse factorisation could not be set up.
+    #[error(transparent)]
+    Solve(#[from] crate::SolveError),
+}

@@ -1,0 +1,130 @@
+//! Derivatives of outputs (reactions, peaks, clearances, poses, contact forces) by
+//! the chain rule along the first-order path of the equilibrium.
+
+use super::{Design, Sensitivities, SensitivityError};
+use crate::Solution;
+
+/// One output value, with where a peak or minimum is attained (`arg`: any index that
+/// changes when the location jumps, e.g. the vertex of a peak; 0 for a smooth output).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// The value, in the output's unit.
+    pub value: f64,
+    /// Where it is attained.
+    pub arg: usize,
+}
+
+/// The derivative of one output with respect to one parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutputDerivative {
+    /// The output's unit per parameter unit.
+    pub derivative: f64,
+    /// Whether the arg-max/arg-min differs between the base and a side of the
+    /// difference: the derivative is then one-sided.
+    pub one_sided: bool,
+}
+
+impl Sensitivities {
+    /// The design and an equilibrium-to-first-order at `p + t e_j`: the base state
+    /// moved by `t · dδ/dp_j`, the active multipliers by `t · dμ/dp_j` (every other
+    /// row at zero force). Its report is the base solution's.
+    pub fn path_point<D: Design>(
+        &self,
+        design: &D,
+        base: &Solution,
+        parameter: usize,
+        t: f64,
+    ) -> Result<(D::Built, Solution), SensitivityError> {
+        let p = &self.parameters[parameter];
+        let (point, _, mu) =
+            self.path(design, &base.state, parameter, t, &p.state, &p.multipliers)?;
+        let constraints = point
+            .rows
+            .iter()
+            .map(|row| {
+                let force = self
+                    .active
+                    .iter()
+                    .position(|k| *k == row.key)
+                    .map_or(0.0, |i| mu[i]);
+                (row.clone(), force)
+            })
+            .collect();
+        let solution = Solution {
+            state: point.state,
+            report: base.report.clone(),
+            constraints,
+        };
+        Ok((point.built, solution))
+    }
+
+    /// The derivatives of the outputs that `outputs` computes from a design and a
+    /// solution, with respect to parameter `parameter`, by the chain rule along the
+    /// first-order path: central differences of steps `h` and `2h`, extrapolated
+    /// (error `O(h⁴)`), at three steps `h`, `h/10`, `h/100` (`h` the parameter's
+    /// [`super::ParameterSensitivity::output_step`]). Per output, the largest step is
+    /// taken whose result the next smaller one confirms (to [`STEP_AGREEMENT`]);
+    /// otherwise the middle step when the smallest agrees with it better than with the
+    /// largest (the output is nonlinear at the scale of `h`: a rod near a limit
+    /// point), else the largest (the smaller steps see round-off of reactions summed
+    /// from stiff forces). One-sided where an output's arg on a side differs from its
+    /// arg at the base. `outputs` must return the same number of samples at every
+    /// point.
+    pub fn derivative<D: Design>(
+        &self,
+        design: &D,
+        base: &Solution,
+        parameter: usize,
+        mut outputs: impl FnMut(&D::Built, &Solution) -> Vec<Sample>,
+    ) -> Result<Vec<OutputDerivative>, SensitivityError> {
+        let (built, at) = self.path_point(design, base, parameter, 0.0)?;
+        let centre = outputs(&built, &at);
+        let count = centre.len();
+        let mut ladder: Vec<Vec<OutputDerivative>> = Vec::with_capacity(3);
+        for k in 0..3 {
+            let h = self.parameters[parameter].output_step * 0.1f64.powi(k);
+            let mut samples = Vec::with_capacity(4);
+            for t in [h, -h, 2.0 * h, -2.0 * h] {
+                let (built, solution) = self.path_point(design, base, parameter, t)?;
+                samples.push(outputs(&built, &solution));
+            }
+            ladder.push(
+                (0..count)
+                    .map(|j| {
+                        let value = |i: usize| samples[i].get(j).map_or(f64::NAN, |s| s.value);
+                        let fine = (value(0) - value(1)) / (2.0 * h);
+                        let coarse = (value(2) - value(3)) / (4.0 * h);
+                        OutputDerivative {
+                            derivative: (4.0 * fine - coarse) / 3.0,
+                            one_sided: samples
+                                .iter()
+                                .any(|s| s.get(j).is_none_or(|s| s.arg != centre[j].arg)),
+                        }
+                    })
+                    .collect(),
+            );
+        }
+        Ok((0..count)
+            .map(|j| {
+                let (large, middle, small) = (ladder[0][j], ladder[1][j], ladder[2][j]);
+                let apart =
+                    |a: OutputDerivative, b: OutputDerivative| (a.derivative - b.derivative).abs();
+                let scale = middle.derivative.abs();
+                let chosen = if apart(large, middle) <= STEP_AGREEMENT * scale {
+                    large
+                } else if apart(middle, small) < apart(large, middle) {
+                    middle
+                } else {
+                    large
+                };
+                OutputDerivative {
+                    derivative: chosen.derivative,
+                    one_sided: large.one_sided || middle.one_sided || small.one_sided,
+                }
+            })
+            .collect())
+    }
+}
+
+/// Relative agreement of two steps' derivatives that confirms the larger step.
+pub const STEP_AGREEMENT: f64 = 1e-6;

@@ -1,0 +1,76 @@
+//! Settings of the sensitivity computation.
+
+use serde::{Deserialize, Serialize};
+
+use crate::SettingsError;
+
+/// Settings of [`super::Sensitivities::compute`].
+///
+/// ```
+/// use strand_solve::sensitivity::SensitivitySettings;
+/// assert!(SensitivitySettings::default().validate().is_ok());
+/// let bad = SensitivitySettings { relative_step: 0.0, ..SensitivitySettings::default() };
+/// assert_eq!(bad.validate().unwrap_err().field, "relative_step");
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensitivitySettings {
+    /// Difference step of every parameter as a fraction of its scale
+    /// ([`super::Design::step`]): small enough that the `O(h⁴)` truncation error of the
+    /// extrapolated central differences is negligible, large enough that the round-off
+    /// `ε·|g|/h` is (`ε·C`, with `C` the axial stiffness, is the gradient's round-off).
+    pub relative_step: f64,
+    /// The largest difference step of the outputs along the first-order path
+    /// ([`super::Sensitivities::derivative`], which also tries a tenth and a
+    /// hundredth of it) as a fraction of the parameter's scale.
+    pub output_relative_step: f64,
+    /// The refinement of the derivative against the exact directional derivative of
+    /// the KKT conditions stops when its residual is below this fraction of the
+    /// right-hand side's (in the solver's combined force measure, N, and in m or rad
+    /// for the active rows).
+    pub refinement_tolerance: f64,
+    /// Largest number of refinement steps per parameter.
+    pub max_refinements: usize,
+    /// An active row whose multiplier is below this fraction of the largest one (or
+    /// of 1 N) is flagged as about to open.
+    pub near_zero_multiplier: f64,
+    /// An open row whose gap is below this (m for contact, rad or m for joint stops)
+    /// is flagged as about to close.
+    pub near_zero_gap: f64,
+}
+
+impl Default for SensitivitySettings {
+    fn default() -> Self {
+        Self {
+            relative_step: 1e-4,
+            output_relative_step: 1e-4,
+            refinement_tolerance: 1e-9,
+            max_refinements: 8,
+            near_zero_multiplier: 1e-6,
+            near_zero_gap: 1e-6,
+        }
+    }
+}
+
+impl SensitivitySettings {
+    /// Checks every setting.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let positive = |field, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(SettingsError {
+                    field,
+                    value,
+                    requirement: "must be > 0",
+                })
+            }
+        };
+        positive("relative_step", self.relative_step)?;
+        positive("output_relative_step", self.output_relative_step)?;
+        positive("refinement_tolerance", self.refinement_tolerance)?;
+        positive("near_zero_multiplier", self.near_zero_multiplier)?;
+        positive("near_zero_gap", self.near_zero_gap)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,354 @@
+//! The state and multiplier derivatives of every parameter.
+
+use strand_system::{Model, SystemState};
+
+use super::kkt::{self, Kkt, Point};
+use super::schur::KktFactor;
+use super::{Design, Designed, SensitivityError, SensitivitySettings};
+use crate::Solution;
+use crate::constraints::RowKey;
+use crate::gauge::Gauge;
+
+/// The derivative of the equilibrium with respect to one parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterSensitivity {
+    /// `dδ/dp`: the change of every unknown in the solver's chart at the base state
+    /// (m for positions, rad for rotations and revolute joints) per unit of the
+    /// parameter. Held vertices follow their supports and are not part of it.
+    pub state: Vec<f64>,
+    /// `dμ/dp` of every active row, in the order of [`Sensitivities::active`] (N or
+    /// N·m per unit of the parameter).
+    pub multipliers: Vec<f64>,
+    /// The difference step of `∂Φ/∂p`, in the parameter's unit.
+    pub step: f64,
+    /// The difference step of the outputs along the first-order path, in the
+    /// parameter's unit.
+    pub output_step: f64,
+    /// Residual of the linearised KKT conditions left by the derivative, relative to
+    /// the size of their terms (the derivative's own accuracy check).
+    pub kkt_residual: f64,
+    /// Refinement steps taken against the exact directional derivative.
+    pub refinements: usize,
+}
+
+/// Why a row is flagged: the active set is about to change there, so derivatives
+/// that depend on it hold on one side only.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Flag {
+    /// An active row whose multiplier is near zero: it may open.
+    MultiplierNearZero,
+    /// An open row whose gap is near zero: it may close.
+    GapNearZero,
+}
+
+/// A row near a change of the active set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlaggedRow {
+    /// The row.
+    pub key: RowKey,
+    /// Its value (m or rad).
+    pub value: f64,
+    /// Its multiplier (N or N·m).
+    pub multiplier: f64,
+    /// Why it is flagged.
+    pub flag: Flag,
+}
+
+/// Sensitivities of an equilibrium with respect to every parameter of a [`Design`].
+#[derive(Clone, Debug)]
+pub struct Sensitivities {
+    /// The active rows (multiplier > 0 at the base equilibrium), which stay active.
+    pub active: Vec<RowKey>,
+    /// Their multipliers at the base equilibrium (N or N·m).
+    pub multipliers: Vec<f64>,
+    /// Rows near a change of the active set.
+    pub flagged: Vec<FlaggedRow>,
+    /// Whether some active rows are linearly dependent (their multipliers' split, not
+    /// their sum, is then a minimum-norm choice).
+    pub dependent_rows: bool,
+    /// One entry per parameter.
+    pub parameters: Vec<ParameterSensitivity>,
+    gauge: Gauge,
+}
+
+impl Sensitivities {
+    /// Differentiates the converged `solution` of `design` (at zero offsets) with
+    /// respect to every parameter.
+    ///
+    /// Costs one factorisation of the Hessian at the equilibrium, one solve per active
+    /// row, and per parameter two builds and two gradient evaluations of the design
+    /// per difference (the right-hand side and each refinement check).
+    pub fn compute<D: Design>(
+        design: &D,
+        solution: &Solution,
+        settings: &SensitivitySettings,
+    ) -> Result<Self, SensitivityError> {
+        settings.validate()?;
+        if !solution.report.converged {
+            return Err(SensitivityError::NotConverged {
+                residual_n: solution.report.residual.combined_n,
+            });
+        }
+        let count = design.parameter_count();
+        let base = design
+            .build(&vec![0.0; count])
+            .map_err(|e| SensitivityError::Design {
+                parameter: 0,
+                source: Box::new(e),
+            })?;
+        let model = base.model();
+        let gauge = Gauge::of(model);
+        let largest = solution
+            .constraints
+            .iter()
+            .map(|(_, l)| *l)
+            .fold(1.0f64, f64::max);
+        let mut active = Vec::new();
+        let mut multipliers = Vec::new();
+        let mut active_rows = Vec::new();
+        let mut flagged = Vec::new();
+        for (row, lambda) in &solution.constraints {
+            if *lambda > 0.0 {
+                active.push(row.key);
+                multipliers.push(*lambda);
+                active_rows.push(row);
+                if *lambda <= settings.near_zero_multiplier * largest {
+                    flagged.push(FlaggedRow {
+                        key: row.key,
+                        value: row.value,
+                        multiplier: *lambda,
+                        flag: Flag::MultiplierNearZero,
+                    });
+                }
+            } else if row.value <= settings.near_zero_gap {
+                flagged.push(FlaggedRow {
+                    key: row.key,
+                    value: row.value,
+                    multiplier: *lambda,
+                    flag: Flag::GapNearZero,
+                });
+            }
+        }
+        let mut eval = model.new_evaluation();
+        model.evaluate(&solution.state, &mut eval, true);
+        let mut factor = KktFactor::new(model, &eval.hessian, &gauge, &active_rows)?;
+        let mut this = Self {
+            active,
+            multipliers,
+            flagged,
+            dependent_rows: factor.dependent,
+            parameters: Vec::with_capacity(count),
+            gauge,
+        };
+        for j in 0..count {
+            let p = this.parameter(
+                design,
+                &base,
+                model,
+                &solution.state,
+                j,
+                &mut factor,
+                settings,
+            )?;
+            this.parameters.push(p);
+        }
+        Ok(this)
+    }
+
+    /// The derivative with respect to parameter `j`: the right-hand side by central
+    /// differences, the solve, and refinement against the directional derivative.
+    #[allow(clippy::too_many_arguments)]
+    fn parameter<D: Design>(
+        &self,
+        design: &D,
+        base_built: &D::Built,
+        model: &Model,
+        base: &SystemState,
+        j: usize,
+        factor: &mut KktFactor,
+        settings: &SensitivitySettings,
+    ) -> Result<ParameterSensitivity, SensitivityError> {
+        let h = settings.relative_step * design.step(j);
+        let n = model.dofs().len();
+        let zero_v = vec![0.0; n];
+        let zero_w = vec![0.0; self.active.len()];
+        let rhs = self.directional(design, base, j, h, &zero_v, &zero_w)?;
+        let (mut v, mut w) = factor.solve(&rhs);
+        let mut best = (v.clone(), w.clone(), f64::INFINITY);
+        let mut refinements = 0;
+        for step in 0..=settings.max_refinements {
+            let res = self.linear_residual(base_built, base, j, factor, &rhs, &v, &w)?;
+            let relative = relative_size(model, &res, &rhs, &v, &factor.hessian_product(&v));
+            if relative < best.2 {
+                best = (v.clone(), w.clone(), relative);
+                refinements = step;
+            } else {
+                break; // round-off reached
+            }
+            if relative <= settings.refinement_tolerance || step == settings.max_refinements {
+                break;
+            }
+            let (dv, dw) = factor.solve(&res);
+            v.iter_mut().zip(&dv).for_each(|(a, b)| *a += b);
+            w.iter_mut().zip(&dw).for_each(|(a, b)| *a += b);
+        }
+        let (state, multipliers, kkt_residual) = best;
+        Ok(ParameterSensitivity {
+            state,
+            multipliers,
+            step: h,
+            output_step: settings.output_relative_step * design.step(j),
+            kkt_residual,
+            refinements,
+        })
+    }
+
+    /// The residual `J·(v, w) + rhs` of the linearised KKT system with the exact
+    /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`. Only the
+    /// curvature of the active rows (zero for a flat contact or a joint stop) is taken
+    /// by a difference, of the rows' gradients alone along `v` (no energy gradient, so
+    /// no round-off of the stiff axial terms).
+    #[allow(clippy::too_many_arguments)]
+    fn linear_residual<B: Designed>(
+        &self,
+        built: &B,
+        base: &SystemState,
+        j: usize,
+        factor: &KktFactor,
+        rhs: &Kkt,
+        v: &[f64],
+        w: &[f64],
+    ) -> Result<Kkt, SensitivityError> {
+        let mut gradient = factor.hessian_product(v);
+        for ((g, hv), r) in gradient
+            .iter_mut()
+            .zip(factor.transpose_product(w))
+            .zip(&rhs.gradient)
+        {
+            *g += r - hv;
+        }
+        let gaps: Vec<f64> = factor
+            .row_product(v)
+            .iter()
+            .zip(&rhs.gaps)
+            .map(|(a, c)| a + c)
+            .collect();
+        if !self.active.is_empty() {
+            let model = built.model();
+            let size = model.step_size(v);
+            let largest = size.0.max(size.1);
+            if largest > 0.0 {
+                let t = CURVATURE_STEP / largest;
+                let mut sides = Vec::with_capacity(2);
+                for sign in [1.0, -1.0] {
+                    let delta: Vec<f64> = v.iter().map(|x| sign * t * x).collect();
+                    let state = model.retract(base, &delta);
+                    let rows = kkt::rows_at(model, built.constraints(), &state, j)?;
+                    let mut force = vec![0.0; v.len()];
+                    for (&key, &m) in self.active.iter().zip(&self.multipliers) {
+                        let row = rows
+                            .iter()
+                            .find(|r| r.key == key)
+                            .ok_or(SensitivityError::RowLost { parameter: j, key })?;
+                        for &(k, a) in &row.gradient {
+                            force[k] += m * a;
+                        }
+                    }
+                    model.pull_back_gradient(&delta, 1.0, &mut force);
+                    self.gauge.fix_vector(&mut force);
+                    sides.push(force);
+                }
+                for (g, (a, b)) in gradient.iter_mut().zip(sides[0].iter().zip(&sides[1])) {
+                    *g -= (a - b) / (2.0 * t);
+                }
+            }
+        }
+        Ok(Kkt { gradient, gaps })
+    }
+
+    /// The directional derivative of `Φ` along `(v, w, e_j)` by central differences
+    /// of steps `h` and `2h`, extrapolated (Richardson: `(4 D(h) − D(2h)) / 3`, error
+    /// `O(h⁴)`), so that `h` can be large enough for the round-off of the gradient
+    /// (`ε` times the axial stiffness) not to matter. With `v = w = 0`: `∂Φ/∂p_j`.
+    fn directional<D: Design>(
+        &self,
+        design: &D,
+        base: &SystemState,
+        j: usize,
+        h: f64,
+        v: &[f64],
+        w: &[f64],
+    ) -> Result<Kkt, SensitivityError> {
+        let mut differences = Vec::with_capacity(2);
+        for step in [h, 2.0 * h] {
+            let mut sides = Vec::with_capacity(2);
+            for sign in [1.0, -1.0] {
+                let (point, delta, mu) = self.path(design, base, j, sign * step, v, w)?;
+                sides.push(kkt::residual(
+                    &point,
+                    &self.active,
+                    &mu,
+                    &delta,
+                    &self.gauge,
+                    j,
+                )?);
+            }
+            differences.push(Kkt::central(&sides[0], &sides[1], step));
+        }
+        Ok(Kkt::richardson(&differences[0], &differences[1]))
+    }
+
+    /// The point `(p + t e_j, x ⊕ t v, μ + t w)` of the first-order path.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn path<D: Design>(
+        &self,
+        design: &D,
+        base: &SystemState,
+        j: usize,
+        t: f64,
+        v: &[f64],
+        w: &[f64],
+    ) -> Result<(Point<D::Built>, Vec<f64>, Vec<f64>), SensitivityError> {
+        let mut offsets = vec![0.0; design.parameter_count()];
+        offsets[j] = t;
+        let delta: Vec<f64> = v.iter().map(|x| t * x).collect();
+        let mu: Vec<f64> = self
+            .multipliers
+            .iter()
+            .zip(w)
+            .map(|(l, x)| l + t * x)
+            .collect();
+        let point = kkt::point(design, j, &offsets, base, &delta)?;
+        Ok((point, delta, mu))
+    }
+}
+
+/// Largest translation (m) or rotation (rad) of the difference step of the rows'
+/// curvature: their gradients (unit normals) are exact to round-off, so a small step
+/// keeps the truncation error negligible.
+const CURVATURE_STEP: f64 = 1e-7;
+
+/// Size of the residual `res = J·(v, w) + rhs` relative to its terms: the larger of
+/// the force part (combined measure, N; against the right-hand side and `H v`) and
+/// the row part (m, rad); `v` the state's change.
+fn relative_size(model: &Model, res: &Kkt, rhs: &Kkt, v: &[f64], hv: &[f64]) -> f64 {
+    let combined = |g: &[f64]| model.residual(g).combined_n;
+    let scale_g = combined(&rhs.gradient).max(combined(hv));
+    let force = if scale_g > 0.0 {
+        combined(&res.gradient) / scale_g
+    } else {
+        0.0
+    };
+    let inf = |x: &[f64]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let lhs_c: Vec<f64> = res.gaps.iter().zip(&rhs.gaps).map(|(r, b)| r - b).collect();
+    // The rows' residual in m (rad) per unit, against the rows' terms and the size of
+    // the state's change itself (a row the parameter does not move has no terms).
+    let scale_c = inf(&rhs.gaps).max(inf(&lhs_c)).max(inf(v));
+    let gap = if scale_c > 0.0 {
+        inf(&res.gaps) / scale_c
+    } else {
+        0.0
+    };
+    force.max(gap)
+}

@@ -1,0 +1,210 @@
+//! Sensitivities against central differences of full solves on small systems built in
+//! code: a cantilever (tip load, length, gravity) and a sagging rod resting on a floor
+//! whose height is a parameter (an active contact row with its multiplier).
+
+use nalgebra::{UnitQuaternion, Vector3};
+use strand_rod::{Rod, Section};
+use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+
+use super::{Design, Designed, Sample, Sensitivities, SensitivitySettings};
+use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
+use crate::{Solution, SolverSettings, solve, solve_constrained};
+
+/// A floor `z ≥ height + radius` under every vertex, one row per vertex.
+struct Floor {
+    height_m: f64,
+    radius_m: f64,
+}
+
+impl Constraints for Floor {
+    fn rows(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        out: &mut Vec<Row>,
+    ) -> Result<(), ConstraintError> {
+        for (r, rod) in state.rods.iter().enumerate() {
+            for (j, p) in rod.positions.iter().enumerate() {
+                let gradient = model.vertex_direction_gradient(state, r, j, &Vector3::z());
+                if !gradient.is_empty() {
+                    out.push(Row {
+                        key: RowKey::Contact((r * 10_000 + j) as u64),
+                        value: p.z - self.height_m - self.radius_m,
+                        gradient,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+    fn check_start(&self, _: &Model, _: &SystemState) -> Result<(), ConstraintError> {
+        Ok(())
+    }
+    fn max_translation_m(&self) -> f64 {
+        1.0
+    }
+    fn advancement(
+        &self,
+        _: &Model,
+        _: &SystemState,
+        _: &SystemState,
+    ) -> Result<f64, ConstraintError> {
+        Ok(1.0)
+    }
+}
+
+/// A rod clamped at the origin along x; parameters: tip force z (N), length (m),
+/// gravity z (m/s²), floor height (m; a floor only when `floor` is set), the far end
+/// clamped at (0.8 + Δ, 0, 0) when `far_clamp`.
+struct Bench {
+    base: [f64; 4],
+    floor: bool,
+    far_clamp: bool,
+}
+
+struct Built {
+    model: Model,
+    floor: Option<Floor>,
+}
+
+impl Designed for Built {
+    fn model(&self) -> &Model {
+        &self.model
+    }
+    fn constraints(&self) -> Option<&dyn Constraints> {
+        self.floor.as_ref().map(|f| f as &dyn Constraints)
+    }
+}
+
+impl Design for Bench {
+    type Built = Built;
+    type Error = strand_system::SystemError;
+    fn parameter_count(&self) -> usize {
+        4
+    }
+    fn step(&self, parameter: usize) -> f64 {
+        [1.0, 1.0, 10.0, 0.1][parameter]
+    }
+    fn build(&self, offsets: &[f64]) -> Result<Built, Self::Error> {
+        let p: Vec<f64> = self.base.iter().zip(offsets).map(|(a, b)| a + b).collect();
+        let section = Section::try_explicit(1e5, 1e5, 0.2, 0.15, 0.6, 0.05).unwrap();
+        let along_x =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        let mut end = if self.far_clamp {
+            End::clamped(Vector3::new(0.8, 0.0, 0.0), along_x)
+        } else {
+            End::free()
+        };
+        end.load.force = Vector3::new(0.0, 0.3, p[0]);
+        let model = Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "r".into(),
+                rod: Rod::try_straight(section, p[1], 12).unwrap(),
+                start: End::clamped(Vector3::zeros(), along_x),
+                end,
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, p[2]),
+        })?;
+        let floor = self.floor.then(|| Floor {
+            height_m: p[3],
+            radius_m: 0.0,
+        });
+        Ok(Built { model, floor })
+    }
+}
+
+fn solve_at(design: &Bench, offsets: &[f64], start: Option<SystemState>) -> (Built, Solution) {
+    let built = design.build(offsets).unwrap();
+    let settings = SolverSettings {
+        tolerance_n: 1e-11,
+        ..SolverSettings::default()
+    };
+    let initial = start.unwrap_or_else(|| initial_state(built.model.system()));
+    let solution = match &built.floor {
+        Some(f) => solve_constrained(&built.model, f, initial, &settings).unwrap(),
+        None => solve(&built.model, initial, &settings).unwrap(),
+    };
+    assert!(solution.report.converged, "{:?}", solution.report);
+    (built, solution)
+}
+
+/// Every vertex's position (m) and the contact forces (N) in key order.
+fn outputs(_: &Built, solution: &Solution) -> Vec<Sample> {
+    let mut out: Vec<Sample> = solution.state.rods[0]
+        .positions
+        .iter()
+        .flat_map(|p| [p.x, p.y, p.z])
+        .map(|value| Sample { value, arg: 0 })
+        .collect();
+    let mut forces: Vec<(RowKey, f64)> = solution
+        .constraints
+        .iter()
+        .map(|(r, l)| (r.key, *l))
+        .collect();
+    forces.sort_by_key(|(k, _)| *k);
+    out.extend(forces.iter().map(|(_, f)| Sample { value: *f, arg: 0 }));
+    out
+}
+
+/// Compares the sensitivities of every output with central differences of full solves
+/// (step `fd` per parameter).
+fn check(design: &Bench, parameters: &[usize], fd: f64) {
+    let (_, base) = solve_at(design, &[0.0; 4], None);
+    let s = Sensitivities::compute(design, &base, &SensitivitySettings::default()).unwrap();
+    for &j in parameters {
+        assert!(
+            s.parameters[j].kkt_residual < 1e-6,
+            "{:?}",
+            s.parameters[j].kkt_residual
+        );
+        let exact = s.derivative(design, &base, j, outputs).unwrap();
+        // Central differences of full solves at steps fd and 2 fd, extrapolated.
+        let at = |t: f64| {
+            let mut offsets = [0.0; 4];
+            offsets[j] = t;
+            let (built, solution) = solve_at(design, &offsets, Some(base.state.clone()));
+            outputs(&built, &solution)
+        };
+        let (up, down, up2, down2) = (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
+        assert_eq!(up.len(), exact.len());
+        let scale = exact.iter().fold(0.0f64, |m, d| m.max(d.derivative.abs()));
+        for (k, d) in exact.iter().enumerate() {
+            let fine = (up[k].value - down[k].value) / (2.0 * fd);
+            let coarse = (up2[k].value - down2[k].value) / (4.0 * fd);
+            let reference = (4.0 * fine - coarse) / 3.0;
+            assert!(
+                (d.derivative - reference).abs() <= 1e-5 * scale.max(1e-9),
+                "parameter {j} output {k}: sensitivity {} vs difference of solves {reference}",
+                d.derivative
+            );
+        }
+    }
+}
+
+#[test]
+fn a_cantilever_s_shape_follows_its_tip_load_length_and_gravity_exactly() {
+    let design = Bench {
+        base: [-0.5, 0.8, -9.81, 0.0],
+        floor: false,
+        far_clamp: false,
+    };
+    check(&design, &[0, 1, 2], 1e-3);
+}
+
+#[test]
+fn a_rod_resting_on_a_floor_follows_the_floor_with_its_contact_forces() {
+    // Clamped at both ends at z = 0, sagging under its weight and a load onto a floor
+    // 5 mm below the clamps: the middle rests on the floor.
+    let design = Bench {
+        base: [-1.0, 0.8, -9.81, -0.005],
+        floor: true,
+        far_clamp: true,
+    };
+    let (_, base) = solve_at(&design, &[0.0; 4], None);
+    let pressing = base.constraints.iter().filter(|(_, l)| *l > 0.0).count();
+    assert!(pressing >= 1, "the rod must rest on the floor");
+    check(&design, &[1, 2, 3], 1e-6);
+}
