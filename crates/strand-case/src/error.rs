@@ -201,3 +201,37 @@ impl Reporter<'_> {
         }
     }
 }
+
+impl CaseError {
+    /// This error, found while building the case in `context` (a variant, a motion
+    /// pose), with the context named: an invalid item becomes "`context`: item"
+    /// unless `keep_item` says its name is already complete; a system that could not
+    /// be built becomes an invalid `context` with `hint`.
+    pub(crate) fn within(
+        self,
+        context: &str,
+        hint: &str,
+        keep_item: impl Fn(&str) -> bool,
+    ) -> CaseError {
+        match self {
+            CaseError::Invalid {
+                origin,
+                item,
+                message,
+                hint: item_hint,
+            } if !keep_item(&item) => CaseError::Invalid {
+                origin,
+                item: format!("{context}: {item}"),
+                message,
+                hint: item_hint,
+            },
+            CaseError::System { origin, source } => CaseError::Invalid {
+                origin,
+                item: context.to_string(),
+                message: source.to_string(),
+                hint: hint.to_string(),
+            },
+            other => other,
+        }
+    }
+}

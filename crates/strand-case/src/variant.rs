@@ -566,26 +566,11 @@ pub(crate) fn apply_changes(
 
 /// Marks an error found while building variant `name` as the variant's.
 pub(crate) fn in_variant(error: CaseError, name: &str) -> CaseError {
-    match error {
-        CaseError::Invalid {
-            origin,
-            item,
-            message,
-            hint,
-        } if !item.starts_with("variants") => CaseError::Invalid {
-            origin,
-            item: format!("variant '{name}': {item}"),
-            message,
-            hint,
-        },
-        CaseError::System { origin, source } => CaseError::Invalid {
-            origin,
-            item: format!("variant '{name}'"),
-            message: source.to_string(),
-            hint: "correct the variant's changes under `variants`".to_string(),
-        },
-        other => other,
-    }
+    error.within(
+        &format!("variant '{name}'"),
+        "correct the variant's changes under `variants`",
+        |item| item.starts_with("variants"),
+    )
 }
 
 #[cfg(test)]

@@ -76,24 +76,9 @@ impl Case {
 
 /// `error` of the case built at a pose, with the pose named.
 fn at_pose(error: CaseError, at: &str) -> CaseError {
-    match error {
-        CaseError::Invalid {
-            origin,
-            item,
-            message,
-            hint,
-        } => CaseError::Invalid {
-            origin,
-            item: format!("at motion pose {at}: {item}"),
-            message,
-            hint,
-        },
-        CaseError::System { origin, source } => CaseError::Invalid {
-            origin,
-            item: format!("at motion pose {at}"),
-            message: source.to_string(),
-            hint: "the parts cannot be placed there: shorten the motion's range or check its axis and point".to_string(),
-        },
-        other => other,
-    }
+    error.within(
+        &format!("at motion pose {at}"),
+        "the parts cannot be placed there: shorten the motion's range or check its axis and point",
+        |_| false,
+    )
 }
