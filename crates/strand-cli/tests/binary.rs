@@ -1,31 +1,9 @@
 //! The real `strand` executable: exit codes through the process boundary, messages on
 //! stderr, no panic output on bad input.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn case(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../cases")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_string()
-}
-
-fn strand(args: &[&str]) -> (Option<i32>, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_strand"))
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .unwrap();
-    let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
-    (
-        output.status.code(),
-        text(output.stdout),
-        text(output.stderr),
-    )
-}
+use common::{case, strand};
 
 #[test]
 fn binary_reports_exit_codes_and_errors() {

@@ -2,30 +2,10 @@
 //! exit codes and messages on bad input, nothing written on invalid input.
 
 use std::path::Path;
-use std::process::Command;
 
-fn case(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../cases")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_string()
-}
+mod common;
 
-fn strand(args: &[&str]) -> (Option<i32>, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_strand"))
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .unwrap();
-    let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
-    (
-        output.status.code(),
-        text(output.stdout),
-        text(output.stderr),
-    )
-}
+use common::{case, strand};
 
 #[test]
 fn hinge_motion_writes_every_output() {
