@@ -1,9 +1,9 @@
 //! Issue 9: the convergence map. Every case of `strand_cli::bench::grid::convergence_grid`
 //! (end types clamp/pin/free/port/ball-port, `EI` 10 … 1e-6 N·m², `EA/EI` up to 1e12,
 //! 10 … 1000 edges, spans 0.3 … 0.999 L, gravity, dead loads, routes, clips) must
-//! converge with the default settings (asserted); the median of `report.iterations`
-//! (every Newton iteration: fine, coarse and continuation) must be ≤ 20 and the
-//! maximum ≤ 100 (the issue's target, not met yet: an ignored test).
+//! converge with the default settings, the median of `report.iterations` (every Newton
+//! iteration: fine, coarse and continuation) at most 20 (both asserted), and the
+//! maximum at most 100 (the issue's target, not met yet: an ignored test).
 //! Run with `--nocapture` to see the table.
 
 use strand_cli::bench::grid::{DEFAULT_CASES, convergence_grid, grid_system, median};
@@ -82,7 +82,7 @@ fn run_map() -> (Vec<String>, Vec<usize>) {
 }
 
 #[test]
-fn every_case_of_the_convergence_map_converges() {
+fn every_case_of_the_convergence_map_converges_in_a_median_of_at_most_20_iterations() {
     let (failures, iterations) = run_map();
     assert!(
         failures.is_empty(),
@@ -91,15 +91,15 @@ fn every_case_of_the_convergence_map_converges() {
         iterations.len(),
         failures.join("\n")
     );
+    let med = median(iterations.iter().map(|&i| i as f64).collect());
+    assert!(med <= 20.0, "median iterations {med}");
 }
 
 #[test]
-#[ignore = "issue 9 open: every case converges, but in a median of 21.5 iterations (target 20) and at most 374 (target 100; 8 cases above); the slowest are limp cables with a free end, a tip load and a clip; run with --ignored"]
-fn the_convergence_map_takes_few_iterations() {
+#[ignore = "issue 9 open: every case converges in a median of 16 iterations (target 20, asserted above), but at most 421 (target 100; 5 cases above); the slowest are limp cables (EI = 1e-6 N·m²) with a free end, a tip load and a clip; run with --ignored"]
+fn no_case_of_the_convergence_map_takes_more_than_100_iterations() {
     let (failures, iterations) = run_map();
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    let med = median(iterations.iter().map(|&i| i as f64).collect());
     let max = iterations.iter().copied().max().unwrap_or(0);
-    assert!(med <= 20.0, "median iterations {med}");
     assert!(max <= 100, "maximum iterations {max}");
 }

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use strand_system::{Model, SystemState};
+use strand_system::{EdgeStresses, Model, SystemState};
 
 use crate::constraints::Constraints;
 use crate::gauge::Gauge;
@@ -74,6 +74,8 @@ pub struct Solver<'m> {
     model: &'m Model,
     constraints: Option<&'m dyn Constraints>,
     work: Workspace,
+    /// Edge stresses of the start's first Hessian (mixed Newton), used once.
+    initial_stresses: Option<EdgeStresses>,
 }
 
 impl<'m> Solver<'m> {
@@ -84,6 +86,7 @@ impl<'m> Solver<'m> {
         Ok(Self {
             model,
             constraints: None,
+            initial_stresses: None,
             work: Workspace {
                 cholesky: SparseCholesky::try_new(model.pattern())?,
                 diagonal: diagonal_positions(model),
@@ -105,6 +108,16 @@ impl<'m> Solver<'m> {
     /// Adds inequality constraints (contact) to every solve.
     pub fn with_constraints(mut self, constraints: &'m dyn Constraints) -> Self {
         self.constraints = Some(constraints);
+        self
+    }
+
+    /// The first Newton step takes the Hessian's stress terms from `stresses`
+    /// (material edge forces, N; see `strand_system::Model::evaluate_mixed`) instead
+    /// of the start's own: a start whose stiffness was just raised (a stiffness
+    /// continuation step) carries the force of the last step, not its strain times the
+    /// new stiffness. Ignored without [`SolverSettings::mixed_newton`].
+    pub fn with_initial_stresses(mut self, stresses: EdgeStresses) -> Self {
+        self.initial_stresses = Some(stresses);
         self
     }
 
@@ -342,6 +355,7 @@ impl<'m> Solver<'m> {
             settings,
             &mut self.work,
             initial,
+            self.initial_stresses.take(),
         )
         .run()
     }

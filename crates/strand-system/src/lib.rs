@@ -24,7 +24,7 @@ mod translate;
 
 pub use dofs::{BlockKind, ClipIndex, Dofs};
 pub use initial::{initial_state, initial_state_with};
-pub use model::{Evaluation, Model, Residual};
+pub use model::{EdgeStresses, Evaluation, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
 pub use route::RouteShape;

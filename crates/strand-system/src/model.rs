@@ -12,6 +12,10 @@ use crate::dofs::{BlockKind, Dofs};
 use crate::pattern::{HessianPattern, ScatterBlock, add_blocks};
 use crate::system::{Joint, Support, System, SystemError, SystemState};
 
+mod mixed;
+
+pub use mixed::EdgeStresses;
+
 #[derive(Clone, Copy, Debug)]
 enum ElementKind {
     /// Stretch–shear energy of an edge; blocks `(r_a, r_b, θ)`.
@@ -334,6 +338,18 @@ impl Model {
 
     /// Energy, gradient and, if `with_hessian`, Hessian of `state` into `out`.
     pub fn evaluate(&self, state: &SystemState, out: &mut Evaluation, with_hessian: bool) {
+        self.evaluate_with_stresses(state, out, with_hessian, None);
+    }
+
+    /// [`Model::evaluate`], with the stress terms of the edge elements' Hessians taken
+    /// from `stresses` when given (see [`Model::evaluate_mixed`]).
+    fn evaluate_with_stresses(
+        &self,
+        state: &SystemState,
+        out: &mut Evaluation,
+        with_hessian: bool,
+        stresses: Option<&EdgeStresses>,
+    ) {
         out.energy = 0.0;
         out.gradient.iter_mut().for_each(|g| *g = 0.0);
         if with_hessian {
@@ -343,7 +359,10 @@ impl Model {
         for element in &self.elements {
             match element.kind {
                 ElementKind::Edge { rod, edge } => {
-                    let d = self.edge_derivatives(state, rod, edge);
+                    let d = match stresses {
+                        Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
+                        None => self.edge_derivatives(state, rod, edge),
+                    };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::Vertex { rod, vertex } => {

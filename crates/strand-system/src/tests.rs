@@ -7,7 +7,7 @@ use strand_rod::{Rod, Section};
 
 use crate::*;
 
-fn test_system() -> System {
+pub(crate) fn test_system() -> System {
     let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
     let clamp = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let mut cantilever = End::free().with_force(Vector3::new(0.5, 1.0, -0.3));
@@ -333,7 +333,7 @@ fn chained_systems() -> [System; 2] {
     [world, on_body]
 }
 
-fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
+pub(crate) fn perturbed(model: &Model, rng: &mut ChaCha8Rng) -> SystemState {
     let state = initial_state(model.system());
     let step: Vec<f64> = (0..model.dofs().len())
         .map(|_| rng.random_range(-0.2..0.2))

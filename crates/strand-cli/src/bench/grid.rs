@@ -432,9 +432,14 @@ pub fn run_case(case: &GridCase, settings: &SolverSettings) -> GridRow {
 
 /// Solves the first `count` cases of the map with the default settings, calling
 /// `on_row` after each case (to print it as it comes). With the environment variable
-/// `STRAND_MAP_CASE=<index>` only that case runs (to trace it with `STRAND_TRACE=1`).
+/// `STRAND_MAP_CASE=<index>` only that case runs (to trace it with `STRAND_TRACE=1`);
+/// `STRAND_MAP_SETTINGS=<json>` (fields of `SolverSettings`, e.g.
+/// `{"mixed_newton":false}`) replaces the defaults, to measure a setting's effect.
 pub fn run_grid(count: usize, mut on_row: impl FnMut(&GridRow)) -> Vec<GridRow> {
-    let settings = SolverSettings::default();
+    let settings: SolverSettings = std::env::var("STRAND_MAP_SETTINGS")
+        .ok()
+        .map(|j| serde_json::from_str(&j).expect("STRAND_MAP_SETTINGS: SolverSettings JSON"))
+        .unwrap_or_default();
     let only: Option<usize> = std::env::var("STRAND_MAP_CASE")
         .ok()
         .and_then(|v| v.parse().ok());

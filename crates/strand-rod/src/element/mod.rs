@@ -14,7 +14,7 @@ mod stretch_shear;
 pub use bend_twist::{BendTwist, bend_twist};
 pub use dead_moment::dead_moment;
 pub use relative_rotation::RelativeRotation;
-pub use stretch_shear::{StretchShear, stretch_shear};
+pub use stretch_shear::{StretchShear, stretch_shear, stretch_shear_mixed};
 
 use nalgebra::{SMatrix, SVector};
 

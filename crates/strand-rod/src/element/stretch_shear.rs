@@ -46,6 +46,28 @@ impl StretchShear<'_> {
 /// `∂²/∂r² = R C Rᵀ / h`, `∂²/∂r_b∂θ = R (C [Γ]× − [F]×)` and
 /// `∂²/∂θ² = h ([Γ]×ᵀ C [Γ]× + ½(F Γᵀ + Γ Fᵀ) − (F·Γ) I)`.
 pub fn stretch_shear(e: &StretchShear<'_>) -> ElementDerivatives<9> {
+    stretch_shear_with_stress(e, None)
+}
+
+/// [`stretch_shear`] with the Hessian's stress terms (the second derivatives of `Γ`
+/// weighted by the material force: `−[F]×` in `∂²/∂r_b∂θ`, `½(F Γᵀ + Γ Fᵀ) − (F·Γ) I`
+/// in `∂²/∂θ²`) taken with an independent material force `stress` (N) instead of
+/// `C_Γ (Γ − Γ0)`; energy and gradient are unchanged.
+///
+/// This is the mixed-integration-point Newton method (Magisano, Leonetti & Garcea,
+/// 2017): after a step that turns a stiff rod's frames, its strain computed from the
+/// new positions carries a spurious second-order part (`C θ²`, huge where `C·h²/EI` is),
+/// which the stress terms would turn into a spurious geometric stiffness; the
+/// linearised prediction of the force from the last step is free of it. At an
+/// equilibrium both forces agree, so the iteration converges to the same state.
+pub fn stretch_shear_mixed(e: &StretchShear<'_>, stress: &Vector3<f64>) -> ElementDerivatives<9> {
+    stretch_shear_with_stress(e, Some(stress))
+}
+
+fn stretch_shear_with_stress(
+    e: &StretchShear<'_>,
+    stress: Option<&Vector3<f64>>,
+) -> ElementDerivatives<9> {
     let h = e.length;
     let rotation = e.frame.to_rotation_matrix().into_inner();
     let gamma = e.strain();
@@ -53,6 +75,7 @@ pub fn stretch_shear(e: &StretchShear<'_>) -> ElementDerivatives<9> {
     let c = Matrix3::from_diagonal(e.stiffness);
     let force_material = c * delta;
     let force = rotation * force_material;
+    let stress = stress.copied().unwrap_or(force_material);
 
     let mut gradient = SVector::<f64, 9>::zeros();
     gradient.fixed_rows_mut::<3>(0).copy_from(&(-force));
@@ -63,11 +86,11 @@ pub fn stretch_shear(e: &StretchShear<'_>) -> ElementDerivatives<9> {
 
     let k_rr = rotation * c * rotation.transpose() / h;
     let gamma_x = skew(&gamma);
-    let k_rt = rotation * (c * gamma_x - skew(&force_material));
+    let k_rt = rotation * (c * gamma_x - skew(&stress));
     let k_tt = h
         * (gamma_x.transpose() * c * gamma_x
-            + 0.5 * (force_material * gamma.transpose() + gamma * force_material.transpose())
-            - force_material.dot(&gamma) * Matrix3::identity());
+            + 0.5 * (stress * gamma.transpose() + gamma * stress.transpose())
+            - stress.dot(&gamma) * Matrix3::identity());
 
     let mut hessian = SMatrix::<f64, 9, 9>::zeros();
     hessian.fixed_view_mut::<3, 3>(0, 0).copy_from(&k_rr);

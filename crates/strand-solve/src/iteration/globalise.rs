@@ -157,7 +157,7 @@ impl Iteration<'_> {
                 let (trial_residual, _) = self.kkt(&trial_rows, &self.work.trial_eval.gradient);
                 accepted = trial_residual.combined_n < residual;
                 if accepted {
-                    self.accept(trial, trial_rows, t, 1.0);
+                    self.accept(trial, trial_rows, t, 1.0, None);
                     return Ok(());
                 }
             }
@@ -216,7 +216,7 @@ impl Iteration<'_> {
                         } else {
                             1.0
                         };
-                        self.accept(bent, Vec::new(), t, ratio.min(1.0));
+                        self.accept(bent, Vec::new(), t, ratio.min(1.0), Some(&combined));
                         return Ok(());
                     }
                     length *= 0.25;
@@ -251,6 +251,7 @@ impl Iteration<'_> {
                         eprintln!("strand-solve:   extended to t {best_t:.2e} (room {room:.2e})");
                     }
                     if best_t > t {
+                        t = best_t;
                         self.model
                             .retract_into(&self.state, &self.work.step, best_t, &mut trial);
                         let mut e = false;
@@ -264,7 +265,11 @@ impl Iteration<'_> {
                 if !evaluated {
                     self.model.evaluate(&trial, &mut self.work.trial_eval, true);
                 }
-                self.accept(trial, trial_rows, t, ratio);
+                let taken = match &correction {
+                    Some(c) => curved_step(&self.work.step, t, c, (t / first_t).powi(2)),
+                    None => self.work.step.iter().map(|d| t * d).collect(),
+                };
+                self.accept(trial, trial_rows, t, ratio, Some(&taken));
                 return Ok(());
             }
             // Rejected: shrink the region (at most a quarter of the tried step).
@@ -386,12 +391,33 @@ impl Iteration<'_> {
         Some(self.model.retract(trial, &work.rhs))
     }
 
-    /// Moves to an accepted trial and adapts damping and trust radius.
-    fn accept(&mut self, trial: SystemState, rows: Vec<Row>, t: f64, ratio: f64) {
+    /// Moves to an accepted trial and adapts damping and trust radius. `taken` is the
+    /// chart step from the current state whose linearisation predicts the trial's edge
+    /// stresses (mixed Newton; `None`: the trial's own stresses).
+    fn accept(
+        &mut self,
+        trial: SystemState,
+        rows: Vec<Row>,
+        t: f64,
+        ratio: f64,
+        taken: Option<&[f64]>,
+    ) {
         let settings = self.settings;
+        let stresses = match taken {
+            Some(step) if settings.mixed_newton && self.stiff => {
+                let linear = self.model.retract(&self.state, step);
+                Some(self.model.linearised_edge_stresses(&self.state, &linear))
+            }
+            _ => None,
+        };
         self.state = trial;
         self.rows = rows;
         std::mem::swap(&mut self.work.eval, &mut self.work.trial_eval);
+        if let Some(stresses) = &stresses {
+            self.model
+                .evaluate_mixed(&self.state, &mut self.work.eval, stresses);
+        }
+        self.mixed_hessian = stresses.is_some();
         let full_step = t >= 1.0;
         self.try_undamped =
             full_step && (super::EXACT_RATIO..=1.0 / super::EXACT_RATIO).contains(&ratio);

@@ -34,7 +34,7 @@ mod stall;
 pub use stall::ROUND_OFF_STALL;
 pub(crate) use stall::stalled_at_floor;
 
-use strand_system::{Evaluation, Model, Residual, SystemState};
+use strand_system::{EdgeStresses, Evaluation, Model, Residual, SystemState};
 
 use crate::constraints::{Constraints, Row, RowKey, limit_rows};
 use crate::gauge::Gauge;
@@ -161,6 +161,9 @@ pub(crate) struct Iteration<'a> {
     valley_turn: f64,
     /// Print every trial step to stderr (environment variable `STRAND_TRACE` set).
     trace: bool,
+    /// Whether `work.eval.hessian` was assembled with predicted edge stresses (mixed
+    /// Newton) rather than the state's own.
+    mixed_hessian: bool,
 }
 
 impl<'a> Iteration<'a> {
@@ -170,9 +173,14 @@ impl<'a> Iteration<'a> {
         settings: &'a SolverSettings,
         work: &'a mut Workspace,
         mut state: SystemState,
+        stresses: Option<EdgeStresses>,
     ) -> Self {
         model.enforce_supports(&mut state);
-        model.evaluate(&state, &mut work.eval, true);
+        let stresses = stresses.filter(|_| settings.mixed_newton);
+        match &stresses {
+            Some(s) => model.evaluate_mixed(&state, &mut work.eval, s),
+            None => model.evaluate(&state, &mut work.eval, true),
+        }
         let longest_rod = model
             .system()
             .rods
@@ -211,6 +219,7 @@ impl<'a> Iteration<'a> {
             indefinite: false,
             try_undamped: false,
             curvature_direction: Vec::new(),
+            mixed_hessian: stresses.is_some(),
         };
         let mut rows = Vec::new();
         iteration.collect_rows(&iteration.state.clone(), &mut rows);
@@ -466,6 +475,10 @@ impl<'a> Iteration<'a> {
                 self.model.dofs().kind(k / 3)
             );
         }
+        if self.mixed_hessian {
+            // Stability is a property of the true Hessian.
+            self.model.evaluate(&self.state, &mut self.work.eval, true);
+        }
         let (residual, _) = self.kkt(&self.rows, &self.work.eval.gradient);
         let converged = termination == Termination::Converged;
         let active: Vec<&Row> = self
@@ -562,7 +575,7 @@ const ROUND_OFF_SPREAD: f64 = 4.0;
 /// The round-off floor of the residual in N: [`FLOOR_ULPS`] ulps of strain times the
 /// largest axial or shear stiffness (positions are stored compensated, so it does not
 /// grow with the distance from the origin).
-fn residual_floor(model: &Model) -> f64 {
+pub(crate) fn residual_floor(model: &Model) -> f64 {
     let stiffest = model
         .system()
         .rods
