@@ -119,7 +119,8 @@ pub enum Command {
         out: Option<PathBuf>,
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
-        segments: Option<u32>,        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
+        segments: Option<u32>,
+        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
         /// `length_unit`, the unit its environment meshes are usually drawn in].
         #[arg(long, value_enum, value_name = "UNIT")]
         export_unit: Option<ExportUnitArg>,
@@ -162,7 +163,8 @@ pub enum Command {
         segments: Option<u32>,
         /// Solve variants recorded as failed (failed.json) again instead of skipping them.
         #[arg(long)]
-        retry_failed: bool,        /// Length unit of each variant's rods.vtp, tubes.obj and tubes.stl (with
+        retry_failed: bool,
+        /// Length unit of each variant's rods.vtp, tubes.obj and tubes.stl (with
         /// `--keep all`) [default: the case's `length_unit`]; applies to the variants
         /// solved in this run, like --keep.
         #[arg(long, value_enum, value_name = "UNIT")]

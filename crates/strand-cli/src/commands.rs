@@ -420,10 +420,11 @@ pub(crate) fn write_solved(
             None => dir,
         }
     });
-    let written = write_results_in(&dir, &doc, &export_unit(built, unit_arg)).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: results not written: {e}", built.origin),
-    })?;
+    let written =
+        write_results_in(&dir, &doc, &export_unit(built, unit_arg)).map_err(|e| Failure {
+            exit: Exit::Failure,
+            message: format!("{}: results not written: {e}", built.origin),
+        })?;
     let _ = write!(out, "{}", summary(built, &doc, &written));
     let unit = built.length_unit;
     let _ = write!(

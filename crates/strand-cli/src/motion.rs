@@ -20,9 +20,7 @@ use strand_case::{BuiltCase, Case};
 use strand_report::motion::{
     MotionEventRecord, MotionRow, doc_events, envelope_obj, events_csv, motion_csv, motion_svg,
 };
-use strand_report::{
-    ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
-};
+use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in};
 
 use crate::Exit;
 use crate::commands::{Failure, add_contacts};

@@ -159,8 +159,12 @@ pub(crate) fn run(
         doc.variant = Some(name.clone());
         doc.warm_start = warm;
         doc.base_iterations = warm.then_some(base_solution.report.iterations);
-        write_results_in(&dir.join(name), &doc, &crate::commands::export_unit(built, export_unit))
-            .map_err(not_written)?;
+        write_results_in(
+            &dir.join(name),
+            &doc,
+            &crate::commands::export_unit(built, export_unit),
+        )
+        .map_err(not_written)?;
         docs.push(doc);
     }
 

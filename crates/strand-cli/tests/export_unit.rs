@@ -58,7 +58,9 @@ fn support_top() -> (f64, [f64; 2], [f64; 2]) {
 
 /// The triangle corners of a binary STL and its header.
 fn stl_corners(bytes: &[u8]) -> (String, Vec<[f64; 3]>) {
-    let header = String::from_utf8_lossy(&bytes[..80]).trim_end_matches('\0').to_string();
+    let header = String::from_utf8_lossy(&bytes[..80])
+        .trim_end_matches('\0')
+        .to_string();
     let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
     assert_eq!(bytes.len(), 84 + 50 * count);
     let f = |at: usize| f64::from(f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()));
@@ -93,7 +95,10 @@ fn tube_exports_in_mm_rest_on_the_environment_file_and_m_is_a_thousandth() {
         let symbol = unit.unwrap_or("mm");
         let obj = std::fs::read_to_string(dir.join("tubes.obj")).unwrap();
         assert!(
-            obj.lines().next().unwrap().contains(&format!(", {symbol};")),
+            obj.lines()
+                .next()
+                .unwrap()
+                .contains(&format!(", {symbol};")),
             "{}",
             obj.lines().next().unwrap()
         );
@@ -109,7 +114,10 @@ fn tube_exports_in_mm_rest_on_the_environment_file_and_m_is_a_thousandth() {
             .filter(|p| (xs[0]..=xs[1]).contains(&p[0]) && (ys[0]..=ys[1]).contains(&p[1]))
             .map(|p| p[2] - top)
             .collect();
-        assert!(!over.is_empty(), "{unit:?}: no tube vertex over the support");
+        assert!(
+            !over.is_empty(),
+            "{unit:?}: no tube vertex over the support"
+        );
         let lowest = over.iter().copied().fold(f64::INFINITY, f64::min);
         assert!(
             (-1e-5..=facet + 1e-5).contains(&lowest),
@@ -121,7 +129,10 @@ fn tube_exports_in_mm_rest_on_the_environment_file_and_m_is_a_thousandth() {
                 assert_eq!(reference.len(), hose3.len());
                 for (a, b) in reference.iter().zip(&hose3) {
                     for i in 0..3 {
-                        assert!((a[i] - b[i]).abs() <= 1e-9 * a[i].abs().max(1.0), "{a:?} {b:?}");
+                        assert!(
+                            (a[i] - b[i]).abs() <= 1e-9 * a[i].abs().max(1.0),
+                            "{a:?} {b:?}"
+                        );
                     }
                 }
             }

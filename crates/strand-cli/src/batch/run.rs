@@ -453,9 +453,13 @@ impl<'a> Runner<'a> {
                 write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
             })
             .and_then(|()| match self.keep {
-                Keep::All => write_results_in(dir, &doc, &crate::commands::export_unit(built, self.export_unit))
-                    .map(|_| ())
-                    .map_err(|e| e.to_string()),
+                Keep::All => write_results_in(
+                    dir,
+                    &doc,
+                    &crate::commands::export_unit(built, self.export_unit),
+                )
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
                 // The same bytes `write_results_in` writes, without the other files.
                 Keep::Results | Keep::Summary => serde_json::to_vec_pretty(&doc)
                     .map_err(|e| e.to_string())

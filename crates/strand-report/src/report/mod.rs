@@ -31,9 +31,9 @@ mod view_tests;
 
 use std::fmt::Write;
 
+use crate::plot::escape;
 use crate::result::{ResultDoc, RodResult};
 use crate::study::ArcOrigin;
-use crate::svg::escape;
 
 /// One result shown in the report.
 #[derive(Clone, Copy, Debug)]
