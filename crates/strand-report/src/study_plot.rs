@@ -10,33 +10,13 @@
 use std::fmt::Write;
 
 use crate::plot::{
-    Figure, Legend, LineStyle, Panel, close_figure, curve, dash_pattern, line_colour, open_figure,
-    ticks,
+    Figure, Layout, Legend, LineStyle, WIDE, close_figure, curve, dash_pattern, line_colour,
+    open_figure, ticks,
 };
 use crate::study::{ArcOrigin, StudyRun, arc, magnitude, origin_of};
 
-const WIDTH: f64 = 900.0;
-const LEFT: f64 = 84.0;
-const PLOT_RIGHT: f64 = 680.0;
-const LEGEND_X: f64 = 704.0;
-const TOP: f64 = 58.0;
-const PANEL_HEIGHT: f64 = 240.0;
-const PANEL_GAP: f64 = 78.0;
-const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 64.0;
-
-/// A study panel: the fixed study geometry, axes from 0.
-fn panel(top: f64, x_max: f64, y_max: f64) -> Panel {
-    Panel {
-        left: LEFT,
-        right: PLOT_RIGHT,
-        top,
-        height: PANEL_HEIGHT,
-        x_min: 0.0,
-        x_max,
-        y_min: 0.0,
-        y_max,
-    }
-}
+/// Two panels (force over moment), the legend at the right.
+const LAYOUT: Layout = WIDE;
 
 /// The study plot. `runs` are the variants (the first drawn solid), `origins[r]` the
 /// arc-length origin of rod `r`, and arc length is shown in `length_unit` (its size in
@@ -70,14 +50,14 @@ pub fn study_svg(
     let panels = [
         (
             "force",
-            panel(TOP, x_top, f_top),
+            LAYOUT.panel(0, [0.0, x_top], [0.0, f_top]),
             f_step,
             "|f| [N]",
             "internal force magnitude |f|",
         ),
         (
             "moment",
-            panel(TOP + PANEL_HEIGHT + PANEL_GAP, x_top, m_top),
+            LAYOUT.panel(1, [0.0, x_top], [0.0, m_top]),
             m_step,
             "|m| [N·m]",
             "internal moment magnitude |m|",
@@ -91,18 +71,10 @@ pub fn study_svg(
     };
 
     let mut svg = String::with_capacity(4096 + 64 * 1024 * runs.len());
-    open_figure(
-        &mut svg,
-        &Figure {
-            width: WIDTH,
-            height: HEIGHT,
-            id: "",
-            class: "study",
-            data: &[],
-            title,
-            standalone: true,
-        },
-    );
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(2), title)
+        .class("study")
+        .standalone();
+    open_figure(&mut svg, &figure);
     for (kind, panel, y_step, y_label, panel_title) in &panels {
         panel.draw_axes(&mut svg, x_step, *y_step, &x_label, y_label, panel_title);
         let _ = writeln!(svg, "<g class=\"curves\" data-panel=\"{kind}\">");
@@ -142,7 +114,7 @@ pub fn study_svg(
 
     // Legend: rods by colour, variants by line style.
     let _ = writeln!(svg, "<g class=\"legend\">");
-    let mut legend = Legend::new(LEGEND_X, TOP + 4.0);
+    let mut legend = Legend::new(LAYOUT.legend_x, LAYOUT.top + 4.0);
     legend.heading(&mut svg, "rods");
     for (i, name) in rods.iter().enumerate() {
         let from_end = origins.get(i) == Some(&ArcOrigin::End);

@@ -11,19 +11,23 @@
 use std::fmt::Write;
 
 use strand_report::plot::{
-    Figure, Legend, LineStyle, Panel, close_figure, curve, escape, line_colour, open_figure,
+    Figure, Layout, Legend, LineStyle, close_figure, curve, escape, line_colour, open_figure,
 };
 
 use super::manifest::Manifest;
 use super::summary::{Outcome, peak};
 
-const WIDTH: f64 = 820.0;
-const LEFT: f64 = 84.0;
-const RIGHT: f64 = 640.0;
-const TOP: f64 = 56.0;
-const PANEL: f64 = 220.0;
-const GAP: f64 = 76.0;
-const HEIGHT: f64 = TOP + 2.0 * PANEL + GAP + 60.0;
+/// Two panels (peak force over peak moment), the legend at the right.
+const LAYOUT: Layout = Layout {
+    width: 820.0,
+    left: 84.0,
+    right: 640.0,
+    legend_x: 660.0,
+    top: 56.0,
+    panel_height: 220.0,
+    gap: 76.0,
+    bottom: 60.0,
+};
 
 /// Axis range `[lo, hi]` padded so that a single value still spans some width.
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -117,22 +121,15 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         .skip(2)
         .map(|p| format!("{} = {}", p.label, p.texts[p.anchor]))
         .collect();
-    open_figure(
-        &mut svg,
-        &Figure {
-            width: WIDTH,
-            height: HEIGHT,
-            id: "",
-            class: "summary",
-            data: &[],
-            title: &title,
-            standalone: true,
-        },
-    );
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(2), &title)
+        .class("summary")
+        .standalone();
+    open_figure(&mut svg, &figure);
     if !fixed.is_empty() {
         let _ = writeln!(
             svg,
-            "<text class=\"fixed\" x=\"{LEFT}\" y=\"40\">other parameters at their values nearest the case: {}</text>",
+            "<text class=\"fixed\" x=\"{}\" y=\"40\">other parameters at their values nearest the case: {}</text>",
+            LAYOUT.left,
             escape(&fixed.join(", "))
         );
     }
@@ -141,8 +138,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         .enumerate()
     {
         let force = p == 0;
-        let top = TOP + p as f64 * (PANEL + GAP);
-        let bottom = top + PANEL;
+
         let (_, y_hi) = range(
             lines
                 .iter()
@@ -151,16 +147,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
                 .chain([0.0]),
         );
         let (y_step, _, y1) = strand_report::axis_ticks(0.0, y_hi);
-        let panel = Panel {
-            left: LEFT,
-            right: RIGHT,
-            top,
-            height: PANEL,
-            x_min: x0,
-            x_max: x1,
-            y_min: 0.0,
-            y_max: y1,
-        };
+        let panel = LAYOUT.panel(p, [x0, x1], [0.0, y1]);
         panel.draw_axes(&mut svg, x_step, y_step, &axis_title(first), label, "");
         let _ = writeln!(svg, "<g class=\"curves\" data-panel=\"{kind}\">");
         for (k, line) in lines.iter().enumerate() {
@@ -178,7 +165,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         }
         for (x, o) in lines.iter().flatten() {
             if matches!(o, Outcome::Failed(_)) {
-                let (px, py) = (panel.x(*x), bottom);
+                let (px, py) = (panel.x(*x), panel.bottom());
                 let _ = writeln!(
                     svg,
                     "<path class=\"failed\" d=\"M{:.2} {:.2} L{:.2} {:.2} M{:.2} {:.2} L{:.2} {:.2}\" stroke=\"#cc0000\" stroke-width=\"2\"/>",
@@ -196,7 +183,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         let _ = writeln!(svg, "</g>");
     }
     let _ = writeln!(svg, "<g class=\"legend\">");
-    let mut legend = Legend::new(RIGHT + 20.0, TOP + 12.0);
+    let mut legend = Legend::new(LAYOUT.legend_x, LAYOUT.top + 12.0);
     for (r, rod) in rods.iter().enumerate() {
         let style = LineStyle {
             colour: line_colour(r),

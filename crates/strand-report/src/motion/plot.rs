@@ -11,17 +11,16 @@ use super::MotionRow;
 use super::events::MotionEventRecord;
 use super::table::{clearance_to, min_bend_radius, peak, union};
 use crate::plot::{
-    Figure, Legend, LineStyle, Panel, close_figure, curve, escape, line_colour, open_figure,
+    Figure, Layout, Legend, LineStyle, WIDE, close_figure, curve, escape, line_colour, open_figure,
     tick_range,
 };
 
-const WIDTH: f64 = 900.0;
-const LEFT: f64 = 84.0;
-const RIGHT: f64 = 680.0;
-const LEGEND_X: f64 = 704.0;
-const TOP: f64 = 58.0;
-const HEIGHT: f64 = 200.0;
-const GAP: f64 = 78.0;
+/// One panel per output, the legend of each at its right.
+const LAYOUT: Layout = Layout {
+    panel_height: 200.0,
+    bottom: 98.0,
+    ..WIDE
+};
 
 /// One panel's series: name and `(parameter, value)` points.
 type Series = (String, Vec<(f64, f64)>);
@@ -108,20 +107,9 @@ pub fn motion_svg(
     };
     // Ticks at whole multiples of a nice step, the axis rounded outwards to them.
     let (x_step, x_min, x_max) = tick_range(x_min, x_max);
-    let height = TOP + panels.len() as f64 * (HEIGHT + GAP) + 20.0;
     let mut svg = String::new();
-    open_figure(
-        &mut svg,
-        &Figure {
-            width: WIDTH,
-            height: height.round(),
-            id: "",
-            class: "motion",
-            data: &[],
-            title,
-            standalone: false,
-        },
-    );
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(panels.len()), title).class("motion");
+    open_figure(&mut svg, &figure);
     let x_label = format!("{parameter} [{unit}]");
     for (k, (id, label, series)) in panels.iter().enumerate() {
         let values = series
@@ -133,18 +121,9 @@ pub fn motion_svg(
         });
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
         let (y_step, y_min, y_max) = tick_range(lo, hi);
-        let panel = Panel {
-            left: LEFT,
-            right: RIGHT,
-            top: TOP + k as f64 * (HEIGHT + GAP),
-            height: HEIGHT,
-            x_min,
-            x_max,
-            y_min,
-            y_max,
-        };
+        let panel = LAYOUT.panel(k, [x_min, x_max], [y_min, y_max]);
         panel.draw_axes(&mut svg, x_step, y_step, &x_label, label, label);
-        let mut legend = Legend::new(LEGEND_X, panel.top + 18.0);
+        let mut legend = Legend::new(LAYOUT.legend_x, panel.top + 18.0);
         legend.row = 16.0;
         for (s, (name, points)) in series.iter().enumerate() {
             let style = LineStyle {

@@ -28,6 +28,45 @@ pub struct Figure<'a> {
     pub standalone: bool,
 }
 
+impl<'a> Figure<'a> {
+    /// A figure of `width` × `height` px headed `title`, for inlining, without id,
+    /// class or data attributes.
+    pub fn new(width: f64, height: f64, title: &'a str) -> Self {
+        Figure {
+            width,
+            height,
+            id: "",
+            class: "",
+            data: &[],
+            title,
+            standalone: false,
+        }
+    }
+
+    /// With the `id` attribute `id`.
+    pub fn id(self, id: &'a str) -> Self {
+        Figure { id, ..self }
+    }
+
+    /// With the `class` attribute `class`.
+    pub fn class(self, class: &'a str) -> Self {
+        Figure { class, ..self }
+    }
+
+    /// With the `data-*` attributes `data`.
+    pub fn data(self, data: &'a [(&'a str, &'a str)]) -> Self {
+        Figure { data, ..self }
+    }
+
+    /// As a standalone `.svg` file (with the XML declaration).
+    pub fn standalone(self) -> Self {
+        Figure {
+            standalone: true,
+            ..self
+        }
+    }
+}
+
 /// Opens `figure` in `svg`: the declaration if standalone, `<svg …>`, its title, a
 /// white background and the heading. Close it with [`close_figure`].
 pub fn open_figure(svg: &mut String, figure: &Figure) {
@@ -85,18 +124,12 @@ mod tests {
     #[test]
     fn a_figure_is_well_formed_svg_with_its_title_and_attributes() {
         let mut svg = String::new();
-        open_figure(
-            &mut svg,
-            &Figure {
-                width: 300.0,
-                height: 200.0,
-                id: "",
-                class: "hose-plot",
-                data: &[("rod", "h\"1")],
-                title: "a & b",
-                standalone: true,
-            },
-        );
+        let data = [("rod", "h\"1")];
+        let figure = Figure::new(300.0, 200.0, "a & b")
+            .class("hose-plot")
+            .data(&data)
+            .standalone();
+        open_figure(&mut svg, &figure);
         close_figure(&mut svg);
         let xml = roxmltree::Document::parse(&svg).unwrap();
         let root = xml.root_element();

@@ -4,7 +4,7 @@
 //! look, one palette and one escaping:
 //!
 //! - [`figure`]: the `<svg>` element (size, class and `data-*` attributes, `<title>`,
-//!   white background, heading);
+//!   white background, heading); [`layout`]: panels stacked with a legend column;
 //! - [`ticks`]: nice tick steps (1, 2, 2.5, 5 × 10^k) and their labels;
 //! - [`axes`]: a [`Panel`] (data rectangle ↔ pixels) with its grid, ticks
 //!   (`class="x-tick"`, `"y-tick"`), axis titles (`"x-title"`, `"y-title"`) and title;
@@ -22,6 +22,7 @@ pub mod axes;
 pub mod colour_bar;
 pub mod escape;
 pub mod figure;
+pub mod layout;
 pub mod legend;
 pub mod palette;
 pub mod series;
@@ -31,6 +32,7 @@ pub use axes::Panel;
 pub use colour_bar::colour_bar;
 pub use escape::escape;
 pub use figure::{Figure, close_figure, open_figure};
+pub use layout::{Layout, WIDE};
 pub use legend::Legend;
 pub use palette::{
     CONTACT_COLOUR, DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, VIRIDIS, dash_attribute,

@@ -9,20 +9,23 @@ use std::fmt::Write;
 use super::format::sig;
 use super::{ReportRun, arc_at};
 use crate::plot::{
-    CONTACT_COLOUR, Figure, Legend, LineStyle, Panel, close_figure, curve, dash_pattern, diamond,
-    escape, line_colour, open_figure, tick_range, ticks,
+    CONTACT_COLOUR, Figure, Layout, Legend, LineStyle, Panel, close_figure, curve, dash_pattern,
+    diamond, escape, line_colour, open_figure, tick_range, ticks,
 };
 use crate::result::RodResult;
 use crate::study::{ArcOrigin, magnitude};
 
-const WIDTH: f64 = 600.0;
-const LEFT: f64 = 72.0;
-const RIGHT: f64 = 440.0;
-const LEGEND_X: f64 = 458.0;
-const TOP: f64 = 52.0;
-const PANEL_HEIGHT: f64 = 170.0;
-const PANEL_GAP: f64 = 72.0;
-const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 52.0;
+/// Two panels (forces over moments), the legend at the right.
+const LAYOUT: Layout = Layout {
+    width: 600.0,
+    left: 72.0,
+    right: 440.0,
+    legend_x: 458.0,
+    top: 52.0,
+    panel_height: 170.0,
+    gap: 72.0,
+    bottom: 52.0,
+};
 
 /// A plotted quantity: `data-quantity` key, legend label, values of one rod.
 type Quantity = (&'static str, &'static str, fn(&RodResult) -> Vec<f64>);
@@ -117,30 +120,23 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
         .fold(0.0, f64::max);
     let (x_step, x_top) = ticks(x_max);
     let mut svg = String::with_capacity(16 * 1024);
-    open_figure(
-        &mut svg,
-        &Figure {
-            width: WIDTH,
-            height: HEIGHT,
-            id: "",
-            class: "hose-plot",
-            data: &[("rod", name)],
-            title: name,
-            standalone: false,
-        },
-    );
+    let data = [("rod", name)];
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(2), name)
+        .class("hose-plot")
+        .data(&data);
+    open_figure(&mut svg, &figure);
     let x_label = match origin {
         ArcOrigin::Start => "arc length s [mm] from the start",
         ArcOrigin::End => "arc length s [mm] from the junction",
     };
-    let mut legend = Legend::new(LEGEND_X, TOP + 4.0);
+    let mut legend = Legend::new(LAYOUT.legend_x, LAYOUT.top + 4.0);
     legend.row = 18.0;
     for (p, (quantities, unit, title)) in
         [(&FORCES, "[N]", "forces"), (&MOMENTS, "[N·m]", "moments")]
             .into_iter()
             .enumerate()
     {
-        let top = TOP + p as f64 * (PANEL_HEIGHT + PANEL_GAP);
+        let top = LAYOUT.panel_top(p);
         // series[q][i]: quantity q of rods[i].
         let series: Vec<Vec<Vec<f64>>> = quantities
             .iter()
@@ -162,16 +158,7 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
             .filter(|v| v.is_finite())
             .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (y_step, y_min, y_max) = tick_range(low, high);
-        let panel = Panel {
-            left: LEFT,
-            right: RIGHT,
-            top,
-            height: PANEL_HEIGHT,
-            x_min: 0.0,
-            x_max: x_top,
-            y_min,
-            y_max,
-        };
+        let panel = LAYOUT.panel(p, [0.0, x_top], [y_min, y_max]);
         let y_label = format!("{title} {unit}");
         panel.draw_axes(&mut svg, x_step, y_step, x_label, &y_label, title);
         panel.draw_zero_line(&mut svg);

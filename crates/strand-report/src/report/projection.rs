@@ -127,18 +127,11 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
             let (panel, step) = fit(runs, *axes, scale);
             let mut svg = String::with_capacity(32 * 1024);
             let title = format!("{}: {view} view", run.label);
-            open_figure(
-                &mut svg,
-                &Figure {
-                    width: WIDTH,
-                    height: HEIGHT,
-                    id: "",
-                    class: "projection",
-                    data: &[("view", view), ("result", run.label)],
-                    title: &title,
-                    standalone: false,
-                },
-            );
+            let data = [("view", *view), ("result", run.label)];
+            let figure = Figure::new(WIDTH, HEIGHT, &title)
+                .class("projection")
+                .data(&data);
+            open_figure(&mut svg, &figure);
             panel.draw_axes(&mut svg, step, step, x_label, y_label, "");
             let at = |p: &[f64; 3]| (panel.x(1e3 * p[axes[0]]), panel.y(1e3 * p[axes[1]]));
             draw_environment(&mut svg, run.doc, &at);

@@ -719,18 +719,7 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
     }
     html.push_str("\n<span id=\"v3d-readout\" class=\"readout\">Hover a hose for its values; drag to turn, shift-drag to pan, wheel to zoom.</span>\n</div>\n");
     html.push_str("<figure class=\"v3d\">");
-    open_figure(
-        html,
-        &Figure {
-            width: WIDTH,
-            height: HEIGHT,
-            id: "v3d-svg",
-            class: "",
-            data: &[],
-            title: "",
-            standalone: false,
-        },
-    );
+    open_figure(html, &Figure::new(WIDTH, HEIGHT, "").id("v3d-svg"));
     html.push_str("<g id=\"v3d-scene\">\n");
     first_frame(html, &scene);
     html.push_str("</g>\n");

@@ -102,6 +102,15 @@ fn tick_map(view: roxmltree::Node, anchor: &str) -> (f64, f64) {
 }
 
 /// The endpoints of the `M x y L x y` segments of path data `d`.
+/// The 3D view's scene data (`#v3d-data`) of a parsed page.
+fn scene_of(xml: &roxmltree::Document) -> serde_json::Value {
+    let data = xml
+        .descendants()
+        .find(|n| n.attribute("id") == Some("v3d-data"))
+        .unwrap();
+    serde_json::from_str(data.text().unwrap()).unwrap()
+}
+
 fn path_points(d: &str) -> Vec<(f64, f64)> {
     let numbers: Vec<f64> = d
         .split(|c: char| c == 'M' || c == 'L' || c.is_whitespace())
@@ -289,11 +298,7 @@ fn the_3d_view_draws_the_box_where_an_independent_rotation_puts_it() {
     let d = with_box();
     let html = render_one(&d);
     let xml = parse(&html);
-    let data = xml
-        .descendants()
-        .find(|n| n.attribute("id") == Some("v3d-data"))
-        .unwrap();
-    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let scene = scene_of(&xml);
     let view = &scene["view"];
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
     let (yaw, pitch, scale) = (f(&view["yaw"]), f(&view["pitch"]), f(&view["scale"]));
@@ -500,11 +505,7 @@ fn the_3d_view_carries_utilisation_movement_and_surfaces() {
         ],
     );
     let xml = parse(&html);
-    let data = xml
-        .descendants()
-        .find(|n| n.attribute("id") == Some("v3d-data"))
-        .unwrap();
-    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let scene = scene_of(&xml);
     let rod = &scene["runs"][1]["rods"][0];
     assert_eq!(rod["u"][1].as_f64(), Some(0.5));
     assert!(rod["u"][0].as_f64() == Some(0.0), "straight: 0");
@@ -544,11 +545,7 @@ fn the_3d_view_carries_the_clearance_per_vertex() {
     d.rods[0].min_clearance_m = Some(0.15);
     let html = render_one(&d);
     let xml = parse(&html);
-    let data = xml
-        .descendants()
-        .find(|n| n.attribute("id") == Some("v3d-data"))
-        .unwrap();
-    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let scene = scene_of(&xml);
     let c = &scene["runs"][0]["rods"][0]["c"];
     assert_eq!(c[0].as_f64(), Some(2.0));
     assert!(c[1].is_null());
