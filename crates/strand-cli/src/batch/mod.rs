@@ -75,6 +75,8 @@ pub(crate) struct BatchOptions<'a> {
     pub segments: Option<usize>,
     /// Solve variants with a `failed.json` again.
     pub retry_failed: bool,
+    /// `--export-unit`, if given.
+    pub export_unit: Option<crate::args::ExportUnitArg>,
 }
 
 pub(crate) fn invalid(message: impl Into<String>) -> Failure {
@@ -212,7 +214,7 @@ pub(crate) fn run(
                 &doc,
                 state_bytes,
                 keep,
-                &crate::commands::export_unit(&base),
+                &crate::commands::export_unit(&base, options.export_unit),
             )
         })
     };
@@ -311,6 +313,7 @@ pub(crate) fn run(
         owned.clone(),
         options.retry_failed,
         options.keep,
+        options.export_unit,
     )
     .map_err(io_failure)?;
     let counts = runner.run(start, jobs).map_err(io_failure)?;
