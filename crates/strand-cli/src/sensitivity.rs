@@ -16,9 +16,10 @@ use strand_solve::Solution;
 use strand_solve::sensitivity::{Sample, Sensitivities, SensitivitySettings};
 
 use crate::Exit;
-use crate::batch::spec::{Quantity, resolve};
+use crate::batch::spec::resolve;
 use crate::commands::Failure;
 use crate::summary::significant;
+use strand_case::ItemQuantity as Quantity;
 
 /// Largest derivatives shown on the terminal.
 const SHOWN: usize = 12;
@@ -35,9 +36,9 @@ fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, Str
     let unit = LengthUnit::parse(&case.file.units.length);
     let mut out: Vec<(DesignParameter, String)> = Vec::new();
     for name in names {
-        let (item, quantity, component) = resolve(name, name, &case.file)
+        let (item, target, component) = resolve(name, name, &case.file)
             .map_err(|e| invalid(format!("--param {name}: {} (hint: {})", e.message, e.hint)))?;
-        let (scale, unit_name) = match quantity {
+        let (scale, unit_name) = match target.quantity() {
             Quantity::Length => (
                 1.0 / unit.map_or(1.0, |u| u.metres()),
                 case.file.units.length.clone(),
