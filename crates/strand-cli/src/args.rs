@@ -25,13 +25,12 @@ pub enum Keep {
     All,
 }
 
-impl Keep {
-    /// The option value as written.
-    pub fn name(self) -> &'static str {
-        match self {
-            Keep::Summary => "summary",
-            Keep::Results => "results",
-            Keep::All => "all",
+impl From<Keep> for strand_study::batch::Keep {
+    fn from(keep: Keep) -> Self {
+        match keep {
+            Keep::Summary => Self::Summary,
+            Keep::Results => Self::Results,
+            Keep::All => Self::All,
         }
     }
 }

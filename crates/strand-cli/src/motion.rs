@@ -25,8 +25,9 @@ use strand_report::{
 };
 
 use crate::Exit;
-use crate::commands::{Failure, add_contacts};
+use crate::commands::Failure;
 use crate::summary::number;
+use strand_study::solve::add_contacts;
 
 fn invalid(message: String) -> Failure {
     Failure {
@@ -73,7 +74,7 @@ pub(crate) fn build_pose(
     segments: Option<usize>,
 ) -> Result<(BuiltCase, String), Failure> {
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let (name, value, unit) = parse_pose(&case, pose)?;
     let built = case.build_motion(&name, value, segments)?;
     Ok((built, format!("{name}={value}{unit}")))
@@ -91,7 +92,7 @@ pub(crate) fn solve_pose(
     let started = Instant::now();
     let (built, label) = build_pose(path, pose, segments)?;
     let build = started.elapsed().as_secs_f64();
-    let solution = crate::study::solve_cold(&built)?;
+    let solution = crate::commands::solve_cold(&built)?;
     let timing = Timing {
         build,
         solve: solution.report.solve_seconds,
@@ -135,7 +136,7 @@ pub(crate) fn run(
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let pose = case.motion(motion)?;
     let range = MotionRange::parse(range, motion, &pose.unit)
         .map_err(|e| invalid(format!("{}: --range: {e}", case.origin)))?;

@@ -19,10 +19,10 @@ use strand_case::{
 };
 
 /// Longest value as written in a variant id (`123456.789`), characters.
-pub(crate) const MAX_VALUE_CHARS: usize = 24;
+pub const MAX_VALUE_CHARS: usize = 24;
 
 /// Most values one `--vary` may produce.
-pub(crate) const MAX_VALUES: usize = 10_000;
+pub const MAX_VALUES: usize = 10_000;
 
 /// Accepted unit suffixes of `quantity` with their size in the base unit (m, kg, N,
 /// m/s², 1), longest first so that `mm` is not read as `m`.
@@ -38,7 +38,7 @@ fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
 
 /// One varied parameter: the item, whether its values are offsets, and the values.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Vary {
+pub struct Vary {
     /// The option as written (`hose2.length=+0mm..+100mm:10mm`).
     pub text: String,
     /// The item as written before `=` (used in ids and column names).
@@ -63,10 +63,12 @@ pub(crate) struct Vary {
 /// A `--vary` that cannot be used, with the reason and the fix.
 #[derive(Debug, thiserror::Error)]
 #[error("--vary {text}: {message} (hint: {hint})")]
-pub(crate) struct SpecError {
+pub struct SpecError {
     text: String,
-    pub(crate) message: String,
-    pub(crate) hint: String,
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub hint: String,
 }
 
 fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
@@ -127,7 +129,7 @@ fn parse_number(
 }
 
 /// The canonical decimal form of `value` (at most 9 decimals, no trailing zeros).
-pub(crate) fn canonical(value: f64) -> String {
+pub fn canonical(value: f64) -> String {
     let text = format!("{value:.9}");
     let text = text.trim_end_matches('0').trim_end_matches('.');
     if text == "-0" {
@@ -138,7 +140,7 @@ pub(crate) fn canonical(value: f64) -> String {
 }
 
 /// The item of `label` (short or full form) and its quantity and component.
-pub(crate) fn resolve(
+pub fn resolve(
     text: &str,
     label: &str,
     file: &CaseFile,
@@ -200,7 +202,7 @@ pub(crate) fn resolve(
 
 impl Vary {
     /// Parses `ITEM=VALUES` against the case file.
-    pub(crate) fn parse(text: &str, file: &CaseFile) -> Result<Self, SpecError> {
+    pub fn parse(text: &str, file: &CaseFile) -> Result<Self, SpecError> {
         let Some((label, values)) = text.split_once('=') else {
             return Err(fail(
                 text,
@@ -384,14 +386,14 @@ impl Vary {
     }
 
     /// The value `k` as written in ids and tables: `+30mm`, `-150mm`, `150mm`.
-    pub(crate) fn value_text(&self, k: usize) -> String {
+    pub fn value_text(&self, k: usize) -> String {
         let v = self.values[k];
         let sign = if self.offset && v >= 0.0 { "+" } else { "" };
         format!("{sign}{}{}", canonical(v), self.unit)
     }
 
     /// The id part of value `k`: `hose2.length_p30mm` (`m` for a minus sign).
-    pub(crate) fn id_part(&self, k: usize) -> String {
+    pub fn id_part(&self, k: usize) -> String {
         let value = self.value_text(k).replace('+', "p").replace('-', "m");
         let raw = format!("{}_{value}", self.label);
         raw.chars()
@@ -406,7 +408,7 @@ impl Vary {
     }
 
     /// The change of value `k` for strand-case's variant machinery (in the case's units).
-    pub(crate) fn change(&self, k: usize) -> VariantChange {
+    pub fn change(&self, k: usize) -> VariantChange {
         let x = self.values[k] * self.scale;
         let amount = match self.component {
             Some(c) => {
@@ -428,7 +430,7 @@ impl Vary {
 
     /// The index of the value nearest the case's own value (the first if unknown):
     /// where this parameter's warm-start chains start.
-    pub(crate) fn anchor(&self) -> usize {
+    pub fn anchor(&self) -> usize {
         let Some(base) = self.base else { return 0 };
         let mut best = 0;
         for (k, v) in self.values.iter().enumerate() {
@@ -441,7 +443,7 @@ impl Vary {
 }
 
 /// Parses `--shard I/N` (1 ≤ I ≤ N).
-pub(crate) fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
     let parsed = text.split_once('/').and_then(|(i, n)| {
         Some((
             i.trim().parse::<usize>().ok()?,
