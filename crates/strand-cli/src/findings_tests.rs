@@ -5,25 +5,11 @@ use std::path::{Path, PathBuf};
 
 use strand_report::{Finding, FindingKind, ResultDoc, bend_radii};
 
-use crate::{Exit, run};
+use crate::Exit;
+use crate::tests::strand;
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Runs `strand ARGS`: exit, stdout, stderr.
-fn strand(args: &[&str]) -> (Exit, String, String) {
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let exit = run(
-        std::iter::once("strand").chain(args.iter().copied()),
-        &mut out,
-        &mut err,
-    );
-    (
-        exit,
-        String::from_utf8(out).unwrap(),
-        String::from_utf8(err).unwrap(),
-    )
 }
 
 /// `cases/cooler_hose_contact.ron` written into `dir` as `name.ron` (meshes by

@@ -60,8 +60,24 @@ pub mod batch;
 pub mod error;
 pub mod findings;
 pub mod limits;
+pub mod motion;
 pub mod sensitivity;
 pub mod solve;
 pub mod study;
 
 pub use error::{ErrorKind, Result, StudyError};
+
+/// The public results, specs and errors are plain owned values that cross threads
+/// (a Python wrapper releases the GIL around them): checked at compile time.
+const _: () = {
+    const fn send<T: Send>() {}
+    send::<batch::Batch>();
+    send::<batch::OpenBatch>();
+    send::<batch::BatchSpec>();
+    send::<batch::BatchReport>();
+    send::<batch::BatchResults>();
+    send::<batch::MergeReport>();
+    send::<study::StudySpec>();
+    send::<study::StudyResult>();
+    send::<StudyError>();
+};

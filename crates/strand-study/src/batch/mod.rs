@@ -242,7 +242,8 @@ pub struct BatchResults {
 }
 
 /// Reads the batch in `dir` (`batch.json` and every variant's files).
-pub fn read_batch(dir: &Path) -> Result<BatchResults> {
+pub fn read_batch(dir: impl AsRef<Path>) -> Result<BatchResults> {
+    let dir = dir.as_ref();
     let manifest = Manifest::read(dir)
         .map_err(StudyError::Input)?
         .ok_or_else(|| {
