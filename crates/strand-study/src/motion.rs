@@ -53,7 +53,7 @@ pub fn build_pose(path: &Path, pose: &str, segments: Option<usize>) -> Result<(B
 }
 
 /// One solved pose of a followed motion, kept for the tables.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SolvedPose {
     /// Its folder name under `steps/`.
     pub id: String,

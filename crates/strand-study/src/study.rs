@@ -84,7 +84,7 @@ pub enum StudyEvent<'a> {
 }
 
 /// A finished study.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct StudyResult {
     /// Case name (the file stem).
     pub case_name: String,

@@ -233,7 +233,7 @@ pub struct BatchReport {
 
 /// A batch directory read back: its plan and the outcome of every variant, in grid
 /// order.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BatchResults {
     /// `batch.json`.
     pub manifest: Manifest,

@@ -17,7 +17,7 @@ use super::manifest::Manifest;
 use super::state::FailedVariant;
 
 /// What the directory of one variant holds.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub enum Outcome {
     /// A converged result.
     Solved(Box<ResultDoc>),
