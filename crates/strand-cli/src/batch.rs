@@ -119,13 +119,13 @@ pub(crate) fn run(
     let _ = writeln!(
         out,
         "variants    computed {}, skipped {} (finished before), failed {}{}",
-        report.computed,
-        report.skipped,
-        report.failed,
-        if report.helpers > 0 {
+        report.counts.computed,
+        report.counts.skipped,
+        report.counts.failed,
+        if report.counts.helpers > 0 {
             format!(
                 "; {} other shards' variants solved as warm starts only",
-                report.helpers
+                report.counts.helpers
             )
         } else {
             String::new()
@@ -134,13 +134,13 @@ pub(crate) fn run(
     let _ = writeln!(
         out,
         "solver      {} Newton iterations in this run, {:.3} s in total on {jobs} thread(s)",
-        report.iterations,
+        report.counts.iterations,
         started.elapsed().as_secs_f64()
     );
-    for (id, damage) in &report.repaired {
+    for (id, damage) in &report.counts.repaired {
         let _ = writeln!(out, "repaired    {id} ({damage}): solved again");
     }
-    for (id, damage) in &report.foreign_damaged {
+    for (id, damage) in &report.counts.foreign_damaged {
         let _ = writeln!(
             err,
             "warning: variant '{id}' of another shard is damaged ({damage}); solved here as a warm start only — run its shard again to repair it"

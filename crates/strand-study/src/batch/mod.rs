@@ -40,7 +40,7 @@
 //! let batch = Batch::plan(spec)?;
 //! assert_eq!(batch.grid().variants.len(), 3);
 //! let report = batch.run(&|_progress| {})?;
-//! assert_eq!((report.computed, report.failed), (3, 0));
+//! assert_eq!((report.counts.computed, report.counts.failed), (3, 0));
 //! // The results, read back from the directory: one converged ResultDoc per variant.
 //! let results = strand_study::batch::read_batch(dir.path())?;
 //! for (entry, outcome) in results.manifest.variants.iter().zip(&results.outcomes) {
@@ -76,11 +76,11 @@ use strand_report::write_atomic;
 use strand_solve::Solution;
 
 use crate::error::{Result, StudyError};
-pub use integrity::Damage;
 use lock::{DirLock, Role};
 pub use manifest::{Entry, Manifest, Parameter};
 pub use merge::{MergeReport, merge};
 use plan::Plan;
+pub use run::Counts;
 use run::{Runner, Start};
 use spec::{Vary, parse_shard};
 pub use state::FailedVariant;
@@ -204,21 +204,9 @@ pub struct OpenBatch {
 /// What a run of a batch did.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BatchReport {
-    /// Variants of this run's share solved (or built and failed) in this run.
-    pub computed: usize,
-    /// Variants of this run's share found finished and skipped.
-    pub skipped: usize,
-    /// Variants of this run's share that failed (this run or before).
-    pub failed: usize,
-    /// Other shards' variants solved here only as warm starts (not written).
-    pub helpers: usize,
-    /// Newton iterations of the variants computed in this run.
-    pub iterations: usize,
-    /// Variants of this run's share whose stored files were damaged and that were
-    /// solved again, in grid order: id and what was wrong.
-    pub repaired: Vec<(String, String)>,
-    /// Other shards' variants with damaged files (their own shard repairs them).
-    pub foreign_damaged: Vec<(String, String)>,
+    /// The counts of the run.
+    #[serde(flatten)]
+    pub counts: Counts,
     /// Temporary files of an interrupted run removed before the run.
     pub cleaned: usize,
     /// The failed variants of this run's share, in grid order.
@@ -577,19 +565,8 @@ impl OpenBatch {
             (outcomes, None)
         };
         drop(held);
-        let named = |list: Vec<(String, Damage)>| {
-            list.into_iter()
-                .map(|(id, d)| (id, d.to_string()))
-                .collect()
-        };
         Ok(BatchReport {
-            computed: counts.computed,
-            skipped: counts.skipped,
-            failed: counts.failed,
-            helpers: counts.helpers,
-            iterations: counts.iterations,
-            repaired: named(counts.repaired),
-            foreign_damaged: named(counts.foreign_damaged),
+            counts,
             cleaned,
             failures: failures(&outcomes, &owned),
             summary,

@@ -17,6 +17,8 @@
 //! of its variants that other shards own (without writing them), so every variant is
 //! warm-started exactly as in the unsharded batch.
 
+use strand_case::schema::VariantChange;
+
 use super::spec::Vary;
 
 /// One variant of the grid.
@@ -177,6 +179,16 @@ impl Plan {
             at = up;
         }
         (samples, values[index[d]])
+    }
+
+    /// The changes of variant `n` to the case (one per varied parameter), in the
+    /// case's units.
+    pub fn changes(&self, n: usize) -> Vec<VariantChange> {
+        self.varies
+            .iter()
+            .zip(&self.variants[n].index)
+            .map(|(v, &k)| v.change(k))
+            .collect()
     }
 
     /// The owned variants and all their ancestors (what a shard must solve).

@@ -74,25 +74,25 @@ impl Start {
     }
 }
 
-/// Counts of one run.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Counts {
-    /// Owned variants solved (or built and failed) in this run.
+/// Counts of one run of a batch.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Counts {
+    /// Variants of this run's share solved (or built and failed) in this run.
     pub computed: usize,
-    /// Owned variants found finished and skipped.
+    /// Variants of this run's share found finished and skipped.
     pub skipped: usize,
-    /// Owned variants that failed (this run or before).
+    /// Variants of this run's share that failed (this run or before).
     pub failed: usize,
     /// Other shards' variants solved here only as warm starts (not written).
     pub helpers: usize,
     /// Newton iterations of the variants computed in this run.
     pub iterations: usize,
-    /// Owned variants whose stored files were damaged and that were solved again,
-    /// in grid order, with what was wrong.
-    pub repaired: Vec<(String, Damage)>,
+    /// Variants of this run's share whose stored files were damaged and that were solved again,
+    /// in grid order: the id and what was wrong.
+    pub repaired: Vec<(String, String)>,
     /// Other shards' variants with damaged files (not touched here; their own
-    /// shard repairs them).
-    pub foreign_damaged: Vec<(String, Damage)>,
+    /// shard repairs them): the id and what was wrong.
+    pub foreign_damaged: Vec<(String, String)>,
 }
 
 /// What a run needs to know, shared by the parallel tasks.
@@ -219,7 +219,7 @@ impl<'a> Runner<'a> {
         }
         let mut damage = self.damage.lock().map(|d| d.clone()).unwrap_or_default();
         damage.sort_by_key(|(n, _)| *n);
-        let named = |(n, d): &(usize, Damage)| (self.plan.variants[*n].id.clone(), d.clone());
+        let named = |(n, d): &(usize, Damage)| (self.plan.variants[*n].id.clone(), d.to_string());
         Ok(Counts {
             computed: self.computed.load(Ordering::Relaxed),
             skipped: self.skipped.load(Ordering::Relaxed),
@@ -316,13 +316,7 @@ impl<'a> Runner<'a> {
             return loaded;
         }
         let started = Instant::now();
-        let changes: Vec<_> = self
-            .plan
-            .varies
-            .iter()
-            .zip(&self.plan.variants[n].index)
-            .map(|(v, &k)| v.change(k))
-            .collect();
+        let changes = self.plan.changes(n);
         let outcome = match self.case.build_with_changes(id, &changes, self.segments) {
             Err(e) => Err(FailedVariant {
                 id: id.clone(),
@@ -376,13 +370,7 @@ impl<'a> Runner<'a> {
     fn load(&self, n: usize, dir: &Path, from: Option<&Start>) -> Option<Start> {
         let text = std::fs::read_to_string(dir.join("state.json")).ok()?;
         let stored: StoredState = serde_json::from_str(&text).ok()?;
-        let changes: Vec<_> = self
-            .plan
-            .varies
-            .iter()
-            .zip(&self.plan.variants[n].index)
-            .map(|(v, &k)| v.change(k))
-            .collect();
+        let changes = self.plan.changes(n);
         let built = self
             .case
             .build_with_changes(&self.plan.variants[n].id, &changes, self.segments)

@@ -213,7 +213,14 @@ fn progress_reports_each_variant_once_and_resume_skips_them() {
         (report, heard.into_inner().unwrap())
     };
     let (report, heard) = run(&spec);
-    assert_eq!((report.computed, report.skipped, report.failed), (3, 0, 1));
+    assert_eq!(
+        (
+            report.counts.computed,
+            report.counts.skipped,
+            report.counts.failed
+        ),
+        (3, 0, 1)
+    );
     let mut done: Vec<usize> = heard.iter().map(|p| p.done).collect();
     done.sort_unstable();
     assert_eq!(done, [1, 2, 3]);
@@ -233,7 +240,14 @@ fn progress_reports_each_variant_once_and_resume_skips_them() {
     assert!(report.summary.is_some());
     // Resumed: nothing solved again, every variant heard of once more.
     let (again, heard) = run(&spec);
-    assert_eq!((again.computed, again.skipped, again.failed), (0, 3, 1));
+    assert_eq!(
+        (
+            again.counts.computed,
+            again.counts.skipped,
+            again.counts.failed
+        ),
+        (0, 3, 1)
+    );
     assert_eq!(heard.len(), 3);
     assert_eq!(heard.iter().filter(|p| p.failed_now).count(), 1);
 }
