@@ -136,6 +136,7 @@ impl Case {
             &self.file,
             segments,
             &self.environment,
+            build::BuildExtras::default(),
         )
     }
 
@@ -163,8 +164,15 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
-            .map_err(|e| variant::in_variant(e, name))
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            segments,
+            &self.environment,
+            build::BuildExtras::default(),
+        )
+        .map_err(|e| variant::in_variant(e, name))
     }
 
     /// Validates the case with `changes` applied (items and changes as under
@@ -182,7 +190,14 @@ impl Case {
             origin: &self.origin,
         };
         let file = variant::apply_changes(&report, &self.file, label, changes)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
-            .map_err(|e| variant::in_variant(e, label))
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            segments,
+            &self.environment,
+            build::BuildExtras::default(),
+        )
+        .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -14,7 +14,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use strand_case::motion::{
-    FollowSettings, MotionEvent, MotionRange, MotionStep, follow, parse_value,
+    FollowSettings, MotionEvent, MotionRange, MotionStep, Predictor, follow, parse_value,
 };
 use strand_case::{BuiltCase, Case};
 use strand_report::motion::{
@@ -130,6 +130,7 @@ pub(crate) fn run(
     range: &str,
     dir: Option<&Path>,
     segments: Option<usize>,
+    predictor: Predictor,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -174,7 +175,10 @@ pub(crate) fn run(
         &values,
         range.step,
         segments,
-        &FollowSettings::default(),
+        &FollowSettings {
+            predictor,
+            ..FollowSettings::default()
+        },
         &mut |step: MotionStep| {
             if failure.is_some() {
                 return;

@@ -196,9 +196,10 @@ fn bad_motion_input_is_a_clear_error_with_nothing_written() {
 
 #[test]
 fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
-    // A box raised into a hanging cable: once it touches, every further step starts
-    // with the cable inside the moved box (a moving obstacle does not carry the hose
-    // along), so the sequence ends there with the poses before it written.
+    // A box raised into a hanging cable under a fixed block (the same box moved up,
+    // its underside at z = 40 mm): the rising box carries the cable up until there is
+    // no room for it between the two (the box top at 34 mm, a lift of 64 mm), so the
+    // sequence ends there with the poses before it written.
     let tmp = tempfile::tempdir().unwrap();
     let boxed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/parts/box.obj");
     let text = r#"(
@@ -209,8 +210,14 @@ fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
             "b": (position: (400, 0, 60), direction: (-1, 0, 0), normal: (0, 0, 1)),
         },
         rods: [(name: "c", section: "c", length: 420, segments: 42, start: Connector("a"), end: Connector("b"))],
-        environment: [(name: "box", obj: "BOX", unit: "mm", moves_with: "raise")],
+        environment: [
+            (name: "box", obj: "BOX", unit: "mm", moves_with: "raise"),
+            (name: "block", obj: "BOX", unit: "mm", position: (0, 0, 240)),
+        ],
         gravity: (0, 0, -9.81),
+        // A limp cable over a box edge stalls near 1e-8 N; 1e-6 N is far below its
+        // weight (0.4 N).
+        solver: (tolerance_n: 1e-6),
         motions: { "raise": (unit: "mm", moves: [Translate(direction: (0, 0, 1))]) },
     )"#
     .replace("BOX", boxed.to_str().unwrap());
@@ -229,7 +236,7 @@ fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
     ]);
     assert_eq!(code, Some(3), "{out}{err}");
     assert!(
-        err.contains("motion 'raise' ended at") && err.contains("inside"),
+        err.contains("motion 'raise' ended at") && err.contains("inside mesh 'block'"),
         "{err}"
     );
     let csv = std::fs::read_to_string(dir.join("motion.csv")).unwrap();
@@ -239,7 +246,19 @@ fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
         .map(|l| l.split(',').nth(2).unwrap())
         .collect();
     assert_eq!(status.last(), Some(&"failed"), "{csv}");
-    assert!(status.iter().filter(|s| **s == "ok").count() >= 2, "{csv}");
+    // Carried up by the box: every pose up to 60 mm is solved, the crush (no room
+    // left under the block) comes before 64 mm.
+    assert_eq!(status.iter().filter(|s| **s == "ok").count(), 7, "{csv}");
+    let failed_at: f64 = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(failed_at > 60.0 && failed_at <= 64.0, "{csv}");
     for id in csv
         .lines()
         .skip(1)
