@@ -93,7 +93,9 @@ pub use palette::{
     DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, dash_pattern, line_colour,
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
-pub use report::{ReportInputError, ReportRun, check_result, report_html};
+pub use report::{
+    MotionAxis, ReportInputError, ReportRun, check_result, motion_report_html, report_html,
+};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
     RodResult, Timing, collect, name_connectors,
