@@ -194,15 +194,12 @@ fn bad_motion_input_is_a_clear_error_with_nothing_written() {
     assert!(!dir.exists());
 }
 
-#[test]
-fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
-    // A box raised into a hanging cable under a fixed block (the same box moved up,
-    // its underside at z = 40 mm): the rising box carries the cable up until there is
-    // no room for it between the two (the box top at 34 mm, a lift of 64 mm), so the
-    // sequence ends there with the poses before it written.
-    let tmp = tempfile::tempdir().unwrap();
+/// A cable hanging between two fixed connectors over `assets/parts/box.obj`, which
+/// rises under it (motion `raise`, mm), with `more` environment entries (`BOX` in
+/// them names the box file).
+fn raised_cable(more: &str) -> String {
     let boxed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/parts/box.obj");
-    let text = r#"(
+    r#"(
         units: (length: "mm"),
         sections: { "c": Explicit(ea: 20e3, ga: 5e3, ei: 5e-3, gj: 3.8e-3, mass_per_length: 0.1, outer_radius: 3) },
         connectors: {
@@ -210,30 +207,49 @@ fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
             "b": (position: (400, 0, 60), direction: (-1, 0, 0), normal: (0, 0, 1)),
         },
         rods: [(name: "c", section: "c", length: 420, segments: 42, start: Connector("a"), end: Connector("b"))],
-        environment: [
-            (name: "box", obj: "BOX", unit: "mm", moves_with: "raise"),
-            (name: "block", obj: "BOX", unit: "mm", position: (0, 0, 240)),
-        ],
+        environment: [(name: "box", obj: "BOX", unit: "mm", moves_with: "raise"), MORE],
         gravity: (0, 0, -9.81),
         // A limp cable over a box edge stalls near 1e-8 N; 1e-6 N is far below its
         // weight (0.4 N).
         solver: (tolerance_n: 1e-6),
         motions: { "raise": (unit: "mm", moves: [Translate(direction: (0, 0, 1))]) },
     )"#
-    .replace("BOX", boxed.to_str().unwrap());
-    let path = tmp.path().join("raise.ron");
-    std::fs::write(&path, text).unwrap();
-    let dir = tmp.path().join("out");
+    .replace("MORE", more)
+    .replace("BOX", boxed.to_str().unwrap())
+}
+
+/// Writes [`raised_cable`] with `more` into `tmp` and runs `strand motion` on it over
+/// `range` into `tmp/out`: exit code, stdout, stderr and the output folder.
+fn run_raised(
+    tmp: &Path,
+    more: &str,
+    range: &str,
+) -> (Option<i32>, String, String, std::path::PathBuf) {
+    let path = tmp.join("raise.ron");
+    std::fs::write(&path, raised_cable(more)).unwrap();
+    let dir = tmp.join("out");
     let (code, out, err) = strand(&[
         "motion",
         path.to_str().unwrap(),
         "--motion",
         "raise",
         "--range",
-        "0mm..80mm:10mm",
+        range,
         "--out",
         dir.to_str().unwrap(),
     ]);
+    (code, out, err, dir)
+}
+
+#[test]
+fn a_step_that_fails_ends_the_sequence_with_the_poses_so_far() {
+    // A box raised into a hanging cable under a fixed block (the same box moved up,
+    // its underside at z = 40 mm): the rising box carries the cable up until there is
+    // no room for it between the two (the box top at 34 mm, a lift of 64 mm), so the
+    // sequence ends there with the poses before it written.
+    let tmp = tempfile::tempdir().unwrap();
+    let block = r#"(name: "block", obj: "BOX", unit: "mm", position: (0, 0, 240)),"#;
+    let (code, out, err, dir) = run_raised(tmp.path(), block, "0mm..80mm:10mm");
     assert_eq!(code, Some(3), "{out}{err}");
     assert!(
         err.contains("motion 'raise' ended at") && err.contains("inside mesh 'block'"),
@@ -292,34 +308,7 @@ fn the_report_of_a_motion_shows_the_worst_poses_and_plays_them() {
     // The box rising under the hanging cable (no block above): it closes contact at
     // about 29 mm and carries the cable up after.
     let tmp = tempfile::tempdir().unwrap();
-    let boxed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/parts/box.obj");
-    let text = r#"(
-        units: (length: "mm"),
-        sections: { "c": Explicit(ea: 20e3, ga: 5e3, ei: 5e-3, gj: 3.8e-3, mass_per_length: 0.1, outer_radius: 3) },
-        connectors: {
-            "a": (position: (0, 0, 60), direction: (1, 0, 0), normal: (0, 0, 1)),
-            "b": (position: (400, 0, 60), direction: (-1, 0, 0), normal: (0, 0, 1)),
-        },
-        rods: [(name: "c", section: "c", length: 420, segments: 42, start: Connector("a"), end: Connector("b"))],
-        environment: [(name: "box", obj: "BOX", unit: "mm", moves_with: "raise")],
-        gravity: (0, 0, -9.81),
-        solver: (tolerance_n: 1e-6),
-        motions: { "raise": (unit: "mm", moves: [Translate(direction: (0, 0, 1))]) },
-    )"#
-    .replace("BOX", boxed.to_str().unwrap());
-    let path = tmp.path().join("raise.ron");
-    std::fs::write(&path, text).unwrap();
-    let dir = tmp.path().join("out");
-    let (code, out, err) = strand(&[
-        "motion",
-        path.to_str().unwrap(),
-        "--motion",
-        "raise",
-        "--range",
-        "0mm..40mm:10mm",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let (code, out, err, dir) = run_raised(tmp.path(), "", "0mm..40mm:10mm");
     assert_eq!(code, Some(0), "{out}{err}");
     let html = tmp.path().join("report.html");
     let (code, out, err) = strand(&[

@@ -101,15 +101,8 @@ impl Case {
             moved_meshes: &meshes,
             warm,
         };
-        build::build(
-            &self.name,
-            &self.origin,
-            &file,
-            segments,
-            &self.environment,
-            extras,
-        )
-        .map_err(|e| at_pose(e, &at))
+        self.build_file(&file, segments, extras)
+            .map_err(|e| at_pose(e, &at))
     }
 }
 

@@ -82,6 +82,9 @@ fn vector(map: &Isometry3<f64>, v: &Vec3) -> Vec3 {
     (map.rotation * Vector3::from(*v)).into()
 }
 
+/// Environment meshes by name with the rigid map (world, m) that moves them.
+pub(crate) type MovedMeshes = Vec<(String, Isometry3<f64>)>;
+
 /// `file` with every part riding on `motion` carried by `map` (case's length unit of
 /// `unit`), except the environment meshes: those are returned by name with the map in
 /// metres, to be placed without rebuilding them. A route read from a file
@@ -93,7 +96,7 @@ pub(crate) fn moved(
     file: &CaseFile,
     motion: &str,
     map: &Isometry3<f64>,
-) -> Result<(CaseFile, Vec<(String, Isometry3<f64>)>), CaseError> {
+) -> Result<(CaseFile, MovedMeshes), CaseError> {
     let rides = |m: &Option<String>| m.as_deref() == Some(motion);
     let mut file = file.clone();
     // A route (initial guess) starts and ends where its rod is held: its end points

@@ -36,6 +36,8 @@ pub struct MotionBenchRow {
     pub per_pose: Vec<usize>,
     /// Solves (accepted and rejected) in all.
     pub solves: usize,
+    /// Of those, the solves that started from the tangent prediction.
+    pub tangent_starts: usize,
     /// Wall time of the path following, ms.
     pub wall_ms: f64,
     /// CPU time of the path following on this thread, ms (`None` where the platform
@@ -65,6 +67,7 @@ fn run_once(
         ..FollowSettings::default()
     };
     let (mut poses, mut converged, mut iterations, mut solves) = (0, 0, 0, 0);
+    let mut tangent_starts = 0;
     let mut per_pose = Vec::new();
     let cpu = thread_cpu_s();
     let started = Instant::now();
@@ -80,6 +83,7 @@ fn run_once(
             converged += usize::from(step.solution.report.converged);
             iterations += step.iterations;
             solves += step.solves;
+            tangent_starts += step.tangent_starts;
             if step.warm {
                 per_pose.push(step.iterations);
             }
@@ -96,6 +100,7 @@ fn run_once(
         iterations,
         per_pose,
         solves,
+        tangent_starts,
         wall_ms,
         cpu_ms,
         phases: end.times,
@@ -124,14 +129,14 @@ pub fn run_motion(
 /// The table of [`run_motion`].
 pub fn format_motion_table(rows: &[MotionBenchRow]) -> String {
     let mut out = String::from(
-        "predictor  poses  converged  iterations  per pose: median  max  1-3  solves  wall [ms]  cpu [ms]  builds [ms]  solves [ms]  tangents [ms]\n",
+        "predictor  poses  converged  iterations  per pose: median  max  1-3  solves (from tangent)  wall [ms]  cpu [ms]  builds [ms]  solves [ms]  tangents [ms]\n",
     );
     for r in rows {
         let median = r.per_pose.get(r.per_pose.len() / 2).copied().unwrap_or(0);
         let max = r.per_pose.last().copied().unwrap_or(0);
         let easy = r.per_pose.iter().filter(|&&n| (1..=3).contains(&n)).count();
         out.push_str(&format!(
-            "{:<9}  {:>5}  {:>9}  {:>10}  {:>16}  {:>3}  {:>3}  {:>6}  {:>9.1}  {:>8}  {:>11.1}  {:>11.1}  {:>13.1}{}\n",
+            "{:<9}  {:>5}  {:>9}  {:>10}  {:>16}  {:>3}  {:>3}  {:>6} ({:>3})        {:>9.1}  {:>8}  {:>11.1}  {:>11.1}  {:>13.1}{}\n",
             format!("{:?}", r.predictor).to_lowercase(),
             r.poses,
             r.converged,
@@ -140,6 +145,7 @@ pub fn format_motion_table(rows: &[MotionBenchRow]) -> String {
             max,
             easy,
             r.solves,
+            r.tangent_starts,
             r.wall_ms,
             r.cpu_ms.map_or("-".to_string(), |c| format!("{c:.1}")),
             r.phases.build_s * 1e3,
