@@ -7,7 +7,7 @@ use std::fmt::Write;
 use super::ReportRun;
 use super::format::{Cell, push_table};
 use crate::motion::{WorstKind, worst_poses};
-use crate::svg::escape;
+use crate::plot::escape;
 
 /// The motion whose poses a report's results are, one value per result in order.
 #[derive(Clone, Copy, Debug)]
