@@ -1,6 +1,8 @@
 //! Quasi-static path following along a motion: from the case's own pose (parameter 0)
 //! up to the largest and down to the smallest requested value, each step
-//! warm-started from the last equilibrium with a secant predictor, the step halved
+//! warm-started from the last equilibrium with a predictor ([`Predictor`]; the secant
+//! and its blend with the tangent are
+//! [`strand_solve::continuation::predictor::extrapolate`]), the step halved
 //! when a solve fails or the state jumps, and grown again on easy steps.
 //!
 //! A jump that persists down to the smallest step is a snap-through (the equilibrium
@@ -11,9 +13,9 @@
 use strand_solve::{Solution, SolveError, SolverSettings};
 use strand_system::SystemState;
 
-use super::extrapolate;
 use crate::error::CaseError;
 use crate::{BuiltCase, Case};
+use strand_solve::continuation::predictor::extrapolate;
 
 /// Settings of the path following.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,10 +54,11 @@ pub enum Predictor {
     Secant,
     /// The exact tangent of the path at the last equilibrium
     /// ([`strand_solve::sensitivity`], the motion parameter as the design parameter),
-    /// combined with the previous equilibrium into a second-order prediction
-    /// (`extrapolate(secant, tangent, ratio)`: the error of the secant, `(Δ² + Δh) x''/2`,
-    /// and of the tangent, `Δ² x''/2`, cancel); the secant where the tangent cannot be
-    /// computed (an unstable state, an active contact about to open).
+    /// combined with the previous equilibrium into a second-order prediction (the
+    /// tangent's prediction extrapolated beyond the secant's by the step ratio: the
+    /// errors of the secant, `(Δ² + Δh) x''/2`, and of the tangent, `Δ² x''/2`,
+    /// cancel); the secant where the tangent cannot be computed (an unstable state, an
+    /// active contact about to open).
     Tangent,
 }
 
@@ -356,7 +359,11 @@ impl Branch<'_> {
             .filter(|_| self.settings.predictor != Predictor::Last)
             .map(|p| {
                 (
-                    extrapolate(&p.state, &last.state, change / (last.value - p.value)),
+                    extrapolate(
+                        &[last.state.clone(), p.state.clone()],
+                        &[last.value, p.value],
+                        value,
+                    ),
                     p,
                 )
             });
@@ -367,10 +374,11 @@ impl Branch<'_> {
             .map(|t| super::tangent::along(&built.model, &last.state, t, change));
         let (predicted, from_tangent) = match (secant, tangent) {
             (Some((secant, p)), Some(tangent)) => (
+                // The tangent's prediction one secant ratio beyond the secant's.
                 Some(extrapolate(
-                    &secant,
-                    &tangent,
-                    change / (last.value - p.value),
+                    &[tangent, secant],
+                    &[1.0, 0.0],
+                    1.0 + change / (last.value - p.value),
                 )),
                 true,
             ),

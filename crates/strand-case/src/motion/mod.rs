@@ -49,7 +49,6 @@ mod case;
 mod follow;
 mod place;
 mod pose;
-mod predict;
 mod range;
 pub mod screw;
 pub mod tangent;
@@ -64,7 +63,6 @@ pub use follow::{
     jump_m,
 };
 pub use pose::MotionPose;
-pub use predict::extrapolate;
 pub use range::{MotionRange, RangeError, parse_value};
 
 /// Checks every motion of `file` and every part's `moves_with`.
