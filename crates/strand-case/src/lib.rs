@@ -133,12 +133,24 @@ impl Case {
     /// Validates the case and builds the model; `segments` overrides the number of
     /// segments of every rod (e.g. for convergence studies).
     pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, CaseError> {
+        self.build_file(&self.file, segments, build::BuildExtras::default())
+    }
+
+    /// Builds `file` (this case's file, changed) with the case's name, origin and
+    /// environment cache.
+    pub(crate) fn build_file(
+        &self,
+        file: &CaseFile,
+        segments: Option<usize>,
+        extras: build::BuildExtras<'_>,
+    ) -> Result<BuiltCase, CaseError> {
         build::build(
             &self.name,
             &self.origin,
-            &self.file,
+            file,
             segments,
             &self.environment,
+            extras,
         )
     }
 
@@ -166,7 +178,7 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
+        self.build_file(&file, segments, build::BuildExtras::default())
             .map_err(|e| variant::in_variant(e, name))
     }
 
@@ -185,7 +197,7 @@ impl Case {
             origin: &self.origin,
         };
         let file = variant::apply_changes(&report, &self.file, label, changes)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
+        self.build_file(&file, segments, build::BuildExtras::default())
             .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -4,10 +4,12 @@
 //!
 //! [`grid`] is the convergence map of issue 9 (`strand bench --grid`): its cases, the
 //! system of each, and the table of iterations and times per case; [`contact`] the
-//! bundled contact cases (`strand bench --contact`).
+//! bundled contact cases (`strand bench --contact`); [`motion`] the engine-roll motion
+//! (`strand bench --motion`).
 
 pub mod contact;
 pub mod grid;
+pub mod motion;
 
 use std::path::Path;
 use std::time::Instant;

@@ -93,12 +93,14 @@ pub(crate) fn execute(
             range,
             out: dir,
             segments,
+            predictor,
         } => crate::motion::run(
             case,
             motion,
             range,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            (*predictor).into(),
             out,
             err,
         ),
@@ -162,6 +164,11 @@ pub(crate) fn execute(
         Command::Bench {
             grid: true, cases, ..
         } => Ok(bench_grid(*cases, out)),
+        Command::Bench {
+            motion: true,
+            repeats,
+            ..
+        } => crate::bench::motion::run_and_print(Path::new("cases"), *repeats, out),
         Command::Bench {
             contact: true,
             repeats,

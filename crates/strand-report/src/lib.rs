@@ -100,7 +100,9 @@ pub use plot::{
     line_colour,
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
-pub use report::{ReportInputError, ReportRun, check_result, report_html};
+pub use report::{
+    MotionAxis, ReportInputError, ReportRun, check_result, motion_report_html, report_html,
+};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
     RodResult, Timing, collect, name_connectors,

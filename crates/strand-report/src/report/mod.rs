@@ -17,12 +17,14 @@
 mod checks;
 mod format;
 mod limits;
+mod motion;
 mod plots;
 mod projection;
 mod provenance;
 mod tables;
 
 pub(crate) use format::sig;
+pub use motion::MotionAxis;
 #[cfg(test)]
 mod tests;
 mod view3d;
@@ -166,6 +168,16 @@ p.warning { background: #fff4e5; border-left: 4px solid #e69f00; padding: 6px 10
 
 /// The report page for `runs` (the first is the reference) under `title`.
 pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
+    report_page(title, runs, None)
+}
+
+/// The report page of a motion: `runs` are its poses in order of `axis.values`; the
+/// page adds the worst pose of each quantity and plays the poses in the 3D view.
+pub fn motion_report_html(title: &str, runs: &[ReportRun], axis: &MotionAxis) -> String {
+    report_page(title, runs, Some(axis))
+}
+
+fn report_page(title: &str, runs: &[ReportRun], axis: Option<&MotionAxis>) -> String {
     let mut html = String::with_capacity(64 * 1024);
     html.push_str("<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n");
     html.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"/>\n");
@@ -188,11 +200,17 @@ pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
     html.push_str("<h2 id=\"findings-section\">Findings</h2>\n");
     limits::push_findings(&mut html, runs);
 
+    if let Some(axis) = axis {
+        html.push_str("<h2 id=\"motion-section\">Motion: worst poses</h2>\n");
+        motion::push_worst_poses(&mut html, runs, axis);
+    }
+
     html.push_str("<h2>Summary</h2>\n");
     tables::push_summary(&mut html, runs);
 
     html.push_str("<h2 id=\"view3d-section\">3D view</h2>\n");
-    view3d::push_view3d(&mut html, runs);
+    let poses = axis.map(motion::pose_labels);
+    view3d::push_view3d(&mut html, runs, poses.as_deref());
 
     html.push_str("<h2>Sectional quantities along the arc length</h2>\n");
     html.push_str("<p class=\"note\">Per hose: internal force |f|, tangential force f_t and shear force f_s (top); internal moment |m|, bending moment m_b and torsional moment m_t (bottom). The reference result is solid, the others dashed.</p>\n<div class=\"grid\">\n");
