@@ -6,17 +6,21 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strand_case::{BuiltCase, Case, CaseError};
-use strand_report::{ExportUnit, Timing, collect, name_connectors, write_results_in};
+use strand_report::{ExportUnit, Timing, write_results_in};
 use strand_solve::SolveError;
 
 use crate::Exit;
 use crate::args::Command;
 use crate::summary::{number, summary};
 
-/// A failure with the exit status it maps to.
+/// A failure with the exit status it maps to: what `strand` prints as
+/// `error: <message>` before exiting with `exit`.
 #[derive(Debug)]
-pub(crate) struct Failure {
+pub struct Failure {
+    /// The exit status (2: invalid input, 1: the solver could not start or an I/O
+    /// error, 3: not converged).
     pub exit: Exit,
+    /// The message, naming the case file (and `line:column`, item and a hint).
     pub message: String,
 }
 
@@ -394,12 +398,7 @@ pub(crate) fn write_solved(
         variant,
         base_iterations,
     } = *solved;
-    let mut doc = collect(&built.name, &built.model, solution, timing);
-    add_contacts(&mut doc, built, solution)?;
-    name_connectors(&mut doc, &built.connector_names);
-    doc.variant = variant.map(str::to_string);
-    doc.warm_start = base_iterations.is_some();
-    doc.base_iterations = base_iterations;
+    let doc = crate::library::result_doc(built, solution, timing, variant, base_iterations)?;
     let dir: PathBuf = dir.map(Path::to_path_buf).unwrap_or_else(|| {
         let dir = Path::new("out").join(&built.name);
         match variant {

@@ -43,6 +43,7 @@ mod batch;
 pub mod bench;
 mod commands;
 mod findings;
+pub mod library;
 pub mod limits;
 mod motion;
 mod progress;

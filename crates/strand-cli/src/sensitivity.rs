@@ -31,7 +31,10 @@ fn invalid(message: String) -> Failure {
 }
 
 /// The design parameters named on the command line, with their units.
-fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, String)>, Failure> {
+pub(crate) fn parameters(
+    case: &Case,
+    names: &[String],
+) -> Result<Vec<(DesignParameter, String)>, Failure> {
     let unit = LengthUnit::parse(&case.file.units.length);
     let mut out: Vec<(DesignParameter, String)> = Vec::new();
     for name in names {
@@ -95,13 +98,23 @@ fn outputs_at(
 }
 
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
-/// `names`.
+/// `names`; an error (exit 3) when `solution` did not converge.
 pub(crate) fn sensitivities(
     case: &Case,
     names: &[String],
     solution: &Solution,
 ) -> Result<SensitivityDoc, Failure> {
     let params = parameters(case, names)?;
+    if !solution.report.converged {
+        return Err(Failure {
+            exit: Exit::NotConverged,
+            message: format!(
+                "{}: the case did not converge (residual {} N): there is no equilibrium to differentiate",
+                case.origin,
+                significant(solution.report.residual.combined_n, 3)
+            ),
+        });
+    }
     let design = CaseDesign::new(case, params.iter().map(|(p, _)| p.clone()).collect());
     let fail = |e: strand_solve::sensitivity::SensitivityError| Failure {
         exit: Exit::Failure,
@@ -196,16 +209,6 @@ pub(crate) fn run(
     parameters(&case, names)?;
     let built = case.build(None)?;
     let solution = crate::study::solve_cold(&built)?;
-    if !solution.report.converged {
-        return Err(Failure {
-            exit: Exit::NotConverged,
-            message: format!(
-                "{}: the case did not converge (residual {} N): there is no equilibrium to differentiate",
-                case.origin,
-                significant(solution.report.residual.combined_n, 3)
-            ),
-        });
-    }
     let solve_s = started.elapsed().as_secs_f64();
     let doc = sensitivities(&case, names, &solution)?;
     let not_written = |e: strand_report::ReportError| Failure {

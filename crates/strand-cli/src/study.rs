@@ -11,23 +11,21 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use strand_case::{BASE_VARIANT, BuiltCase, Case, warm_start};
+use strand_case::{BASE_VARIANT, BuiltCase, Case};
 use strand_report::{
     ArcOrigin, ResultDoc, StudyPeak, StudyRun, Timing, arc_origin, collect, name_connectors,
     study_csv, study_peaks, study_svg, write_atomic, write_results_in,
 };
-use strand_solve::{Solution, SolverSettings};
+use strand_solve::Solution;
 
 use crate::Exit;
-use crate::commands::{Failure, solver_failure};
+use crate::commands::Failure;
 use crate::summary::{number, significant};
 
 /// Solves `built` from its own initial guess with its own settings.
 pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
     let _progress = crate::progress::Progress::start(&built.origin);
-    built
-        .solve_from(built.initial.clone(), &built.settings)
-        .map_err(|e| solver_failure(&built.origin, e))
+    crate::library::solve_cold(built)
 }
 
 /// Solves variant `built` from `base_solution` (a solution of `base`) resampled onto
@@ -37,15 +35,8 @@ pub(crate) fn solve_warm(
     base_solution: &Solution,
     built: &BuiltCase,
 ) -> Result<Solution, Failure> {
-    let initial = warm_start(&base.model, &base_solution.state, &built.model);
-    let settings = SolverSettings {
-        nested_iteration: false,
-        ..built.settings.clone()
-    };
     let _progress = crate::progress::Progress::start(&built.origin);
-    built
-        .solve_from(initial, &settings)
-        .map_err(|e| solver_failure(&built.origin, e))
+    crate::library::solve_warm(base, &base_solution.state, built)
 }
 
 /// Solves variant `name` warm-started from the base solution if that converged,
@@ -63,11 +54,8 @@ pub(crate) fn solve_variant(
     } else {
         let _ = writeln!(
             err,
-            "warning: {}: the case itself did not converge (residual {} N after {} iterations); \
-             variant '{name}' starts from its own initial guess instead of a warm start",
-            base.origin,
-            number(base_solution.report.residual.combined_n),
-            base_solution.report.iterations
+            "warning: {}",
+            crate::library::cold_start_warning(base, base_solution, name)
         );
         Ok((solve_cold(built)?, false))
     }

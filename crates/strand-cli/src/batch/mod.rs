@@ -153,6 +153,18 @@ pub(crate) fn run(
     let started = Instant::now();
     let case = Case::from_path(options.case)?;
     crate::limits::check_case(&case)?;
+    run_case(&case, options, started, out, err)
+}
+
+/// `strand batch` of `case` (read and checked; `options.case` is not read again),
+/// started at `started`.
+pub(crate) fn run_case(
+    case: &Case,
+    options: &BatchOptions,
+    started: Instant,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+) -> Result<Exit, Failure> {
     if options.vary.is_empty() {
         return Err(invalid(
             "strand batch needs at least one --vary, e.g. --vary hose2.length=+0mm..+100mm:10mm",
@@ -191,7 +203,7 @@ pub(crate) fn run(
         }
     }
     let base = case.build(options.segments)?;
-    let manifest = Manifest::new(&case, &plan, options.segments);
+    let manifest = Manifest::new(case, &plan, options.segments);
 
     let base_solution = base
         .solve_from(base.initial.clone(), &base.settings)
@@ -304,7 +316,7 @@ pub(crate) fn run(
         None
     };
     let runner = Runner::new(
-        &case,
+        case,
         &plan,
         options.segments,
         options.out,
