@@ -40,6 +40,14 @@ pub fn check_case(case: &Case) -> Result<(), Failure> {
     crate::limits::check_case(case)
 }
 
+/// Checks that no hose of `built` starts inside a part or another hose, as `strand
+/// check` and `strand solve` do before the first step (exit 2 naming the place).
+pub fn check_start(built: &BuiltCase) -> Result<(), Failure> {
+    built
+        .check_start()
+        .map_err(|e| solver_failure(&built.origin, e))
+}
+
 /// Solves `built` from its own initial guess with its own settings (`strand solve`).
 /// A solve that ran but did not converge is `Ok`, with `report.converged == false`;
 /// `Err` means it could not start (exit 2 for a hose starting inside a part or bad
@@ -69,14 +77,13 @@ pub fn solve_warm(
 }
 
 /// The warning `strand solve --variant NAME` prints (after `warning: `) when the case
-/// itself did not converge and variant `name` therefore starts cold.
-pub fn cold_start_warning(base: &BuiltCase, base_solution: &Solution, name: &str) -> String {
+/// read from `origin` did not converge (residual `residual_n` N after `iterations`)
+/// and variant `name` therefore starts cold.
+pub fn cold_start_warning(origin: &str, residual_n: f64, iterations: usize, name: &str) -> String {
     format!(
-        "{}: the case itself did not converge (residual {} N after {} iterations); \
+        "{origin}: the case itself did not converge (residual {} N after {iterations} iterations); \
          variant '{name}' starts from its own initial guess instead of a warm start",
-        base.origin,
-        number(base_solution.report.residual.combined_n),
-        base_solution.report.iterations
+        number(residual_n),
     )
 }
 
@@ -98,6 +105,43 @@ pub fn result_doc(
     doc.warm_start = base_iterations.is_some();
     doc.base_iterations = base_iterations;
     Ok(doc)
+}
+
+/// `None` for a converged `doc`, else what `strand solve` warns about it: the case
+/// file `origin`, the `variant`, why the solve stopped and at which residual (N), and
+/// for a stall whether it reached the model's round-off floor.
+pub fn not_converged(origin: &str, variant: Option<&str>, doc: &ResultDoc) -> Option<String> {
+    if doc.converged {
+        return None;
+    }
+    // A stall: the residual it reached is this model's floor at this start.
+    let floor = match doc.termination.as_str() {
+        "stagnated" if doc.residual_n <= strand_solve::ROUND_OFF_STALL * doc.residual_floor_n => {
+            format!(
+                "; the residual stopped decreasing at {} N, the round-off floor of this \
+                 model (estimated {} N): the state is the equilibrium to round-off; set \
+                 tolerance_n to at least {} N to accept it",
+                number(doc.residual_n),
+                number(doc.residual_floor_n),
+                number(doc.residual_n)
+            )
+        }
+        "stagnated" => format!(
+            "; the residual stopped decreasing at {} N while the energy stayed constant",
+            number(doc.residual_n)
+        ),
+        _ => String::new(),
+    };
+    Some(format!(
+        "{origin}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations{floor})",
+        variant
+            .map(|v| format!(" (variant '{v}')"))
+            .unwrap_or_default(),
+        doc.termination,
+        number(doc.residual_n),
+        number(doc.tolerance_n),
+        doc.iterations
+    ))
 }
 
 /// The change `ITEM=VALUE` of `case` in the grammar of `strand batch --vary`

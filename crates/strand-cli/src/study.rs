@@ -55,7 +55,12 @@ pub(crate) fn solve_variant(
         let _ = writeln!(
             err,
             "warning: {}",
-            crate::library::cold_start_warning(base, base_solution, name)
+            crate::library::cold_start_warning(
+                &base.origin,
+                base_solution.report.residual.combined_n,
+                base_solution.report.iterations,
+                name
+            )
         );
         Ok((solve_cold(built)?, false))
     }
