@@ -54,11 +54,6 @@ impl CaseSpec {
         })
     }
 
-    /// The case file as named.
-    pub fn base_origin(&self) -> String {
-        self.base.origin.clone()
-    }
-
     /// The label of the changes alone (`a=1, b=2`).
     fn changes_label(&self) -> String {
         let texts: Vec<&str> = self.changes.iter().map(|(t, _)| t.as_str()).collect();
@@ -174,16 +169,16 @@ impl CaseSpec {
         let label = self.label();
         let mut warning = None;
         let (solution, base_iterations) = match warm {
-            Some(base) if base.converged => {
+            Some(base) if base.converged() => {
                 let base_built = base.built()?;
                 let solution = library::solve_warm(&base_built, &base.state, &built)?;
-                (solution, Some(base.iterations))
+                (solution, Some(base.iterations()))
             }
             Some(base) => {
                 warning = Some(library::cold_start_warning(
                     &base.case.base.origin,
-                    base.residual_n,
-                    base.iterations,
+                    base.residual_n(),
+                    base.iterations(),
                     label.as_deref().unwrap_or(&self.base.name),
                 ));
                 (library::solve_cold(&built)?, None)
@@ -201,7 +196,7 @@ impl CaseSpec {
             library::result_doc(&built, &solution, timing, label.as_deref(), base_iterations)?;
         doc.timing_s.total = started.elapsed().as_secs_f64();
         Ok(Outcome {
-            solved: Solved::new(Arc::clone(self), segments, &doc, solution.state, built),
+            solved: Solved::new(Arc::clone(self), segments, doc, solution.state, built),
             warning,
         })
     }

@@ -22,9 +22,13 @@ pub struct Outcome {
     pub warning: Option<String>,
 }
 
+/// The convergence report of a solve: converged, stable, iterations, residual (N),
+/// tolerance (N), energy (J), termination, warm-started, variant.
+pub type Report = (bool, bool, usize, f64, f64, f64, String, bool, Option<String>);
+
 /// The numbers of a solve for pickling: the case, the segments, the result document
-/// (JSON), the state, and converged / iterations / residual (N).
-type SolvedState = (CaseState, Option<usize>, String, StateData, bool, usize, f64);
+/// (JSON), the state, the report and the not-converged warning.
+type SolvedState = (CaseState, Option<usize>, String, StateData, Report, Option<String>);
 
 /// A solved case (see `strand.Result`).
 #[pyclass(name = "_Solved", module = "strand._strand", frozen)]
@@ -33,16 +37,14 @@ pub struct Solved {
     pub case: Arc<CaseSpec>,
     /// `segments` it was built with.
     segments: Option<usize>,
-    /// `result.json` (compact).
-    json: String,
+    /// The result document until it is written as JSON (`None` after unpickling).
+    doc: Option<Box<ResultDoc>>,
+    /// `result.json` (compact), written on first use.
+    json: OnceLock<String>,
     /// The solved state.
     pub state: SystemState,
-    /// Whether the solve converged.
-    pub converged: bool,
-    /// Newton iterations.
-    pub iterations: usize,
-    /// Final residual, N.
-    pub residual_n: f64,
+    /// The convergence report.
+    report: Report,
     /// What `strand solve` warns about a solve that did not converge.
     not_converged: Option<String>,
     /// The built case, made again on first use after unpickling.
@@ -54,21 +56,46 @@ impl Solved {
     pub fn new(
         case: Arc<CaseSpec>,
         segments: Option<usize>,
-        doc: &ResultDoc,
+        doc: ResultDoc,
         state: SystemState,
         built: BuiltCase,
     ) -> Self {
+        let report = (
+            doc.converged,
+            doc.stable,
+            doc.iterations,
+            doc.residual_n,
+            doc.tolerance_n,
+            doc.energy_j,
+            doc.termination.clone(),
+            doc.warm_start,
+            doc.variant.clone(),
+        );
         Self {
             case,
             segments,
-            json: serde_json::to_string(doc).expect("a result document serialises"),
+            not_converged: library::not_converged(&built.origin, doc.variant.as_deref(), &doc),
+            doc: Some(Box::new(doc)),
+            json: OnceLock::new(),
             state,
-            converged: doc.converged,
-            iterations: doc.iterations,
-            residual_n: doc.residual_n,
-            not_converged: library::not_converged(&built.origin, doc.variant.as_deref(), doc),
+            report,
             built: OnceLock::from(Arc::new(built)),
         }
+    }
+
+    /// Whether the solve converged.
+    pub fn converged(&self) -> bool {
+        self.report.0
+    }
+
+    /// Newton iterations.
+    pub fn iterations(&self) -> usize {
+        self.report.2
+    }
+
+    /// Final residual, N.
+    pub fn residual_n(&self) -> f64 {
+        self.report.3
     }
 
     /// The built case whose state this is (a warm start carries it onto another).
@@ -79,13 +106,25 @@ impl Solved {
         let built = Arc::new(self.case.build(self.segments)?);
         Ok(Arc::clone(self.built.get_or_init(|| built)))
     }
+
+    fn json_text(&self) -> &str {
+        self.json.get_or_init(|| {
+            let doc = self.doc.as_ref().expect("a document or its JSON");
+            serde_json::to_string(doc).expect("a result document serialises")
+        })
+    }
 }
 
 #[pymethods]
 impl Solved {
-    /// `result.json` as compact JSON text.
+    /// `result.json` as compact JSON text (written on the first call).
     fn json(&self) -> &str {
-        &self.json
+        self.json_text()
+    }
+
+    /// The convergence report (see [`Report`]).
+    fn report(&self) -> Report {
+        self.report.clone()
     }
 
     /// `strand solve`'s warning about a solve that did not converge (`None`: converged).
@@ -98,35 +137,29 @@ impl Solved {
         (
             self.case.state(),
             self.segments,
-            self.json.clone(),
+            self.json_text().to_string(),
             to_data(&self.state),
-            self.converged,
-            self.iterations,
-            self.residual_n,
+            self.report.clone(),
+            self.not_converged.clone(),
         )
     }
 
     /// The solve of `state` (see `state`); its case is read again.
     #[staticmethod]
     fn from_state(state: SolvedState) -> PyResult<Solved> {
-        let (case, segments, json, data, converged, iterations, residual_n) = state;
+        let (case, segments, json, data, report, not_converged) = state;
         let case = CaseSpec::from_state(&case).map_err(|f| to_py(f, Stage::Solve))?;
         let state = from_data(&data).ok_or_else(|| {
             crate::errors::raise("StrandError", "a pickled result's state is damaged".into())
         })?;
-        // The message's numbers are rounded: a re-parsed document gives the same text.
-        let not_converged = serde_json::from_str::<ResultDoc>(&json)
-            .ok()
-            .and_then(|doc| library::not_converged(&case.base_origin(), doc.variant.as_deref(), &doc));
         Ok(Solved {
-            not_converged,
             case: Arc::new(case),
             segments,
-            json,
+            doc: None,
+            json: OnceLock::from(json),
             state,
-            converged,
-            iterations,
-            residual_n,
+            report,
+            not_converged,
             built: OnceLock::new(),
         })
     }

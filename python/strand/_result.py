@@ -11,25 +11,24 @@ from . import _strand
 from ._errors import NotConvergedError
 
 
-def _is_numeric(value: Any) -> bool:
-    """Whether ``value`` is a non-empty list of numbers or of such lists (JSON null
-    stands for a non-finite number)."""
-    if not isinstance(value, list) or not value:
-        return False
-    for v in value:
-        if isinstance(v, list):
-            if not _is_numeric(v):
-                return False
-        elif isinstance(v, bool) or not (v is None or isinstance(v, (int, float))):
-            return False
-    return True
+def _array_or_value(value: Any) -> Any:
+    """A list of numbers (or of lists of numbers) as a float64 numpy array (JSON null,
+    a non-finite number, as NaN); anything else as it is."""
+    if isinstance(value, list) and value:
+        first = value[0]
+        if isinstance(first, list) or (
+            isinstance(first, (int, float)) and not isinstance(first, bool)
+        ) or first is None:
+            try:
+                return np.array(value, dtype=np.float64)
+            except (TypeError, ValueError):
+                return value
+    return value
 
 
 def _with_arrays(entry: Dict[str, Any]) -> Dict[str, Any]:
-    """``entry`` with every numeric list as a float64 numpy array (null: NaN)."""
-    return {
-        k: np.array(v, dtype=np.float64) if _is_numeric(v) else v for k, v in entry.items()
-    }
+    """``entry`` with every numeric list as a float64 numpy array."""
+    return {k: _array_or_value(v) for k, v in entry.items()}
 
 
 class Result:
@@ -41,11 +40,12 @@ class Result:
     (N·m), ``curvature_1pm`` (1/m), ``s_m`` (reference arc length, m).
     """
 
-    __slots__ = ("_solved", "_doc")
+    __slots__ = ("_solved", "_doc", "_report")
 
     def __init__(self, solved: "_strand._Solved") -> None:
         self._solved = solved
         self._doc: Optional[Dict[str, Any]] = None
+        self._report = solved.report()
 
     @property
     def _d(self) -> Dict[str, Any]:
@@ -57,47 +57,47 @@ class Result:
     @property
     def converged(self) -> bool:
         """Whether the solve converged (``residual_N`` at most ``tolerance_N``)."""
-        return self._d["converged"]
+        return self._report[0]
 
     @property
     def residual_N(self) -> float:
         """The final residual (KKT, in force units), N."""
-        return self._d["residual_N"]
+        return self._report[3]
 
     @property
     def tolerance_N(self) -> float:
         """The convergence tolerance, N."""
-        return self._d["tolerance_N"]
+        return self._report[4]
 
     @property
     def stable(self) -> bool:
         """Whether the equilibrium is stable (reduced Hessian positive definite)."""
-        return self._d["stable"]
+        return self._report[1]
 
     @property
     def iterations(self) -> int:
         """Newton iterations, all levels and fallbacks included."""
-        return self._d["iterations"]
+        return self._report[2]
 
     @property
     def termination(self) -> str:
         """Why the solve stopped (``converged``, ``max_iterations``, ``stagnated``, …)."""
-        return self._d["termination"]
+        return self._report[6]
 
     @property
     def energy_J(self) -> float:
         """Total potential energy at the equilibrium, J."""
-        return self._d["energy_J"]
+        return self._report[5]
 
     @property
     def warm_start(self) -> bool:
         """Whether the solve started from another solution."""
-        return self._d["warm_start"]
+        return self._report[7]
 
     @property
     def variant(self) -> Optional[str]:
         """The variant and changes solved (``None``: the case as read)."""
-        return self._d.get("variant")
+        return self._report[8]
 
     @property
     def timing_s(self) -> Dict[str, float]:
@@ -163,11 +163,11 @@ class Result:
         return (_from_state, (self._solved.state(),))
 
     def __repr__(self) -> str:
-        d = self._d
+        variant = f" ({self.variant})" if self.variant else ""
         return (
-            f"<strand.Result {d['case']}{' (' + d['variant'] + ')' if d.get('variant') else ''}: "
-            f"{'converged' if d['converged'] else 'NOT converged'}, residual {d['residual_N']:.3g} N, "
-            f"{d['iterations']} iterations, {'stable' if d['stable'] else 'unstable'}>"
+            f"<strand.Result{variant}: {'converged' if self.converged else 'NOT converged'}, "
+            f"residual {self.residual_N:.3g} N, {self.iterations} iterations, "
+            f"{'stable' if self.stable else 'unstable'}>"
         )
 
 
