@@ -122,8 +122,7 @@ impl CaseSpec {
             (None, true) => self.base.build(segments)?,
             (Some(name), true) => self.base.build_variant(name, segments)?,
             (_, false) => {
-                let all: Vec<VariantChange> =
-                    self.changes.iter().map(|(_, c)| c.clone()).collect();
+                let all: Vec<VariantChange> = self.changes.iter().map(|(_, c)| c.clone()).collect();
                 self.start
                     .build_with_changes(&self.changes_label(), &all, segments)?
             }
@@ -171,6 +170,7 @@ impl CaseSpec {
         let (solution, base_iterations) = match warm {
             Some(base) if base.converged() => {
                 let base_built = base.built()?;
+                fits(&base_built, &built)?;
                 let solution = library::solve_warm(&base_built, &base.state, &built)?;
                 (solution, Some(base.iterations()))
             }
@@ -200,6 +200,27 @@ impl CaseSpec {
             warning,
         })
     }
+}
+
+/// A warm start carries rods over by name and everything else (junction poses, clip
+/// joints) as it is: `base` must have the junctions and clips of `built`.
+fn fits(base: &BuiltCase, built: &BuiltCase) -> Result<(), Failure> {
+    let (from, to) = (base.model.system(), built.model.system());
+    if from.bodies.len() == to.bodies.len() && from.clips.len() == to.clips.len() {
+        return Ok(());
+    }
+    Err(Failure {
+        exit: strand_cli::Exit::InvalidInput,
+        message: format!(
+            "{}: warm_start: the result is of {} with {} junction(s) and {} clip(s), this case has {} and {} (hint: warm-start from a result of this case or of a variant of it)",
+            built.origin,
+            base.origin,
+            from.bodies.len(),
+            from.clips.len(),
+            to.bodies.len(),
+            to.clips.len()
+        ),
+    })
 }
 
 /// A case (see `strand.Case`).
@@ -241,7 +262,11 @@ impl PyCase {
             .map(|d| d.join("<string>"))
             .unwrap_or_else(|| PathBuf::from("<string>"));
         let case = Case::from_str(&text, &origin.display().to_string()).map_err(case_error)?;
-        wrap(CaseSpec::new(text, case, Some(name.unwrap_or_else(|| "case".into()))))
+        wrap(CaseSpec::new(
+            text,
+            case,
+            Some(name.unwrap_or_else(|| "case".into())),
+        ))
     }
 
     /// The case name.
@@ -265,7 +290,12 @@ impl PyCase {
     /// The case's named variants.
     #[getter]
     fn variant_names(&self) -> Vec<String> {
-        self.spec.base.variant_names().iter().map(|s| s.to_string()).collect()
+        self.spec
+            .base
+            .variant_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
     }
 
     /// The case with named variant `name` applied.

@@ -24,11 +24,28 @@ pub struct Outcome {
 
 /// The convergence report of a solve: converged, stable, iterations, residual (N),
 /// tolerance (N), energy (J), termination, warm-started, variant.
-pub type Report = (bool, bool, usize, f64, f64, f64, String, bool, Option<String>);
+pub type Report = (
+    bool,
+    bool,
+    usize,
+    f64,
+    f64,
+    f64,
+    String,
+    bool,
+    Option<String>,
+);
 
 /// The numbers of a solve for pickling: the case, the segments, the result document
 /// (JSON), the state, the report and the not-converged warning.
-type SolvedState = (CaseState, Option<usize>, String, StateData, Report, Option<String>);
+type SolvedState = (
+    CaseState,
+    Option<usize>,
+    String,
+    StateData,
+    Report,
+    Option<String>,
+);
 
 /// A solved case (see `strand.Result`).
 #[pyclass(name = "_Solved", module = "strand._strand", frozen)]

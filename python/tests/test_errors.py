@@ -95,3 +95,24 @@ def test_type_errors_are_python_errors():
         case.with_changes({"hose2.length": True})
     with pytest.raises(strand.InputError):
         strand.batch(case, vary={"hose2.length": "+0mm"}, keep="everything")
+
+
+def test_warm_start_from_another_kind_of_case_is_an_input_error():
+    other = strand.Case.load("cases/elastica_fig3.ron").solve()
+    with pytest.raises(strand.InputError) as raised:
+        strand.Case.load(COOLER).solve(warm_start=other)
+    assert "warm_start" in str(raised.value) and "junction" in str(raised.value)
+
+
+def test_a_warm_start_that_did_not_converge_falls_back_with_the_cli_warning(tmp_path):
+    text = (REPO / COOLER).read_text().replace(
+        "units: (length: \"mm\"),", "units: (length: \"mm\"),\n    solver: (max_iterations: 1),", 1)
+    limited = strand.Case.from_str(text, base_dir=REPO / "cases", name="cooler_hose")
+    unconverged = limited.solve()
+    assert not unconverged.converged
+    with pytest.raises(strand.NotConvergedError) as raised:
+        unconverged.check()
+    assert "not converged" in str(raised.value) and raised.value.exit_code == 3
+    with pytest.warns(strand.StrandWarning, match="did not converge"):
+        result = strand.Case.load(COOLER).solve(warm_start=unconverged)
+    assert result.converged and not result.warm_start
