@@ -36,6 +36,16 @@ impl Keep {
     }
 }
 
+/// `--export-unit`: the length unit of the exported geometry (`rods.vtp`, `tubes.obj`,
+/// `tubes.stl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ExportUnitArg {
+    /// Millimetres.
+    Mm,
+    /// Metres.
+    M,
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -57,6 +67,10 @@ pub enum Command {
         /// `--motion engine_roll=4deg` [default output: out/<case name>/<NAME=VALUE>].
         #[arg(long, value_name = "NAME=VALUE", conflicts_with = "variant")]
         motion: Option<String>,
+        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
+        /// `length_unit`, the unit its environment meshes are usually drawn in].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Follow a motion of the case's parts (defined under `motions`) from the case's
     /// pose in both directions, warm-started: DIR/motion.csv, DIR/events.csv,
@@ -106,6 +120,10 @@ pub enum Command {
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
+        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
+        /// `length_unit`, the unit its environment meshes are usually drawn in].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Solve every combination of varied parameters in parallel, warm-started along
     /// each parameter; resumable; DIR/summary.csv, DIR/summary.svg and
@@ -146,6 +164,11 @@ pub enum Command {
         /// Solve variants recorded as failed (failed.json) again instead of skipping them.
         #[arg(long)]
         retry_failed: bool,
+        /// Length unit of each variant's rods.vtp, tubes.obj and tubes.stl (with
+        /// `--keep all`) [default: the case's `length_unit`]; applies to the variants
+        /// solved in this run, like --keep.
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Combine the directories of a sharded batch and write summary.csv and summary.svg.
     Merge {

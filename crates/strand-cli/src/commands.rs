@@ -10,7 +10,7 @@ use strand_report::{ExportUnit, Timing, write_results_in};
 use strand_solve::SolveError;
 
 use crate::Exit;
-use crate::args::Command;
+use crate::args::{Command, ExportUnitArg};
 use crate::summary::summary;
 
 /// A failure with the exit status it maps to: what `strand` prints as
@@ -45,11 +45,13 @@ pub(crate) fn execute(
             segments,
             variant,
             motion: None,
+            export_unit: unit,
         } => solve_case(
             case,
             dir.as_deref(),
             segments.map(|n| n as usize),
             variant.as_deref(),
+            *unit,
             out,
             err,
         ),
@@ -58,12 +60,14 @@ pub(crate) fn execute(
             out: dir,
             segments,
             motion: Some(pose),
+            export_unit: unit,
             ..
         } => crate::motion::solve_pose(
             case,
             pose,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            *unit,
             out,
             err,
         ),
@@ -92,11 +96,13 @@ pub(crate) fn execute(
             variants,
             out: dir,
             segments,
+            export_unit: unit,
         } => crate::study::run(
             case,
             variants,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            *unit,
             out,
             err,
         ),
@@ -111,6 +117,7 @@ pub(crate) fn execute(
             shard,
             segments,
             retry_failed,
+            export_unit: unit,
         } => crate::batch::run(
             &crate::batch::BatchOptions {
                 case,
@@ -123,6 +130,7 @@ pub(crate) fn execute(
                 shard: shard.as_deref(),
                 segments: segments.map(|n| n as usize),
                 retry_failed: *retry_failed,
+                export_unit: *unit,
             },
             out,
             err,
@@ -327,6 +335,7 @@ fn solve_case(
     dir: Option<&Path>,
     segments: Option<usize>,
     variant: Option<&str>,
+    unit: Option<ExportUnitArg>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -368,6 +377,7 @@ fn solve_case(
         timing,
         variant,
         base_iterations,
+        export_unit: unit,
     };
     write_solved(&solved, dir, out, err)
 }
@@ -379,6 +389,8 @@ pub(crate) struct Solved<'a> {
     pub timing: Timing,
     pub variant: Option<&'a str>,
     pub base_iterations: Option<usize>,
+    /// `--export-unit`, if given.
+    pub export_unit: Option<ExportUnitArg>,
 }
 
 /// Writes the results of a solve to `dir` [default out/<case>/<variant>] and prints
@@ -395,6 +407,7 @@ pub(crate) fn write_solved(
         timing,
         variant,
         base_iterations,
+        export_unit: unit_arg,
     } = *solved;
     let doc = crate::library::result_doc(built, solution, timing, variant, base_iterations)?;
     let dir: PathBuf = dir.map(Path::to_path_buf).unwrap_or_else(|| {
@@ -404,10 +417,11 @@ pub(crate) fn write_solved(
             None => dir,
         }
     });
-    let written = write_results_in(&dir, &doc, &export_unit(built)).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: results not written: {e}", built.origin),
-    })?;
+    let written =
+        write_results_in(&dir, &doc, &export_unit(built, unit_arg)).map_err(|e| Failure {
+            exit: Exit::Failure,
+            message: format!("{}: results not written: {e}", built.origin),
+        })?;
     let _ = write!(out, "{}", summary(built, &doc, &written));
     let unit = built.length_unit;
     let _ = write!(
@@ -436,7 +450,12 @@ pub(crate) fn write_solved(
 }
 
 /// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
-/// of `solve`, `study` and `batch`: the case's length unit.
-pub(crate) fn export_unit(built: &BuiltCase) -> ExportUnit {
-    ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol())
+/// of `solve`, `study` and `batch`: `--export-unit` if given, else the case's length
+/// unit.
+pub(crate) fn export_unit(built: &BuiltCase, chosen: Option<ExportUnitArg>) -> ExportUnit {
+    match chosen {
+        Some(ExportUnitArg::Mm) => ExportUnit::new(1e-3, "mm"),
+        Some(ExportUnitArg::M) => ExportUnit::metre(),
+        None => ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol()),
+    }
 }

@@ -23,6 +23,10 @@ pub(crate) fn add_findings(
     for (k, rod) in doc.rods.iter_mut().enumerate() {
         rod.min_bend_radius_m = built.min_bend_radius.get(k).copied().flatten();
         rod.min_clearance_m = built.min_clearance.get(k).copied().flatten();
+        if let Some((section, inner)) = built.sections.get(k) {
+            rod.section = Some(section.clone());
+            rod.inner_radius_m = *inner;
+        }
     }
     doc.provenance = Some(strand_report::Provenance::now(
         &built.origin,
@@ -47,8 +51,7 @@ pub(crate) fn add_findings(
         .copied()
         .fold(None, |a: Option<f64>, c| Some(a.map_or(c, |a| a.max(c))));
     if let Some(required) = required {
-        // 1 % more than required, so that a pair just outside is listed as fine.
-        let search = 1.01 * required + 1e-6;
+        let search = strand_report::clearance_search_m([required]);
         let contact = match built.contact() {
             // The contacts' own search already covers the requirement.
             Some(_) if search <= CLEARANCE_SEARCH_M => None,

@@ -200,6 +200,8 @@ pub fn batch(case: &Case, request: &BatchRequest) -> Result<BatchRun, Failure> {
         shard: None,
         segments: request.segments,
         retry_failed: false,
+        // Only the exported geometry (`--keep all`) depends on it, not the summary.
+        export_unit: None,
     };
     let exit = batch::run_case(
         case,

@@ -20,9 +20,7 @@ use strand_case::{BuiltCase, Case};
 use strand_report::motion::{
     MotionEventRecord, MotionRow, doc_events, envelope_obj, events_csv, motion_csv, motion_svg,
 };
-use strand_report::{
-    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
-};
+use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in};
 
 use crate::Exit;
 use crate::commands::{Failure, add_contacts};
@@ -85,6 +83,7 @@ pub(crate) fn solve_pose(
     pose: &str,
     dir: Option<&Path>,
     segments: Option<usize>,
+    export_unit: Option<crate::args::ExportUnitArg>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -104,6 +103,7 @@ pub(crate) fn solve_pose(
         timing,
         variant: Some(&label),
         base_iterations: None,
+        export_unit,
     };
     crate::commands::write_solved(&solved, dir, out, err)
 }
@@ -184,10 +184,7 @@ pub(crate) fn run(
             let _count = WriteTime(&mut writing_s, writing);
             match step_doc(&step, &label(step.value)) {
                 Ok(doc) => {
-                    let unit = ExportUnit::new(
-                        step.built.length_unit.metres(),
-                        step.built.length_unit.symbol(),
-                    );
+                    let unit = crate::commands::export_unit(&step.built, None);
                     if let Err(e) = write_results_in(&dir.join("steps").join(&id), &doc, &unit) {
                         failure = Some(write_failure(&step.built.origin, e));
                         return;

@@ -79,6 +79,7 @@ pub(crate) fn run(
     names: &[String],
     dir: Option<&Path>,
     segments: Option<usize>,
+    export_unit: Option<crate::args::ExportUnitArg>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -151,8 +152,12 @@ pub(crate) fn run(
         doc.variant = Some(name.clone());
         doc.warm_start = warm;
         doc.base_iterations = warm.then_some(base_solution.report.iterations);
-        write_results_in(&dir.join(name), &doc, &crate::commands::export_unit(built))
-            .map_err(not_written)?;
+        write_results_in(
+            &dir.join(name),
+            &doc,
+            &crate::commands::export_unit(built, export_unit),
+        )
+        .map_err(not_written)?;
         docs.push(doc);
     }
 

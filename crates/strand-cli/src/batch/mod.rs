@@ -75,6 +75,8 @@ pub(crate) struct BatchOptions<'a> {
     pub segments: Option<usize>,
     /// Solve variants with a `failed.json` again.
     pub retry_failed: bool,
+    /// `--export-unit`, if given.
+    pub export_unit: Option<crate::args::ExportUnitArg>,
 }
 
 pub(crate) fn invalid(message: impl Into<String>) -> Failure {
@@ -224,7 +226,7 @@ pub(crate) fn run_case(
                 &doc,
                 state_bytes,
                 keep,
-                &crate::commands::export_unit(&base),
+                &crate::commands::export_unit(&base, options.export_unit),
             )
         })
     };
@@ -323,6 +325,7 @@ pub(crate) fn run_case(
         owned.clone(),
         options.retry_failed,
         options.keep,
+        options.export_unit,
     )
     .map_err(io_failure)?;
     let counts = runner.run(start, jobs).map_err(io_failure)?;

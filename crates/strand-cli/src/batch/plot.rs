@@ -7,26 +7,27 @@
 //! the legend names them only when there are some. Each curve is a
 //! `<path class="curve">` with `data-panel` (`force`, `moment`), `data-rod` and
 //! `data-slice` (the second parameter's value as written, empty with one parameter).
+//! Drawn with the shared [`strand_report::plot`] module (figure, axes, curves, legend).
 use std::fmt::Write;
+
+use strand_report::plot::{
+    Figure, Layout, Legend, LineStyle, close_figure, curve, escape, line_colour, open_figure,
+};
 
 use super::manifest::Manifest;
 use super::summary::{Outcome, peak};
 
-const WIDTH: f64 = 820.0;
-const LEFT: f64 = 84.0;
-const RIGHT: f64 = 640.0;
-const TOP: f64 = 56.0;
-const PANEL: f64 = 220.0;
-const GAP: f64 = 76.0;
-const HEIGHT: f64 = TOP + 2.0 * PANEL + GAP + 60.0;
-const COLOURS: [&str; 7] = strand_report::LINE_COLOURS;
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
+/// Two panels (peak force over peak moment), the legend at the right.
+const LAYOUT: Layout = Layout {
+    width: 820.0,
+    left: 84.0,
+    right: 640.0,
+    legend_x: 660.0,
+    top: 56.0,
+    panel_height: 220.0,
+    gap: 76.0,
+    bottom: 60.0,
+};
 
 /// Axis range `[lo, hi]` padded so that a single value still spans some width.
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -109,13 +110,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
     };
     let (x_lo, x_hi) = range(lines.iter().flatten().map(|(x, _)| *x));
     let (x_step, x0, x1) = strand_report::axis_ticks(x_lo, x_hi);
-    let sx = |x: f64| LEFT + (RIGHT - LEFT) * (x - x0) / (x1 - x0);
     let mut svg = String::new();
-    let _ = writeln!(svg, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
-    let _ = writeln!(
-        svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">"
-    );
     let mut title = format!("{}: peaks against {}", manifest.case, first.label);
     if let Some(p) = second {
         let _ = write!(title, ", one line per {}", p.label);
@@ -126,20 +121,15 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         .skip(2)
         .map(|p| format!("{} = {}", p.label, p.texts[p.anchor]))
         .collect();
-    let _ = writeln!(svg, "<title>{}</title>", escape(&title));
-    let _ = writeln!(
-        svg,
-        "<rect width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>"
-    );
-    let _ = writeln!(
-        svg,
-        "<text x=\"{LEFT}\" y=\"22\" font-size=\"14\" font-weight=\"bold\">{}</text>",
-        escape(&title)
-    );
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(2), &title)
+        .class("summary")
+        .standalone();
+    open_figure(&mut svg, &figure);
     if !fixed.is_empty() {
         let _ = writeln!(
             svg,
-            "<text class=\"fixed\" x=\"{LEFT}\" y=\"40\">other parameters at their values nearest the case: {}</text>",
+            "<text class=\"fixed\" x=\"{}\" y=\"40\">other parameters at their values nearest the case: {}</text>",
+            LAYOUT.left,
             escape(&fixed.join(", "))
         );
     }
@@ -148,8 +138,7 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         .enumerate()
     {
         let force = p == 0;
-        let top = TOP + p as f64 * (PANEL + GAP);
-        let bottom = top + PANEL;
+
         let (_, y_hi) = range(
             lines
                 .iter()
@@ -158,91 +147,25 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
                 .chain([0.0]),
         );
         let (y_step, _, y1) = strand_report::axis_ticks(0.0, y_hi);
-        let sy = |y: f64| bottom - PANEL * y / y1;
-        let _ = writeln!(svg, "<g class=\"axes\">");
-        let _ = writeln!(
-            svg,
-            "<rect x=\"{LEFT}\" y=\"{top}\" width=\"{}\" height=\"{PANEL}\" fill=\"none\" stroke=\"#333333\"/>",
-            RIGHT - LEFT
-        );
-        let x_ticks = ((x1 - x0) / x_step).round() as usize;
-        for i in 0..=x_ticks {
-            let xv = x0 + x_step * i as f64;
-            let _ = writeln!(
-                svg,
-                "<text class=\"x-tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-                sx(xv),
-                bottom + 16.0,
-                strand_report::axis_label(xv, x_step)
-            );
-        }
-        let y_ticks = (y1 / y_step).round() as usize;
-        for i in 0..=y_ticks {
-            let yv = y_step * i as f64;
-            let _ = writeln!(
-                svg,
-                "<line x1=\"{LEFT}\" y1=\"{:.2}\" x2=\"{RIGHT}\" y2=\"{:.2}\" stroke=\"#e3e3e3\"/>",
-                sy(yv),
-                sy(yv)
-            );
-            let _ = writeln!(
-                svg,
-                "<text class=\"y-tick\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>",
-                LEFT - 6.0,
-                sy(yv) + 4.0,
-                strand_report::axis_label(yv, y_step)
-            );
-        }
-        let _ = writeln!(
-            svg,
-            "<text class=\"x-title\" x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>",
-            0.5 * (LEFT + RIGHT),
-            bottom + 36.0,
-            escape(&axis_title(first))
-        );
-        let (cx, cy) = (LEFT - 56.0, top + 0.5 * PANEL);
-        let _ = writeln!(
-            svg,
-            "<text x=\"{cx}\" y=\"{cy}\" text-anchor=\"middle\" transform=\"rotate(-90 {cx} {cy})\">{}</text>",
-            escape(label)
-        );
-        let _ = writeln!(svg, "</g>");
+        let panel = LAYOUT.panel(p, [x0, x1], [0.0, y1]);
+        panel.draw_axes(&mut svg, x_step, y_step, &axis_title(first), label, "");
         let _ = writeln!(svg, "<g class=\"curves\" data-panel=\"{kind}\">");
         for (k, line) in lines.iter().enumerate() {
             let slice = second.map_or(String::new(), |p| p.texts[k].clone());
-            let dash = strand_report::dash_pattern(k)
-                .map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
             for (r, rod) in rods.iter().enumerate() {
-                let mut d = String::new();
-                let mut pen = false;
-                for (x, o) in line {
-                    let y = value(o, rod, force);
-                    if !y.is_finite() {
-                        pen = false;
-                        continue;
-                    }
-                    let _ = write!(
-                        d,
-                        "{}{:.2} {:.2} ",
-                        if pen { "L" } else { "M" },
-                        sx(*x),
-                        sy(y)
-                    );
-                    pen = true;
-                }
-                let _ = writeln!(
-                    svg,
-                    "<path class=\"curve\" data-panel=\"{kind}\" data-rod=\"{}\" data-slice=\"{}\" d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.8\"{dash}/>",
-                    escape(rod),
-                    escape(&slice),
-                    d.trim_end(),
-                    COLOURS[r % COLOURS.len()]
-                );
+                let style = LineStyle {
+                    colour: line_colour(r),
+                    width: 1.8,
+                    dash: strand_report::dash_pattern(k),
+                };
+                let points = line.iter().map(|(x, o)| (*x, value(o, rod, force)));
+                let data = [("panel", *kind), ("rod", *rod), ("slice", slice.as_str())];
+                curve(&mut svg, &panel, &data, &style, points);
             }
         }
         for (x, o) in lines.iter().flatten() {
             if matches!(o, Outcome::Failed(_)) {
-                let (px, py) = (sx(*x), bottom);
+                let (px, py) = (panel.x(*x), panel.bottom());
                 let _ = writeln!(
                     svg,
                     "<path class=\"failed\" d=\"M{:.2} {:.2} L{:.2} {:.2} M{:.2} {:.2} L{:.2} {:.2}\" stroke=\"#cc0000\" stroke-width=\"2\"/>",
@@ -260,50 +183,25 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         let _ = writeln!(svg, "</g>");
     }
     let _ = writeln!(svg, "<g class=\"legend\">");
-    let mut y = TOP + 8.0;
+    let mut legend = Legend::new(LAYOUT.legend_x, LAYOUT.top + 12.0);
     for (r, rod) in rods.iter().enumerate() {
-        let _ = writeln!(
-            svg,
-            "<line x1=\"{}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"{}\" stroke-width=\"3\"/>",
-            RIGHT + 20.0,
-            RIGHT + 48.0,
-            COLOURS[r % COLOURS.len()]
-        );
-        let _ = writeln!(
-            svg,
-            "<text x=\"{}\" y=\"{}\">{}</text>",
-            RIGHT + 56.0,
-            y + 4.0,
-            escape(rod)
-        );
-        y += 20.0;
+        let style = LineStyle {
+            colour: line_colour(r),
+            width: 3.0,
+            dash: None,
+        };
+        legend.line(&mut svg, &style, rod, None);
     }
     if let Some(p) = second {
-        y += 10.0;
-        let _ = writeln!(
-            svg,
-            "<text x=\"{}\" y=\"{y}\">{}:</text>",
-            RIGHT + 20.0,
-            escape(&p.label)
-        );
-        y += 18.0;
+        legend.skip(10.0);
+        legend.heading(&mut svg, &format!("{}:", p.label));
         for (k, text) in p.texts.iter().enumerate() {
-            let dash = strand_report::dash_pattern(k)
-                .map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
-            let _ = writeln!(
-                svg,
-                "<line class=\"slice\" x1=\"{}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#333333\" stroke-width=\"2\"{dash}/>",
-                RIGHT + 20.0,
-                RIGHT + 48.0
-            );
-            let _ = writeln!(
-                svg,
-                "<text x=\"{}\" y=\"{}\">{}</text>",
-                RIGHT + 56.0,
-                y + 4.0,
-                escape(text)
-            );
-            y += 18.0;
+            let style = LineStyle {
+                colour: "#333333",
+                width: 2.0,
+                dash: strand_report::dash_pattern(k),
+            };
+            legend.line(&mut svg, &style, text, Some("slice"));
         }
     }
     if lines
@@ -311,14 +209,10 @@ pub(crate) fn summary_svg(manifest: &Manifest, outcomes: &[Outcome]) -> String {
         .flatten()
         .any(|(_, o)| matches!(o, Outcome::Failed(_)))
     {
-        let _ = writeln!(
-            svg,
-            "<text class=\"failed-key\" x=\"{}\" y=\"{}\" fill=\"#cc0000\">× failed variant</text>",
-            RIGHT + 20.0,
-            y + 10.0
-        );
+        legend.skip(6.0);
+        legend.note(&mut svg, "× failed variant", "#cc0000", "failed-key");
     }
     let _ = writeln!(svg, "</g>");
-    let _ = writeln!(svg, "</svg>");
+    close_figure(&mut svg);
     svg
 }

@@ -116,6 +116,8 @@ pub(crate) struct Runner<'a> {
     pub retry_failed: bool,
     /// Which files a solved variant keeps.
     keep: Keep,
+    /// `--export-unit`, if given.
+    export_unit: Option<crate::args::ExportUnitArg>,
     progress: ProgressBar,
     computed: AtomicUsize,
     skipped: AtomicUsize,
@@ -165,6 +167,7 @@ impl<'a> Runner<'a> {
         owned: Vec<bool>,
         retry_failed: bool,
         keep: Keep,
+        export_unit: Option<crate::args::ExportUnitArg>,
     ) -> Result<Self, String> {
         let needed = plan.needed(&owned);
         let total = owned.iter().filter(|o| **o).count();
@@ -205,6 +208,7 @@ impl<'a> Runner<'a> {
             damage: Mutex::new(damage),
             retry_failed,
             keep,
+            export_unit,
             progress: progress_bar(total),
             computed: AtomicUsize::new(0),
             skipped: AtomicUsize::new(0),
@@ -449,9 +453,13 @@ impl<'a> Runner<'a> {
                 write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
             })
             .and_then(|()| match self.keep {
-                Keep::All => write_results_in(dir, &doc, &crate::commands::export_unit(built))
-                    .map(|_| ())
-                    .map_err(|e| e.to_string()),
+                Keep::All => write_results_in(
+                    dir,
+                    &doc,
+                    &crate::commands::export_unit(built, self.export_unit),
+                )
+                .map(|_| ())
+                .map_err(|e| e.to_string()),
                 // The same bytes `write_results_in` writes, without the other files.
                 Keep::Results | Keep::Summary => serde_json::to_vec_pretty(&doc)
                     .map_err(|e| e.to_string())

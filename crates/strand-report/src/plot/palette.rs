@@ -1,4 +1,4 @@
-//! The line colours of every plot (study, batch summary, report plots): the
+//! The colours of every plot. Lines (study, batch summary, motion, report plots): the
 //! Okabe–Ito palette for colour-blind viewers, without its yellow (too faint on white).
 //! Every pair stays distinguishable under deuteranopia: the tests simulate it
 //! (Machado, Oliveira & Fernandes 2009, severity 1, on linear sRGB) and require a CIE
@@ -26,6 +26,38 @@ pub fn dash_pattern(k: usize) -> Option<&'static str> {
 /// The colour of line `k` (cyclic).
 pub fn line_colour(k: usize) -> &'static str {
     LINE_COLOURS[k % LINE_COLOURS.len()]
+}
+
+/// The ` stroke-dasharray="…"` attribute of `dash` (empty for a solid line).
+pub fn dash_attribute(dash: Option<&str>) -> String {
+    dash.map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""))
+}
+
+/// Colour of contact markers and force arrows (Okabe–Ito vermillion), in the plots and
+/// the views.
+pub const CONTACT_COLOUR: &str = "#d55e00";
+
+/// Viridis at five stops (sRGB 0–255), interpolated linearly: the scale of lines
+/// coloured by a quantity (perceptually ordered, readable in grey and under
+/// colour-vision deficiencies).
+pub const VIRIDIS: [[f64; 3]; 5] = [
+    [68.0, 1.0, 84.0],
+    [59.0, 82.0, 139.0],
+    [33.0, 145.0, 140.0],
+    [94.0, 201.0, 98.0],
+    [253.0, 231.0, 37.0],
+];
+
+/// The viridis colour of `t` in [0, 1] (clamped; NaN is magenta) as `#rrggbb`.
+pub fn viridis(t: f64) -> String {
+    if t.is_nan() {
+        return "#ff00ff".into();
+    }
+    let x = t.clamp(0.0, 1.0) * (VIRIDIS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = x - i as f64;
+    let c = [0, 1, 2].map(|k| (VIRIDIS[i][k] + f * (VIRIDIS[i + 1][k] - VIRIDIS[i][k])).round());
+    format!("#{:02x}{:02x}{:02x}", c[0] as u8, c[1] as u8, c[2] as u8)
 }
 
 #[cfg(test)]
