@@ -1,7 +1,7 @@
 """Type hints of the Python package ``strand`` (units in every name: m, N, N·m, J, s)."""
 
 import os
-from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union, overload
+from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -100,18 +100,6 @@ class Case:
     def sensitivity(self, params: Sequence[str]) -> Dict[str, Any]:
         """``sensitivity.json``: derivatives per unit of each parameter."""
 
-@overload
-def batch(
-    case: Case,
-    vary: Mapping[str, Union[Value, Iterable[Value]]],
-    jobs: Optional[int] = ...,
-    segments: Optional[int] = ...,
-    out: Optional[PathLike] = ...,
-    keep: Literal["summary", "results", "all"] = ...,
-    *,
-    as_frame: Literal[False],
-) -> List[Dict[str, Any]]: ...
-@overload
 def batch(
     case: Case,
     vary: Mapping[str, Union[Value, Iterable[Value]]],
@@ -121,7 +109,7 @@ def batch(
     keep: Literal["summary", "results", "all"] = ...,
     as_frame: Optional[bool] = ...,
 ) -> Any:
-    """The summary of ``strand batch``: a pandas DataFrame if pandas is installed, else
-    a list of dicts (one per variant)."""
+    """The summary of ``strand batch``: a pandas DataFrame if pandas is installed (and
+    ``as_frame`` is not False), else a list of dicts (one per variant)."""
 
 def parse_summary(text: str) -> List[Dict[str, Any]]: ...

@@ -31,6 +31,11 @@ def _with_arrays(entry: Dict[str, Any]) -> Dict[str, Any]:
     return {k: _array_or_value(v) for k, v in entry.items()}
 
 
+def _reported(index: int, doc: str) -> property:
+    """A read-only attribute: entry ``index`` of the solve's convergence report."""
+    return property(lambda self: self._report[index], doc=doc)
+
+
 class Result:
     """The equilibrium of a case: convergence report, per rod sectional quantities
     (numpy arrays), reactions, contacts, clearances and findings, exactly as the
@@ -53,51 +58,18 @@ class Result:
             self._doc = json.loads(self._solved.json())
         return self._doc
 
-    # The convergence report.
-    @property
-    def converged(self) -> bool:
-        """Whether the solve converged (``residual_N`` at most ``tolerance_N``)."""
-        return self._report[0]
-
-    @property
-    def residual_N(self) -> float:
-        """The final residual (KKT, in force units), N."""
-        return self._report[3]
-
-    @property
-    def tolerance_N(self) -> float:
-        """The convergence tolerance, N."""
-        return self._report[4]
-
-    @property
-    def stable(self) -> bool:
-        """Whether the equilibrium is stable (reduced Hessian positive definite)."""
-        return self._report[1]
-
-    @property
-    def iterations(self) -> int:
-        """Newton iterations, all levels and fallbacks included."""
-        return self._report[2]
-
-    @property
-    def termination(self) -> str:
-        """Why the solve stopped (``converged``, ``max_iterations``, ``stagnated``, …)."""
-        return self._report[6]
-
-    @property
-    def energy_J(self) -> float:
-        """Total potential energy at the equilibrium, J."""
-        return self._report[5]
-
-    @property
-    def warm_start(self) -> bool:
-        """Whether the solve started from another solution."""
-        return self._report[7]
-
-    @property
-    def variant(self) -> Optional[str]:
-        """The variant and changes solved (``None``: the case as read)."""
-        return self._report[8]
+    # The convergence report (typed values kept by the solve; no JSON needed).
+    converged = _reported(0, "Whether the solve converged (``residual_N`` at most ``tolerance_N``).")
+    stable = _reported(1, "Whether the equilibrium is stable (reduced Hessian positive definite).")
+    iterations = _reported(2, "Newton iterations, all levels and fallbacks included.")
+    residual_N = _reported(3, "The final residual (KKT, in force units), N.")
+    tolerance_N = _reported(4, "The convergence tolerance, N.")
+    energy_J = _reported(5, "Total potential energy at the equilibrium, J.")
+    termination = _reported(
+        6, "Why the solve stopped (``converged``, ``max_iterations``, ``stagnated``, …)."
+    )
+    warm_start = _reported(7, "Whether the solve started from another solution.")
+    variant = _reported(8, "The variant and changes solved (``None``: the case as read).")
 
     @property
     def timing_s(self) -> Dict[str, float]:
