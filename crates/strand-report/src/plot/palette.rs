@@ -15,8 +15,26 @@ pub const LINE_COLOURS: [&str; 7] = [
 pub const MIN_DEUTERANOPIA_DELTA_E: f64 = 15.0;
 
 /// Dash patterns (`stroke-dasharray`) that tell apart lines of one colour (variants,
-/// slices of a grid), after the first, solid one; reused cyclically.
-pub const DASH_PATTERNS: [&str; 5] = ["8 5", "2 4", "12 4 2 4", "4 4", "16 6"];
+/// slices of a grid), after the first, solid one: sixteen lines of one colour are all
+/// different (a study of eleven variants used to repeat its dashes from the seventh);
+/// reused cyclically beyond.
+pub const DASH_PATTERNS: [&str; 15] = [
+    "8 5",
+    "2 4",
+    "12 4 2 4",
+    "4 4",
+    "16 6",
+    "12 4 2 4 2 4",
+    "1 3",
+    "20 4 4 4",
+    "6 2",
+    "10 3 2 3 2 3 2 3",
+    "3 6",
+    "24 6 2 6",
+    "8 3 8 8",
+    "14 3 3 3 3 3",
+    "5 10",
+];
 
 /// The dash pattern of line `k` of one colour: `None` (solid) for the first.
 pub fn dash_pattern(k: usize) -> Option<&'static str> {
@@ -63,6 +81,18 @@ pub fn viridis(t: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sixteen_lines_of_one_colour_have_sixteen_different_dashes() {
+        let dashes: Vec<Option<&str>> = (0..16).map(dash_pattern).collect();
+        for (i, a) in dashes.iter().enumerate() {
+            for b in &dashes[i + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        assert_eq!(dash_pattern(0), None);
+        assert_eq!(dash_pattern(16), dash_pattern(1));
+    }
 
     /// `#rrggbb` as linear sRGB in [0, 1].
     fn linear(hex: &str) -> [f64; 3] {
