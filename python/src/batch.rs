@@ -1,11 +1,12 @@
 //! `strand._strand._batch`: `strand batch` of a case into a directory, through
-//! [`strand_cli::library::batch`] (the CLI's runner, warm-start tree and summary). The
-//! whole binding of the batch engine is this file.
+//! [`strand_study::batch::Batch`] (the CLI's engine: runner, warm-start tree and
+//! summary). The whole binding of the batch engine is this file.
 
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
-use strand_cli::library::{self, BatchRequest, Keep};
+use strand_study::StudyError;
+use strand_study::batch::{Batch, BatchSpec, Keep};
 
 use crate::case::PyCase;
 use crate::errors::{Stage, raise, to_py};
@@ -35,16 +36,23 @@ pub fn batch(
             ));
         }
     };
-    let request = BatchRequest {
-        vary: &vary,
-        out: &out,
+    let current = &case.spec.current;
+    // `strand batch --yes` (no confirmation prompt in a library); the exported
+    // geometry of `--keep all` in the case's unit (no `--export-unit`).
+    let spec = BatchSpec {
+        vary,
         jobs,
         segments,
         keep,
+        yes: true,
+        ..BatchSpec::new(&current.origin, &out)
     };
-    let current = &case.spec.current;
-    let run = py
-        .detach(|| library::batch(current, &request))
-        .map_err(|f| to_py(f, Stage::Files))?;
-    Ok((run.summary_csv, run.all_solved))
+    py.detach(|| {
+        let report = Batch::plan_case(current.clone(), spec)?.run(&|_| {})?;
+        let path = out.join("summary.csv");
+        let summary_csv = std::fs::read_to_string(&path)
+            .map_err(|e| StudyError::Io(format!("cannot read {}: {e}", path.display())))?;
+        Ok((summary_csv, report.failures.is_empty()))
+    })
+    .map_err(|e| to_py(e, Stage::Files))
 }

@@ -12,8 +12,11 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use strand_case::schema::VariantChange;
 use strand_case::{BuiltCase, Case};
-use strand_cli::library::{self, Failure};
 use strand_report::Timing;
+use strand_study::StudyError;
+use strand_study::change::parse_change;
+use strand_study::limits::check_case;
+use strand_study::solve::{check_start, cold_start_warning, result_doc, solve_cold, solve_warm};
 
 use crate::errors::{Stage, case_error, to_py};
 use crate::solved::{Outcome, Solved};
@@ -39,11 +42,11 @@ pub struct CaseSpec {
 }
 
 impl CaseSpec {
-    fn new(text: String, mut base: Case, name: Option<String>) -> Result<Self, Failure> {
+    fn new(text: String, mut base: Case, name: Option<String>) -> Result<Self, StudyError> {
         if let Some(name) = name {
             base.name = name;
         }
-        library::check_case(&base)?;
+        check_case(&base)?;
         Ok(Self {
             text,
             start: base.clone(),
@@ -70,15 +73,12 @@ impl CaseSpec {
         (!parts.is_empty()).then(|| parts.join(", "))
     }
 
-    fn with_variant(&self, name: &str) -> Result<Self, Failure> {
+    fn with_variant(&self, name: &str) -> Result<Self, StudyError> {
         if self.variant.is_some() || !self.changes.is_empty() {
-            return Err(Failure {
-                exit: strand_cli::Exit::InvalidInput,
-                message: format!(
-                    "{}: variant '{name}': apply a named variant to the case as read, before any other variant or change",
-                    self.base.origin
-                ),
-            });
+            return Err(StudyError::Input(format!(
+                "{}: variant '{name}': apply a named variant to the case as read, before any other variant or change",
+                self.base.origin
+            )));
         }
         let file = self.base.variant_file(name)?;
         let start = Case {
@@ -97,11 +97,11 @@ impl CaseSpec {
 
     /// Parses every change against the case as changed so far (so that a second
     /// change of one item starts from the first) and applies it.
-    fn with_changes(&self, texts: &[String]) -> Result<Self, Failure> {
+    fn with_changes(&self, texts: &[String]) -> Result<Self, StudyError> {
         let mut changes = self.changes.clone();
         let mut current = self.current.clone();
         for text in texts {
-            let change = library::parse_change(&current, text)?;
+            let change = parse_change(&current, text)?;
             current = current.with_changes(text, std::slice::from_ref(&change))?;
             changes.push((text.clone(), change));
         }
@@ -117,7 +117,7 @@ impl CaseSpec {
 
     /// Validates and builds the model, as `strand solve` (`--variant`) and `strand
     /// batch` do: errors name the variant or the changes.
-    pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, Failure> {
+    pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, StudyError> {
         Ok(match (&self.variant, self.changes.is_empty()) {
             (None, true) => self.base.build(segments)?,
             (Some(name), true) => self.base.build_variant(name, segments)?,
@@ -141,7 +141,7 @@ impl CaseSpec {
     }
 
     /// The case of `state`, read and changed again.
-    pub fn from_state(state: &CaseState) -> Result<Self, Failure> {
+    pub fn from_state(state: &CaseState) -> Result<Self, StudyError> {
         let (text, origin, name, variant, changes) = state;
         let base = Case::from_str(text, origin)?;
         let mut spec = Self::new(text.clone(), base, Some(name.clone()))?;
@@ -161,7 +161,7 @@ impl CaseSpec {
         self: &Arc<Self>,
         warm: Option<&Solved>,
         segments: Option<usize>,
-    ) -> Result<Outcome, Failure> {
+    ) -> Result<Outcome, StudyError> {
         let started = Instant::now();
         let built = self.build(segments)?;
         let build_s = started.elapsed().as_secs_f64();
@@ -171,19 +171,19 @@ impl CaseSpec {
             Some(base) if base.converged() => {
                 let base_built = base.built()?;
                 fits(&base_built, &built)?;
-                let solution = library::solve_warm(&base_built, &base.state, &built)?;
+                let solution = solve_warm(&base_built, &base.state, &built)?;
                 (solution, Some(base.iterations()))
             }
             Some(base) => {
-                warning = Some(library::cold_start_warning(
+                warning = Some(cold_start_warning(
                     &base.case.base.origin,
+                    label.as_deref().unwrap_or(&self.base.name),
                     base.residual_n(),
                     base.iterations(),
-                    label.as_deref().unwrap_or(&self.base.name),
                 ));
-                (library::solve_cold(&built)?, None)
+                (solve_cold(&built)?, None)
             }
-            None => (library::solve_cold(&built)?, None),
+            None => (solve_cold(&built)?, None),
         };
         let timing = Timing {
             read: 0.0,
@@ -192,8 +192,7 @@ impl CaseSpec {
             post: 0.0,
             total: started.elapsed().as_secs_f64(),
         };
-        let mut doc =
-            library::result_doc(&built, &solution, timing, label.as_deref(), base_iterations)?;
+        let mut doc = result_doc(&built, &solution, timing, label.as_deref(), base_iterations)?;
         doc.timing_s.total = started.elapsed().as_secs_f64();
         Ok(Outcome {
             solved: Solved::new(Arc::clone(self), segments, doc, solution.state, built),
@@ -204,23 +203,20 @@ impl CaseSpec {
 
 /// A warm start carries rods over by name and everything else (junction poses, clip
 /// joints) as it is: `base` must have the junctions and clips of `built`.
-fn fits(base: &BuiltCase, built: &BuiltCase) -> Result<(), Failure> {
+fn fits(base: &BuiltCase, built: &BuiltCase) -> Result<(), StudyError> {
     let (from, to) = (base.model.system(), built.model.system());
     if from.bodies.len() == to.bodies.len() && from.clips.len() == to.clips.len() {
         return Ok(());
     }
-    Err(Failure {
-        exit: strand_cli::Exit::InvalidInput,
-        message: format!(
-            "{}: warm_start: the result is of {} with {} junction(s) and {} clip(s), this case has {} and {} (hint: warm-start from a result of this case or of a variant of it)",
-            built.origin,
-            base.origin,
-            from.bodies.len(),
-            from.clips.len(),
-            to.bodies.len(),
-            to.clips.len()
-        ),
-    })
+    Err(StudyError::Input(format!(
+        "{}: warm_start: the result is of {} with {} junction(s) and {} clip(s), this case has {} and {} (hint: warm-start from a result of this case or of a variant of it)",
+        built.origin,
+        base.origin,
+        from.bodies.len(),
+        from.clips.len(),
+        to.bodies.len(),
+        to.clips.len()
+    )))
 }
 
 /// A case (see `strand.Case`).
@@ -229,11 +225,11 @@ pub struct PyCase {
     pub spec: Arc<CaseSpec>,
 }
 
-fn solve_error(f: Failure) -> PyErr {
+fn solve_error(f: StudyError) -> PyErr {
     to_py(f, Stage::Solve)
 }
 
-fn wrap(spec: Result<CaseSpec, Failure>) -> PyResult<PyCase> {
+fn wrap(spec: Result<CaseSpec, StudyError>) -> PyResult<PyCase> {
     Ok(PyCase {
         spec: Arc::new(spec.map_err(solve_error)?),
     })
@@ -313,7 +309,7 @@ impl PyCase {
     #[pyo3(signature = (segments=None))]
     fn check(&self, py: Python<'_>, segments: Option<usize>) -> PyResult<()> {
         let spec = &self.spec;
-        py.detach(|| library::check_start(&spec.build(segments)?))
+        py.detach(|| check_start(&spec.build(segments)?))
             .map_err(solve_error)
     }
 
@@ -337,7 +333,7 @@ impl PyCase {
     fn sensitivity(&self, py: Python<'_>, params: Vec<String>) -> PyResult<String> {
         let case = &self.spec.current;
         let doc = py
-            .detach(|| library::sensitivity(case, &params))
+            .detach(|| strand_study::sensitivity::solve_and_differentiate(case, &params))
             .map_err(solve_error)?;
         serde_json::to_string(&doc).map_err(|e| crate::errors::raise("StrandError", e.to_string()))
     }

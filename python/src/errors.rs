@@ -1,13 +1,12 @@
-//! `strand-cli` failures as the Python exceptions of `strand._errors`: the exit status
-//! of the failure chooses the class, the message is the one `strand` prints after
-//! `error: `.
+//! `strand-study` errors as the Python exceptions of `strand._errors`: the error's
+//! kind (the exit status of `strand`) chooses the class, the message is the one
+//! `strand` prints after `error: `.
 
 use pyo3::prelude::*;
 use strand_case::CaseError;
-use strand_cli::Exit;
-use strand_cli::library::Failure;
+use strand_study::{ErrorKind, StudyError};
 
-/// Which exception an exit status 1 means where it happens.
+/// Which exception an I/O-kind error (exit status 1) means where it happens.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     /// A solve: status 1 means the solver could not start (`SolveError`).
@@ -16,15 +15,15 @@ pub enum Stage {
     Files,
 }
 
-/// The Python exception of `failure`.
-pub fn to_py(failure: Failure, stage: Stage) -> PyErr {
-    let class = match (failure.exit, stage) {
-        (Exit::InvalidInput, _) => "InputError",
-        (Exit::NotConverged, _) => "NotConvergedError",
-        (Exit::Failure, Stage::Solve) => "SolveError",
-        (Exit::Failure, Stage::Files) | (Exit::Success, _) => "StrandError",
+/// The Python exception of `error`.
+pub fn to_py(error: StudyError, stage: Stage) -> PyErr {
+    let class = match (error.kind(), stage) {
+        (ErrorKind::Input, _) => "InputError",
+        (ErrorKind::NotConverged, _) => "NotConvergedError",
+        (ErrorKind::Io, Stage::Solve) => "SolveError",
+        (ErrorKind::Io, Stage::Files) => "StrandError",
     };
-    raise(class, failure.message)
+    raise(class, error.to_string())
 }
 
 /// An input error of strand-case (exit status 2).

@@ -6,8 +6,9 @@ use std::sync::{Arc, OnceLock};
 
 use pyo3::prelude::*;
 use strand_case::BuiltCase;
-use strand_cli::library::{self, Failure};
 use strand_report::ResultDoc;
+use strand_study::StudyError;
+use strand_study::solve::not_converged;
 use strand_system::SystemState;
 
 use crate::case::{CaseSpec, CaseState};
@@ -91,7 +92,7 @@ impl Solved {
         Self {
             case,
             segments,
-            not_converged: library::not_converged(&built.origin, doc.variant.as_deref(), &doc),
+            not_converged: not_converged(&built.origin, doc.variant.as_deref(), &doc),
             doc: Some(Box::new(doc)),
             json: OnceLock::new(),
             state,
@@ -116,7 +117,7 @@ impl Solved {
     }
 
     /// The built case whose state this is (a warm start carries it onto another).
-    pub fn built(&self) -> Result<Arc<BuiltCase>, Failure> {
+    pub fn built(&self) -> Result<Arc<BuiltCase>, StudyError> {
         if let Some(built) = self.built.get() {
             return Ok(Arc::clone(built));
         }

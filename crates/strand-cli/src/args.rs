@@ -25,13 +25,12 @@ pub enum Keep {
     All,
 }
 
-impl Keep {
-    /// The option value as written.
-    pub fn name(self) -> &'static str {
-        match self {
-            Keep::Summary => "summary",
-            Keep::Results => "results",
-            Keep::All => "all",
+impl From<Keep> for strand_study::batch::Keep {
+    fn from(keep: Keep) -> Self {
+        match keep {
+            Keep::Summary => Self::Summary,
+            Keep::Results => Self::Results,
+            Keep::All => Self::All,
         }
     }
 }
@@ -44,6 +43,16 @@ pub enum ExportUnitArg {
     Mm,
     /// Metres.
     M,
+}
+
+impl ExportUnitArg {
+    /// The unit of the exported geometry.
+    pub fn unit(self) -> strand_report::ExportUnit {
+        match self {
+            Self::Mm => strand_report::ExportUnit::new(1e-3, "mm"),
+            Self::M => strand_report::ExportUnit::metre(),
+        }
+    }
 }
 
 /// The subcommands.

@@ -6,21 +6,18 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strand_case::{BuiltCase, Case, CaseError};
-use strand_report::{ExportUnit, Timing, write_results_in};
-use strand_solve::SolveError;
+use strand_report::{ExportUnit, Timing};
+use strand_solve::Solution;
+use strand_study::{ErrorKind, StudyError};
 
 use crate::Exit;
 use crate::args::{Command, ExportUnitArg};
 use crate::summary::summary;
 
-/// A failure with the exit status it maps to: what `strand` prints as
-/// `error: <message>` before exiting with `exit`.
+/// A failure with the exit status it maps to.
 #[derive(Debug)]
-pub struct Failure {
-    /// The exit status (2: invalid input, 1: the solver could not start or an I/O
-    /// error, 3: not converged).
+pub(crate) struct Failure {
     pub exit: Exit,
-    /// The message, naming the case file (and `line:column`, item and a hint).
     pub message: String,
 }
 
@@ -31,6 +28,25 @@ impl From<CaseError> for Failure {
             message: e.to_string(),
         }
     }
+}
+
+impl From<StudyError> for Failure {
+    fn from(e: StudyError) -> Self {
+        Failure {
+            exit: match e.kind() {
+                ErrorKind::Input => Exit::InvalidInput,
+                ErrorKind::Io => Exit::Failure,
+                ErrorKind::NotConverged => Exit::NotConverged,
+            },
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Solves `built` cold ([`strand_study::solve::solve_cold`]) with the progress line.
+pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
+    let _progress = crate::progress::Progress::start(&built.origin);
+    Ok(strand_study::solve::solve_cold(built)?)
 }
 
 pub(crate) fn execute(
@@ -51,7 +67,7 @@ pub(crate) fn execute(
             dir.as_deref(),
             segments.map(|n| n as usize),
             variant.as_deref(),
-            *unit,
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -67,7 +83,7 @@ pub(crate) fn execute(
             pose,
             dir.as_deref(),
             segments.map(|n| n as usize),
-            *unit,
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -102,7 +118,7 @@ pub(crate) fn execute(
             variants,
             dir.as_deref(),
             segments.map(|n| n as usize),
-            *unit,
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -119,25 +135,23 @@ pub(crate) fn execute(
             retry_failed,
             export_unit: unit,
         } => crate::batch::run(
-            &crate::batch::BatchOptions {
-                case,
-                vary,
-                out: dir,
+            strand_study::batch::BatchSpec {
+                case: case.clone(),
+                vary: vary.clone(),
+                out: dir.clone(),
                 jobs: *jobs,
                 force_jobs: *force_jobs,
                 yes: *yes,
-                keep: *keep,
-                shard: shard.as_deref(),
+                keep: (*keep).into(),
+                shard: shard.clone(),
                 segments: segments.map(|n| n as usize),
                 retry_failed: *retry_failed,
-                export_unit: *unit,
+                export_unit: unit.map(ExportUnitArg::unit),
             },
             out,
             err,
         ),
-        Command::Merge { dirs, out: dir } => {
-            crate::batch::merge::run(dirs, dir.as_deref(), out, err)
-        }
+        Command::Merge { dirs, out: dir } => crate::batch::merge(dirs, dir.as_deref(), out, err),
         Command::Report {
             dirs,
             out: file,
@@ -227,7 +241,7 @@ fn bench_grid(cases: usize, out: &mut dyn Write) -> Exit {
 fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let read = started.elapsed().as_secs_f64();
     let built = case.build(segments)?;
     let total = started.elapsed().as_secs_f64();
@@ -244,18 +258,18 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let built = case.build(segments)?;
     // Every hose must start clear of the environment and of each other, as `solve`
     // requires.
-    crate::library::check_start(&built)?;
+    strand_study::solve::check_start(&built)?;
     // Every variant must build and start clear too.
     let variants = case.variant_names();
     for name in &variants {
         let variant = case.build_variant(name, segments)?;
         variant
             .check_start()
-            .map_err(|e| solver_failure(&format!("{} (variant '{name}')", built.origin), e))?;
+            .map_err(|e| StudyError::solver(&format!("{} (variant '{name}')", built.origin), e))?;
     }
     let system = built.model.system();
     let segments: usize = system.rods.iter().map(|r| r.rod.segments()).sum();
@@ -291,51 +305,12 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     Ok(Exit::Success)
 }
 
-/// Contacts, clearances and the environment meshes' diagnostics and outlines (near
-/// the hoses) of `solution` into `doc`, then the case's limits and the findings
-/// against them ([`crate::findings::add_findings`]).
-pub(crate) fn add_contacts(
-    doc: &mut strand_report::ResultDoc,
-    built: &BuiltCase,
-    solution: &strand_solve::Solution,
-) -> Result<(), Failure> {
-    strand_report::collect_environment(doc, &built.environment);
-    strand_report::collect_outlines(doc, &built.environment);
-    if let Some(contact) = built.contact() {
-        strand_report::collect_contacts(doc, &built.model, solution, &contact).map_err(|e| {
-            Failure {
-                exit: Exit::Failure,
-                message: format!("{}: contacts: {e}", built.origin),
-            }
-        })?;
-    }
-    crate::findings::add_findings(doc, built, solution)
-}
-
-/// The failure of a solve that could not start.
-pub(crate) fn solver_failure(origin: &str, e: SolveError) -> Failure {
-    match e {
-        SolveError::StartsInside(_) => Failure {
-            exit: Exit::InvalidInput,
-            message: format!("{origin}: {e}"),
-        },
-        SolveError::Settings(_) => Failure {
-            exit: Exit::InvalidInput,
-            message: format!("{origin}: solver: {e}"),
-        },
-        _ => Failure {
-            exit: Exit::Failure,
-            message: format!("{origin}: the solver could not start: {e}"),
-        },
-    }
-}
-
 fn solve_case(
     path: &Path,
     dir: Option<&Path>,
     segments: Option<usize>,
     variant: Option<&str>,
-    unit: Option<ExportUnitArg>,
+    export_unit: Option<ExportUnit>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -343,17 +318,17 @@ fn solve_case(
     let (built, solution, mut timing, base_iterations) = match variant {
         None => {
             let (built, timing) = load(path, segments)?;
-            let solution = crate::study::solve_cold(&built)?;
+            let solution = solve_cold(&built)?;
             (built, solution, timing, None)
         }
         Some(name) => {
             let case = Case::from_path(path)?;
-            crate::limits::check_case(&case)?;
+            strand_study::limits::check_case(&case)?;
             let read = started.elapsed().as_secs_f64();
             let base = case.build(segments)?;
             let built = case.build_variant(name, segments)?;
             let build = started.elapsed().as_secs_f64() - read;
-            let base_solution = crate::study::solve_cold(&base)?;
+            let base_solution = solve_cold(&base)?;
             let (solution, warm) =
                 crate::study::solve_variant(&base, &base_solution, &built, name, err)?;
             let timing = Timing {
@@ -377,7 +352,7 @@ fn solve_case(
         timing,
         variant,
         base_iterations,
-        export_unit: unit,
+        export_unit,
     };
     write_solved(&solved, dir, out, err)
 }
@@ -389,8 +364,8 @@ pub(crate) struct Solved<'a> {
     pub timing: Timing,
     pub variant: Option<&'a str>,
     pub base_iterations: Option<usize>,
-    /// `--export-unit`, if given.
-    pub export_unit: Option<ExportUnitArg>,
+    /// `--export-unit`, if given (default: the case's length unit).
+    pub export_unit: Option<ExportUnit>,
 }
 
 /// Writes the results of a solve to `dir` [default out/<case>/<variant>] and prints
@@ -407,9 +382,9 @@ pub(crate) fn write_solved(
         timing,
         variant,
         base_iterations,
-        export_unit: unit_arg,
+        ref export_unit,
     } = *solved;
-    let doc = crate::library::result_doc(built, solution, timing, variant, base_iterations)?;
+    let doc = strand_study::solve::result_doc(built, solution, timing, variant, base_iterations)?;
     let dir: PathBuf = dir.map(Path::to_path_buf).unwrap_or_else(|| {
         let dir = Path::new("out").join(&built.name);
         match variant {
@@ -417,11 +392,7 @@ pub(crate) fn write_solved(
             None => dir,
         }
     });
-    let written =
-        write_results_in(&dir, &doc, &export_unit(built, unit_arg)).map_err(|e| Failure {
-            exit: Exit::Failure,
-            message: format!("{}: results not written: {e}", built.origin),
-        })?;
+    let written = strand_study::solve::write_result(&dir, &doc, built, export_unit.as_ref())?;
     let _ = write!(out, "{}", summary(built, &doc, &written));
     let unit = built.length_unit;
     let _ = write!(
@@ -437,7 +408,7 @@ pub(crate) fn write_solved(
             doc.findings.len()
         );
     }
-    match crate::library::not_converged(&built.origin, variant, &doc) {
+    match strand_study::solve::not_converged(&built.origin, variant, &doc) {
         None => Ok(Exit::Success),
         Some(message) => {
             let _ = writeln!(
@@ -446,16 +417,5 @@ pub(crate) fn write_solved(
             );
             Ok(Exit::NotConverged)
         }
-    }
-}
-
-/// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
-/// of `solve`, `study` and `batch`: `--export-unit` if given, else the case's length
-/// unit.
-pub(crate) fn export_unit(built: &BuiltCase, chosen: Option<ExportUnitArg>) -> ExportUnit {
-    match chosen {
-        Some(ExportUnitArg::Mm) => ExportUnit::new(1e-3, "mm"),
-        Some(ExportUnitArg::M) => ExportUnit::metre(),
-        None => ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol()),
     }
 }

@@ -184,3 +184,70 @@ fn shards_cover_every_variant_once_and_include_their_ancestors() {
     }
     assert!(plan.owned(None).iter().all(|o| *o));
 }
+
+/// The progress callback hears of every owned variant exactly once, with running
+/// counts, and a resumed run reports the same variants as skipped; a variant whose
+/// changed case does not build is a failure in the report, not an error.
+#[test]
+fn progress_reports_each_variant_once_and_resume_skips_them() {
+    use std::sync::Mutex;
+
+    use super::{Batch, BatchSpec, Progress};
+
+    let case =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases/elastica_fig2.ron");
+    let dir = tempfile::tempdir().unwrap();
+    // -900 mm leaves the rod shorter than the distance between its held ends.
+    let spec = BatchSpec {
+        vary: vec!["rod.length=+0mm,+10mm,-900mm".into()],
+        segments: Some(6),
+        jobs: Some(2),
+        ..BatchSpec::new(&case, dir.path())
+    };
+    let run = |spec: &BatchSpec| {
+        let heard = Mutex::new(Vec::<Progress>::new());
+        let report = Batch::plan(spec.clone())
+            .unwrap()
+            .run(&|p| heard.lock().unwrap().push(p))
+            .unwrap();
+        (report, heard.into_inner().unwrap())
+    };
+    let (report, heard) = run(&spec);
+    assert_eq!(
+        (
+            report.counts.computed,
+            report.counts.skipped,
+            report.counts.failed
+        ),
+        (3, 0, 1)
+    );
+    let mut done: Vec<usize> = heard.iter().map(|p| p.done).collect();
+    done.sort_unstable();
+    assert_eq!(done, [1, 2, 3]);
+    assert!(heard.iter().all(|p| p.total == 3));
+    let mut ids: Vec<&str> = heard.iter().map(|p| p.id.as_str()).collect();
+    ids.sort_unstable();
+    assert_eq!(
+        ids,
+        ["rod.length_m900mm", "rod.length_p0mm", "rod.length_p10mm"]
+    );
+    let failed: Vec<&Progress> = heard.iter().filter(|p| p.failed_now).collect();
+    assert_eq!(failed.len(), 1);
+    assert_eq!(failed[0].id, "rod.length_m900mm");
+    assert_eq!(heard.iter().map(|p| p.failed).max(), Some(1));
+    assert_eq!(report.failures.len(), 1);
+    assert_eq!(report.failures[0].stage, "build");
+    assert!(report.summary.is_some());
+    // Resumed: nothing solved again, every variant heard of once more.
+    let (again, heard) = run(&spec);
+    assert_eq!(
+        (
+            again.counts.computed,
+            again.counts.skipped,
+            again.counts.failed
+        ),
+        (0, 3, 1)
+    );
+    assert_eq!(heard.len(), 3);
+    assert_eq!(heard.iter().filter(|p| p.failed_now).count(), 1);
+}

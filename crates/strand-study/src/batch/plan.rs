@@ -17,11 +17,13 @@
 //! of its variants that other shards own (without writing them), so every variant is
 //! warm-started exactly as in the unsharded batch.
 
+use strand_case::schema::VariantChange;
+
 use super::spec::Vary;
 
 /// One variant of the grid.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Variant {
+pub struct Variant {
     /// Deterministic, filesystem-safe id: `hose2.length_p30mm__tee.mass_1.5kg`.
     pub id: String,
     /// Value index of every parameter.
@@ -32,7 +34,7 @@ pub(crate) struct Variant {
 
 /// The grid, its warm-start tree and its depth-first order.
 #[derive(Clone, Debug)]
-pub(crate) struct Plan {
+pub struct Plan {
     /// The varied parameters.
     pub varies: Vec<Vary>,
     /// The variants in grid order.
@@ -46,15 +48,15 @@ pub(crate) struct Plan {
 }
 
 /// Longest variant id, bytes: a folder name, within the 255 bytes file systems allow.
-pub(crate) const MAX_ID_BYTES: usize = 240;
+pub const MAX_ID_BYTES: usize = 240;
 
 /// Most variants one batch may have.
-pub(crate) const MAX_VARIANTS: usize = 1_000_000;
+pub const MAX_VARIANTS: usize = 1_000_000;
 
 impl Plan {
     /// The plan of `varies` (at least one). Errors when the grid is too large or two
     /// variants would get the same id.
-    pub(crate) fn new(varies: Vec<Vary>) -> Result<Self, String> {
+    pub fn new(varies: Vec<Vary>) -> Result<Self, String> {
         let count = varies
             .iter()
             .try_fold(1usize, |n, v| n.checked_mul(v.values.len()))
@@ -138,7 +140,7 @@ impl Plan {
 
     /// Which variants shard `i` of `n` (1-based) owns: a contiguous block of the
     /// depth-first order.
-    pub(crate) fn owned(&self, shard: Option<(usize, usize)>) -> Vec<bool> {
+    pub fn owned(&self, shard: Option<(usize, usize)>) -> Vec<bool> {
         let total = self.variants.len();
         let Some((i, n)) = shard else {
             return vec![true; total];
@@ -154,7 +156,7 @@ impl Plan {
     /// The ancestors of variant `n` on its own parameter line, nearest first, at most
     /// `count`, with their values of that parameter; and `n`'s own value. Empty for a
     /// root (started from the case itself).
-    pub(crate) fn line_samples(&self, n: usize, count: usize) -> (Vec<(usize, f64)>, f64) {
+    pub fn line_samples(&self, n: usize, count: usize) -> (Vec<(usize, f64)>, f64) {
         let index = &self.variants[n].index;
         let Some(parent) = self.variants[n].parent else {
             return (Vec::new(), 0.0);
@@ -179,8 +181,18 @@ impl Plan {
         (samples, values[index[d]])
     }
 
+    /// The changes of variant `n` to the case (one per varied parameter), in the
+    /// case's units.
+    pub fn changes(&self, n: usize) -> Vec<VariantChange> {
+        self.varies
+            .iter()
+            .zip(&self.variants[n].index)
+            .map(|(v, &k)| v.change(k))
+            .collect()
+    }
+
     /// The owned variants and all their ancestors (what a shard must solve).
-    pub(crate) fn needed(&self, owned: &[bool]) -> Vec<bool> {
+    pub fn needed(&self, owned: &[bool]) -> Vec<bool> {
         let mut needed = owned.to_vec();
         for n in 0..owned.len() {
             if owned[n] {

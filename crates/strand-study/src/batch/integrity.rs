@@ -20,7 +20,7 @@ use super::state::{FailedVariant, StoredState};
 
 /// A damaged file of a variant: which one and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) struct Damage {
+pub struct Damage {
     /// The file's name in the variant directory (`state.json`, `result.json`,
     /// `failed.json`).
     pub file: &'static str,

@@ -3,7 +3,7 @@
 //! (from the size of the solved case's own files), refused above a threshold unless
 //! confirmed with `--yes`.
 
-use crate::args::Keep;
+use super::Keep;
 
 /// Most worker threads, even with `--force-jobs` (thread creation alone takes
 /// minutes at 100 000).
@@ -17,7 +17,7 @@ pub const MAX_UNCONFIRMED_VARIANTS: usize = 100_000;
 
 /// Why a batch does not start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub(crate) enum LimitError {
+pub enum LimitError {
     /// `--jobs 0`.
     #[error("--jobs 0: give 1 or more worker threads (hint: leave --jobs out to use every core)")]
     NoJobs,
@@ -51,7 +51,7 @@ pub(crate) enum LimitError {
 }
 
 /// `bytes` for people: `330 KB`, `12.5 GB`.
-pub(crate) fn human(bytes: u64) -> String {
+pub fn human(bytes: u64) -> String {
     let b = bytes as f64;
     match bytes {
         0..1_000 => format!("{bytes} B"),

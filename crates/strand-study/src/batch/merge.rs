@@ -8,7 +8,6 @@
 //! `summary.svg` are written exactly as an unsharded batch writes them; otherwise
 //! the missing variants are listed and nothing is written.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use strand_report::write_atomic;
@@ -16,13 +15,39 @@ use strand_report::write_atomic;
 use super::integrity::{Stored, clear, inspect};
 use super::lock::{self, Role};
 use super::manifest::Manifest;
-use super::{invalid, io_failure, list_failures, lock_failure, write_summary};
-use crate::Exit;
-use crate::commands::Failure;
+use super::state::FailedVariant;
+use super::{failures, write_summary};
+use crate::error::{Result, StudyError};
+
+/// What a merge did.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MergeReport {
+    /// The directory merged into.
+    pub target: PathBuf,
+    /// `Manifest::describe` of the batch (case and varied parameters).
+    pub batch: String,
+    /// Variants copied into `target`.
+    pub copied: usize,
+    /// Damaged variant copies that were not taken: the variant directory and what
+    /// was wrong.
+    pub damaged: Vec<String>,
+    /// The failed variants, in grid order.
+    pub failures: Vec<FailedVariant>,
+    /// `summary.csv` and `summary.svg`.
+    pub summary: [PathBuf; 2],
+}
+
+fn invalid(message: impl Into<String>) -> StudyError {
+    StudyError::Input(message.into())
+}
+
+fn io_failure(message: impl Into<String>) -> StudyError {
+    StudyError::Io(message.into())
+}
 
 /// Copies the files of one variant directory into `to` (created), `result.json` and
 /// `failed.json` last so that a partial copy is never taken for a finished variant.
-fn copy_variant(from: &Path, to: &Path) -> Result<(), Failure> {
+fn copy_variant(from: &Path, to: &Path) -> Result<()> {
     let io =
         |path: &Path, e: std::io::Error| io_failure(format!("cannot copy {}: {e}", path.display()));
     std::fs::create_dir_all(to).map_err(|e| io(to, e))?;
@@ -52,13 +77,11 @@ fn copy_variant(from: &Path, to: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `strand merge`.
-pub(crate) fn run(
-    dirs: &[PathBuf],
-    out_dir: Option<&Path>,
-    out: &mut dyn Write,
-    err: &mut dyn Write,
-) -> Result<Exit, Failure> {
+/// `strand merge`: merges the batch directories `dirs` (the shards of one batch)
+/// into `out_dir` (default: the first of them) and writes the summary. Damaged copies
+/// are skipped (and listed in the report); missing variants are an error listing
+/// them.
+pub fn merge(dirs: &[PathBuf], out_dir: Option<&Path>) -> Result<MergeReport> {
     let Some(first_dir) = dirs.first() else {
         return Err(invalid("strand merge needs at least one batch directory"));
     };
@@ -90,8 +113,7 @@ pub(crate) fn run(
     }
     let target = out_dir.unwrap_or(first_dir);
     // No shard may still be writing into the target while it is merged.
-    let mut held =
-        lock::acquire(target, Role::Merge, &manifest.identity()).map_err(lock_failure)?;
+    let mut held = lock::acquire(target, Role::Merge, &manifest.identity())?;
     if Manifest::read(target).map_err(invalid)?.is_none() {
         std::fs::create_dir_all(target)
             .map_err(|e| io_failure(format!("cannot create {}: {e}", target.display())))?;
@@ -152,45 +174,21 @@ pub(crate) fn run(
             _ => {}
         }
     }
-    if !damaged.is_empty() {
-        let _ = writeln!(
-            err,
-            "warning: damaged variant files, not merged: {}; run their shard again (it repairs them)",
-            damaged.join(", ")
-        );
-    }
     if !missing.is_empty() {
-        let shown: Vec<&str> = missing.iter().take(5).copied().collect();
-        return Err(io_failure(format!(
-            "{} of {} variants are in none of the directories ({}{}); run the shards that own them (strand batch … --shard I/N) and merge again",
-            missing.len(),
-            manifest.variants.len(),
-            shown.join(", "),
-            if missing.len() > shown.len() {
-                ", …"
-            } else {
-                ""
-            }
-        )));
+        return Err(StudyError::MergeIncomplete {
+            missing: missing.iter().map(|m| m.to_string()).collect(),
+            total: manifest.variants.len(),
+            damaged,
+        });
     }
-    let (outcomes, [csv, svg]) = write_summary(target, &manifest)?;
-    let _ = writeln!(
-        out,
-        "merge       {} director{} of {}: {copied} variant(s) copied into {}",
-        dirs.len(),
-        if dirs.len() == 1 { "y" } else { "ies" },
-        manifest.describe(),
-        target.display()
-    );
-    let failed = list_failures(&manifest, &outcomes, &vec![true; outcomes.len()], out);
-    let _ = writeln!(out, "written     {}, {}", csv.display(), svg.display());
-    if failed > 0 {
-        let _ = writeln!(
-            err,
-            "warning: {failed} variant(s) failed (see failed.json in their directories)"
-        );
-        Ok(Exit::NotConverged)
-    } else {
-        Ok(Exit::Success)
-    }
+    let (outcomes, summary) = write_summary(target, &manifest)?;
+    drop(held);
+    Ok(MergeReport {
+        target: target.to_path_buf(),
+        batch: manifest.describe(),
+        copied,
+        damaged,
+        failures: failures(&outcomes, &vec![true; outcomes.len()]),
+        summary,
+    })
 }

@@ -17,8 +17,8 @@ use super::manifest::Manifest;
 use super::state::FailedVariant;
 
 /// What the directory of one variant holds.
-#[derive(Clone, Debug)]
-pub(crate) enum Outcome {
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub enum Outcome {
     /// A converged result.
     Solved(Box<ResultDoc>),
     /// A recorded failure.
@@ -28,7 +28,7 @@ pub(crate) enum Outcome {
 }
 
 /// Reads the outcome of the variant in `dir` (`DIR/variants/<id>`).
-pub(crate) fn read_outcome(dir: &Path) -> Result<Outcome, String> {
+pub fn read_outcome(dir: &Path) -> Result<Outcome, String> {
     let read = |name: &str| -> Result<Option<String>, String> {
         let path = dir.join(name);
         match std::fs::read_to_string(&path) {
@@ -106,7 +106,7 @@ fn num(x: f64) -> String {
 }
 
 /// The summary CSV of `manifest`'s variants with their `outcomes` (same order).
-pub(crate) fn summary_csv(manifest: &Manifest, outcomes: &[Outcome]) -> String {
+pub fn summary_csv(manifest: &Manifest, outcomes: &[Outcome]) -> String {
     let rods = union(outcomes, |d| {
         d.rods.iter().map(|r| r.name.as_str()).collect()
     });

@@ -13,7 +13,7 @@ use super::plan::Plan;
 
 /// One varied parameter as recorded.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct Parameter {
+pub struct Parameter {
     /// The `--vary` option as written.
     pub vary: String,
     /// The item as written (`hose2.length`).
@@ -30,7 +30,7 @@ pub(crate) struct Parameter {
 
 /// One variant as recorded.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct Entry {
+pub struct Entry {
     /// The variant's id (its directory under `variants/`).
     pub id: String,
     /// Value index of every parameter.
@@ -39,7 +39,7 @@ pub(crate) struct Entry {
 
 /// The whole `batch.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct Manifest {
+pub struct Manifest {
     /// Case name.
     pub case: String,
     /// The case file as named on the command line (informative; not compared).
@@ -56,7 +56,7 @@ pub(crate) struct Manifest {
 
 impl Manifest {
     /// The manifest of `plan` on `case`.
-    pub(crate) fn new(case: &Case, plan: &Plan, segments: Option<usize>) -> Self {
+    pub fn new(case: &Case, plan: &Plan, segments: Option<usize>) -> Self {
         let content = serde_json::to_vec(&case.file).unwrap_or_default();
         Self {
             case: case.name.clone(),
@@ -87,7 +87,7 @@ impl Manifest {
     }
 
     /// Whether `other` describes the same batch (the case's path may differ).
-    pub(crate) fn same_batch(&self, other: &Manifest) -> bool {
+    pub fn same_batch(&self, other: &Manifest) -> bool {
         Manifest {
             origin: String::new(),
             ..self.clone()
@@ -99,7 +99,7 @@ impl Manifest {
 
     /// The batch's identity: FNV-1a of the manifest without the case's path (what
     /// [`Manifest::same_batch`] compares), as held in the directory's lock files.
-    pub(crate) fn identity(&self) -> String {
+    pub fn identity(&self) -> String {
         let bare = Manifest {
             origin: String::new(),
             ..self.clone()
@@ -108,7 +108,7 @@ impl Manifest {
     }
 
     /// Reads `DIR/batch.json` (`Ok(None)` if there is none).
-    pub(crate) fn read(dir: &Path) -> Result<Option<Self>, String> {
+    pub fn read(dir: &Path) -> Result<Option<Self>, String> {
         let path = dir.join("batch.json");
         match std::fs::read_to_string(&path) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
@@ -123,7 +123,7 @@ impl Manifest {
     }
 
     /// One line naming the batch, for messages.
-    pub(crate) fn describe(&self) -> String {
+    pub fn describe(&self) -> String {
         let varies: Vec<&str> = self.parameters.iter().map(|p| p.vary.as_str()).collect();
         format!(
             "case '{}' ({}), --vary {}, {} variants",

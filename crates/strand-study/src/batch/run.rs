@@ -1,5 +1,5 @@
 //! Executing a plan: the warm-start tree walked in parallel (rayon), each variant
-//! built, solved, written to `DIR/variants/<id>/` and counted on the progress bar.
+//! built, solved, written to `DIR/variants/<id>/` and reported to the progress callback.
 //!
 //! A variant is **finished** when its directory holds `result.json` (written last,
 //! atomically, after `state.json` and the rod CSVs) or `failed.json`, and they pass
@@ -11,15 +11,15 @@
 //! `failed.json` variants are finished too (their failure is deterministic); pass
 //! `--retry-failed` to solve them again.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use strand_case::{BuiltCase, Case};
-use strand_report::{ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in};
+use strand_report::{
+    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
+};
 use strand_solve::{Solution, SolverSettings};
 use strand_system::SystemState;
 
@@ -28,7 +28,7 @@ use super::keep::kept_doc;
 use super::plan::Plan;
 use super::predict::{Solved, predicted_start};
 use super::state::{FailedVariant, StoredState};
-use crate::args::Keep;
+use super::{Keep, Progress};
 
 /// What the children of a variant start from: the nearest solved variant on the way
 /// to the case and the solved ones before it (nearest first, at most
@@ -76,25 +76,25 @@ impl Start {
     }
 }
 
-/// Counts of one run.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Counts {
-    /// Owned variants solved (or built and failed) in this run.
+/// Counts of one run of a batch.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Counts {
+    /// Variants of this run's share solved (or built and failed) in this run.
     pub computed: usize,
-    /// Owned variants found finished and skipped.
+    /// Variants of this run's share found finished and skipped.
     pub skipped: usize,
-    /// Owned variants that failed (this run or before).
+    /// Variants of this run's share that failed (this run or before).
     pub failed: usize,
     /// Other shards' variants solved here only as warm starts (not written).
     pub helpers: usize,
     /// Newton iterations of the variants computed in this run.
     pub iterations: usize,
-    /// Owned variants whose stored files were damaged and that were solved again,
-    /// in grid order, with what was wrong.
-    pub repaired: Vec<(String, Damage)>,
+    /// Variants of this run's share whose stored files were damaged and that were solved again,
+    /// in grid order: the id and what was wrong.
+    pub repaired: Vec<(String, String)>,
     /// Other shards' variants with damaged files (not touched here; their own
-    /// shard repairs them).
-    pub foreign_damaged: Vec<(String, Damage)>,
+    /// shard repairs them): the id and what was wrong.
+    pub foreign_damaged: Vec<(String, String)>,
 }
 
 /// What a run needs to know, shared by the parallel tasks.
@@ -116,9 +116,14 @@ pub(crate) struct Runner<'a> {
     pub retry_failed: bool,
     /// Which files a solved variant keeps.
     keep: Keep,
-    /// `--export-unit`, if given.
-    export_unit: Option<crate::args::ExportUnitArg>,
-    progress: ProgressBar,
+    /// The unit of the exported geometry (`None`: the case's).
+    export_unit: Option<ExportUnit>,
+    /// Called as each owned variant is finished.
+    progress: &'a (dyn Fn(Progress) + Sync),
+    /// Owned variants.
+    total: usize,
+    /// Owned variants finished so far.
+    done: AtomicUsize,
     computed: AtomicUsize,
     skipped: AtomicUsize,
     failed: AtomicUsize,
@@ -133,28 +138,6 @@ pub(crate) fn variant_dir(variants_dir: &Path, id: &str) -> PathBuf {
     variants_dir.join(id)
 }
 
-/// The progress bar: done/total, failures and ETA on stderr, hidden unless stderr
-/// is a terminal. It draws from the worker threads, straight to the process's
-/// stderr (not to the `err` writer of [`crate::run`]): nothing may hold the `Stderr`
-/// lock while the pool runs, or the first draw from a worker waits for it forever
-/// (issue 12; `main` passes `std::io::stderr()`, which locks per write). The bar
-/// takes the width the text leaves, so that the line does not wrap on 80 columns.
-fn progress_bar(total: usize) -> ProgressBar {
-    let target = if std::io::stderr().is_terminal() {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    };
-    let bar = ProgressBar::with_draw_target(Some(total as u64), target);
-    if let Ok(style) = ProgressStyle::with_template(
-        "{wide_bar:.cyan/blue} {pos}/{len} variants  {msg}  {elapsed_precise} elapsed, ETA {eta_precise}",
-    ) {
-        bar.set_style(style);
-    }
-    bar.set_message("0 failed");
-    bar
-}
-
 impl<'a> Runner<'a> {
     /// A runner for the variants `owned` (and their ancestors). Checks the stored
     /// files of every needed variant and removes those of damaged owned variants
@@ -167,7 +150,8 @@ impl<'a> Runner<'a> {
         owned: Vec<bool>,
         retry_failed: bool,
         keep: Keep,
-        export_unit: Option<crate::args::ExportUnitArg>,
+        export_unit: Option<ExportUnit>,
+        progress: &'a (dyn Fn(Progress) + Sync),
     ) -> Result<Self, String> {
         let needed = plan.needed(&owned);
         let total = owned.iter().filter(|o| **o).count();
@@ -209,7 +193,9 @@ impl<'a> Runner<'a> {
             retry_failed,
             keep,
             export_unit,
-            progress: progress_bar(total),
+            progress,
+            total,
+            done: AtomicUsize::new(0),
             computed: AtomicUsize::new(0),
             skipped: AtomicUsize::new(0),
             failed: AtomicUsize::new(0),
@@ -234,16 +220,12 @@ impl<'a> Runner<'a> {
                 }
             })
         });
-        // Forced final draw, left on the terminal: the last increments may have been
-        // skipped by the refresh-rate limit, and "N/N variants … elapsed" is the record
-        // of the run.
-        self.progress.finish();
         if let Some(e) = self.io_error.lock().map(|e| e.clone()).unwrap_or(None) {
             return Err(e);
         }
         let mut damage = self.damage.lock().map(|d| d.clone()).unwrap_or_default();
         damage.sort_by_key(|(n, _)| *n);
-        let named = |(n, d): &(usize, Damage)| (self.plan.variants[*n].id.clone(), d.clone());
+        let named = |(n, d): &(usize, Damage)| (self.plan.variants[*n].id.clone(), d.to_string());
         Ok(Counts {
             computed: self.computed.load(Ordering::Relaxed),
             skipped: self.skipped.load(Ordering::Relaxed),
@@ -269,12 +251,21 @@ impl<'a> Runner<'a> {
         }
     }
 
-    fn tick(&self, failed: bool) {
-        if failed {
-            let n = self.failed.fetch_add(1, Ordering::Relaxed) + 1;
-            self.progress.set_message(format!("{n} failed"));
-        }
-        self.progress.inc(1);
+    /// Owned variant `id` is finished (`failed`: without a result).
+    fn tick(&self, id: &str, failed: bool) {
+        let failed_so_far = if failed {
+            self.failed.fetch_add(1, Ordering::Relaxed) + 1
+        } else {
+            self.failed.load(Ordering::Relaxed)
+        };
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        (self.progress)(Progress {
+            id: id.to_string(),
+            failed_now: failed,
+            done,
+            total: self.total,
+            failed: failed_so_far,
+        });
     }
 
     /// Solves variant `n` (or takes it from disk) and then its children in parallel.
@@ -326,18 +317,12 @@ impl<'a> Runner<'a> {
         if (finished && (!wanted || loaded.is_some())) || failed_before {
             if owned {
                 self.skipped.fetch_add(1, Ordering::Relaxed);
-                self.tick(!finished);
+                self.tick(id, !finished);
             }
             return loaded;
         }
         let started = Instant::now();
-        let changes: Vec<_> = self
-            .plan
-            .varies
-            .iter()
-            .zip(&self.plan.variants[n].index)
-            .map(|(v, &k)| v.change(k))
-            .collect();
+        let changes = self.plan.changes(n);
         let outcome = match self.case.build_with_changes(id, &changes, self.segments) {
             Err(e) => Err(FailedVariant {
                 id: id.clone(),
@@ -368,7 +353,7 @@ impl<'a> Runner<'a> {
                     let (solved, id) = (next.solved.clone(), id.clone());
                     s.spawn(move |_| {
                         self.write(&id, &solved.built, &dir, &solution, warm, time);
-                        self.tick(false);
+                        self.tick(&id, false);
                     });
                 }
                 Some(next)
@@ -380,7 +365,7 @@ impl<'a> Runner<'a> {
                 }
                 if owned {
                     self.write_failure(&dir, &failure);
-                    self.tick(true);
+                    self.tick(id, true);
                 }
                 None
             }
@@ -391,13 +376,7 @@ impl<'a> Runner<'a> {
     fn load(&self, n: usize, dir: &Path, from: Option<&Start>) -> Option<Start> {
         let text = std::fs::read_to_string(dir.join("state.json")).ok()?;
         let stored: StoredState = serde_json::from_str(&text).ok()?;
-        let changes: Vec<_> = self
-            .plan
-            .varies
-            .iter()
-            .zip(&self.plan.variants[n].index)
-            .map(|(v, &k)| v.change(k))
-            .collect();
+        let changes = self.plan.changes(n);
         let built = self
             .case
             .build_with_changes(&self.plan.variants[n].id, &changes, self.segments)
@@ -456,7 +435,7 @@ impl<'a> Runner<'a> {
                 Keep::All => write_results_in(
                     dir,
                     &doc,
-                    &crate::commands::export_unit(built, self.export_unit),
+                    &crate::solve::export_unit(built, self.export_unit.as_ref()),
                 )
                 .map(|_| ())
                 .map_err(|e| e.to_string()),
@@ -508,7 +487,7 @@ pub(crate) fn result_doc(
     let mut doc = collect(&built.name, &built.model, solution, timing);
     // A contact set that cannot be evaluated at a converged state leaves the lists
     // empty rather than failing the variant.
-    let _ = crate::commands::add_contacts(&mut doc, built, solution);
+    let _ = crate::solve::add_contacts(&mut doc, built, solution);
     name_connectors(&mut doc, &built.connector_names);
     for (rod, allowed) in doc.rods.iter_mut().zip(&built.min_bend_radius) {
         rod.min_bend_radius_m = *allowed;

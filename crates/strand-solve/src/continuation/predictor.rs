@@ -1,32 +1,42 @@
-//! Continuation predictor: the initial state of a variant extrapolated from the
-//! solved variants before it on its parameter line.
+//! Continuation predictor: the start of the next equilibrium on a parameter path
+//! extrapolated from the solved states before it.
 //!
-//! Each solved state is first carried onto the new variant's rods
-//! ([`strand_case::warm_start`], by arc-length fraction). With one solved neighbour
-//! that is the start; with two or three on the same line (values `x_i`), the start
-//! is their Lagrange extrapolation to the new value `x`: positions, body positions
-//! and joint values as `Σ w_i p_i`, rotations as `q_0 exp(Σ w_i log(q_0⁻¹ q_i))`
-//! about the nearest neighbour's `q_0` (`Σ w_i = 1`). Along a smooth solution path
-//! the error of the start drops from `O(h)` to `O(h²)` or `O(h³)` in the step `h`,
-//! which is what saves Newton iterations along a sweep.
+//! Given states of one model solved at parameter values `x_i` (nearest first), the
+//! start at `x` is their Lagrange extrapolation: positions, body positions and joint
+//! values as `Σ w_i p_i`, rotations as `q_0 exp(Σ w_i log(q_0⁻¹ q_i))` about the
+//! nearest state's `q_0` (`Σ w_i = 1`). Along a smooth solution path the error of the
+//! start drops from `O(h)` (the nearest state itself) to `O(h²)` or `O(h³)` in the
+//! step `h`, which is what saves Newton iterations along a sweep. A pure function of
+//! states: carrying a state from another model onto this one (another rod length or
+//! segment count) is the caller's (`strand_case::warm_start`).
+//!
+//! ```
+//! use nalgebra::{UnitQuaternion, Vector3};
+//! use strand_rod::RodState;
+//! use strand_system::SystemState;
+//! use strand_solve::continuation::predictor::{extrapolate, lagrange_weights};
+//!
+//! // Two weights of a secant from x = 10 and x = 0 to x = 20.
+//! assert_eq!(lagrange_weights(&[10.0, 0.0], 20.0), vec![2.0, -1.0]);
+//! // A one-edge rod whose tip moved 1 mm per unit of x: extrapolated linearly.
+//! let at = |x: f64| SystemState {
+//!     rods: vec![RodState::new(
+//!         vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 1e-3 * x)],
+//!         vec![UnitQuaternion::identity()],
+//!     )],
+//!     bodies: Vec::new(),
+//!     clips: Vec::new(),
+//! };
+//! let next = extrapolate(&[at(10.0), at(0.0)], &[10.0, 0.0], 20.0);
+//! assert!((next.rods[0].positions[1].z - 0.020).abs() < 1e-15);
+//! ```
 
 use nalgebra::{UnitQuaternion, Vector3};
-use strand_case::{BuiltCase, warm_start};
 use strand_rod::{RodState, so3};
-use strand_system::{Model, SystemState};
-
-/// A solved variant (or the case itself, `n = None`).
-pub(crate) struct Solved {
-    /// The variant's index in the plan (`None`: the case itself).
-    pub n: Option<usize>,
-    /// Its built case.
-    pub built: BuiltCase,
-    /// Its equilibrium.
-    pub state: SystemState,
-}
+use strand_system::SystemState;
 
 /// Lagrange weights of the points `xs` for extrapolating to `x` (they sum to 1).
-pub(crate) fn lagrange_weights(xs: &[f64], x: f64) -> Vec<f64> {
+pub fn lagrange_weights(xs: &[f64], x: f64) -> Vec<f64> {
     (0..xs.len())
         .map(|i| {
             (0..xs.len())
@@ -48,27 +58,22 @@ fn blend(q: &[&UnitQuaternion<f64>], w: &[f64]) -> UnitQuaternion<f64> {
     q[0] * so3::exp(&sum)
 }
 
-/// The start of `target` from the solved `samples` (nearest first) at parameter
-/// values `xs`, extrapolated to `x`. One sample: the plain warm start.
-pub(crate) fn predicted_start(
-    samples: &[&Solved],
-    xs: &[f64],
-    x: f64,
-    target: &Model,
-) -> SystemState {
-    let carried: Vec<SystemState> = samples
-        .iter()
-        .map(|s| warm_start(&s.built.model, &s.state, target))
-        .collect();
-    if carried.len() < 2 {
-        return carried.into_iter().next().expect("at least one sample");
+/// The start at parameter value `x` extrapolated from `states` of one model (same
+/// rods, segments, bodies and clips; nearest first) solved at the values `xs` (m,
+/// kg, … — any unit, the same for `x`). One state: that state itself.
+///
+/// # Panics
+/// If `states` is empty, or `xs` is shorter than `states` when there are two or more.
+pub fn extrapolate(states: &[SystemState], xs: &[f64], x: f64) -> SystemState {
+    if states.len() < 2 {
+        return states.first().expect("at least one state").clone();
     }
-    let w = lagrange_weights(xs, x);
-    let mut state = carried[0].clone();
+    let w = lagrange_weights(&xs[..states.len()], x);
+    let mut state = states[0].clone();
     for (r, rod) in state.rods.iter_mut().enumerate() {
         let positions = (0..rod.positions.len())
             .map(|j| {
-                carried
+                states
                     .iter()
                     .zip(&w)
                     .map(|(c, wi)| *wi * c.rods[r].positions[j])
@@ -78,29 +83,29 @@ pub(crate) fn predicted_start(
         let frames = (0..rod.frames.len())
             .map(|e| {
                 let q: Vec<&UnitQuaternion<f64>> =
-                    carried.iter().map(|c| &c.rods[r].frames[e]).collect();
+                    states.iter().map(|c| &c.rods[r].frames[e]).collect();
                 blend(&q, &w)
             })
             .collect();
         *rod = RodState::new(positions, frames);
     }
     for (b, body) in state.bodies.iter_mut().enumerate() {
-        body.position = carried
+        body.position = states
             .iter()
             .zip(&w)
             .map(|(c, wi)| *wi * c.bodies[b].position)
             .sum();
         let q: Vec<&UnitQuaternion<f64>> =
-            carried.iter().map(|c| &c.bodies[b].orientation).collect();
+            states.iter().map(|c| &c.bodies[b].orientation).collect();
         body.orientation = blend(&q, &w);
     }
     for (k, clip) in state.clips.iter_mut().enumerate() {
-        clip.value = carried
+        clip.value = states
             .iter()
             .zip(&w)
             .map(|(c, wi)| wi * c.clips[k].value)
             .sum();
-        let q: Vec<&UnitQuaternion<f64>> = carried.iter().map(|c| &c.clips[k].rotation).collect();
+        let q: Vec<&UnitQuaternion<f64>> = states.iter().map(|c| &c.clips[k].rotation).collect();
         clip.rotation = blend(&q, &w);
     }
     state

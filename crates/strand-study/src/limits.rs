@@ -5,8 +5,7 @@
 
 use strand_case::{Case, LengthUnit};
 
-use crate::Exit;
-use crate::commands::Failure;
+use crate::error::{Result, StudyError};
 
 /// Longest name, bytes, of a case, rod, section, junction, connector or variant: it
 /// becomes a file or folder name (`<rod>.csv`, `out/<case>/<variant>/`, batch ids),
@@ -22,7 +21,7 @@ pub const MAX_SEGMENTS: usize = 100_000;
 pub const MAX_LENGTH_M: f64 = 1e6;
 
 /// `name` shortened for a message.
-pub(crate) fn shown(name: &str) -> String {
+pub fn shown(name: &str) -> String {
     if name.chars().count() <= 40 {
         name.to_string()
     } else {
@@ -30,15 +29,12 @@ pub(crate) fn shown(name: &str) -> String {
     }
 }
 
-fn invalid(message: String) -> Failure {
-    Failure {
-        exit: Exit::InvalidInput,
-        message,
-    }
+fn invalid(message: String) -> StudyError {
+    StudyError::Input(message)
 }
 
 /// Checks the names, segment counts and lengths of `case` (see the module docs).
-pub(crate) fn check_case(case: &Case) -> Result<(), Failure> {
+pub fn check_case(case: &Case) -> Result<()> {
     let origin = &case.origin;
     let file = &case.file;
     let long = |kind: &str, name: &str, why: &str| {
@@ -109,7 +105,7 @@ pub(crate) fn check_case(case: &Case) -> Result<(), Failure> {
 /// [`check_case`] for tools and tests outside the crate: the message of the first
 /// problem, if any.
 pub fn case_problem(case: &Case) -> Option<String> {
-    check_case(case).err().map(|f| f.message)
+    check_case(case).err().map(|e| e.to_string())
 }
 
 #[cfg(test)]
@@ -142,11 +138,11 @@ mod tests {
         )))
         .unwrap_err();
         assert!(
-            e.message.contains("has a name of 10000 bytes; at most 200"),
-            "{}",
-            e.message
+            e.to_string()
+                .contains("has a name of 10000 bytes; at most 200"),
+            "{e}"
         );
-        assert_eq!(e.exit, Exit::InvalidInput);
+        assert_eq!(e.kind(), crate::ErrorKind::Input);
         let e = check_case(&case(&text.replacen(
             "segments: 19",
             "segments: 1000000",
@@ -154,17 +150,12 @@ mod tests {
         )))
         .unwrap_err();
         assert!(
-            e.message
+            e.to_string()
                 .contains("segments: 1000000 segments; at most 100000"),
-            "{}",
-            e.message
+            "{e}"
         );
         let e =
             check_case(&case(&text.replacen("length: 1000,", "length: 1e300,", 1))).unwrap_err();
-        assert!(
-            e.message.contains("length: 1e300 mm is beyond"),
-            "{}",
-            e.message
-        );
+        assert!(e.to_string().contains("length: 1e300 mm is beyond"), "{e}");
     }
 }

@@ -13,42 +13,32 @@
 //! case's length unit), `kg`, `g` for masses, `N` for forces, `m/s2` for gravity.
 //! Components of vectors only take offsets.
 
-use strand_case::LengthUnit;
 use strand_case::schema::{Amount, CaseFile, Change, VariantChange};
+use strand_case::{
+    ItemQuantity as Quantity, LengthUnit, ShortFormError, VariantItem, expand_short,
+};
 
 /// Longest value as written in a variant id (`123456.789`), characters.
-pub(crate) const MAX_VALUE_CHARS: usize = 24;
+pub const MAX_VALUE_CHARS: usize = 24;
 
 /// Most values one `--vary` may produce.
-pub(crate) const MAX_VALUES: usize = 10_000;
+pub const MAX_VALUES: usize = 10_000;
 
-/// What kind of number an item takes, with its units.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Quantity {
-    Length,
-    Mass,
-    Force,
-    Acceleration,
-    Count,
-}
-
-impl Quantity {
-    /// Accepted unit suffixes with their size in the base unit (m, kg, N, m/s², 1),
-    /// longest first so that `mm` is not read as `m`.
-    fn units(self) -> &'static [(&'static str, f64)] {
-        match self {
-            Quantity::Length => &[("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)],
-            Quantity::Mass => &[("kg", 1.0), ("g", 1e-3)],
-            Quantity::Force => &[("N", 1.0)],
-            Quantity::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0), ("m/s²", 1.0)],
-            Quantity::Count => &[],
-        }
+/// Accepted unit suffixes of `quantity` with their size in the base unit (m, kg, N,
+/// m/s², 1), longest first so that `mm` is not read as `m`.
+fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
+    match quantity {
+        Quantity::Length => &[("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)],
+        Quantity::Mass => &[("kg", 1.0), ("g", 1e-3)],
+        Quantity::Force => &[("N", 1.0)],
+        Quantity::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0), ("m/s²", 1.0)],
+        Quantity::Count => &[],
     }
 }
 
 /// One varied parameter: the item, whether its values are offsets, and the values.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Vary {
+pub struct Vary {
     /// The option as written (`hose2.length=+0mm..+100mm:10mm`).
     pub text: String,
     /// The item as written before `=` (used in ids and column names).
@@ -73,10 +63,12 @@ pub(crate) struct Vary {
 /// A `--vary` that cannot be used, with the reason and the fix.
 #[derive(Debug, thiserror::Error)]
 #[error("--vary {text}: {message} (hint: {hint})")]
-pub(crate) struct SpecError {
+pub struct SpecError {
     text: String,
-    pub(crate) message: String,
-    pub(crate) hint: String,
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub hint: String,
 }
 
 fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
@@ -102,12 +94,11 @@ fn parse_number(
     default_size: f64,
 ) -> Result<Number, SpecError> {
     let written = written.trim();
-    let (digits, unit) = quantity
-        .units()
+    let (digits, unit) = units(quantity)
         .iter()
         .find_map(|(u, size)| written.strip_suffix(u).map(|d| (d, Some((*u, *size)))))
         .unwrap_or((written, None));
-    let accepted: Vec<&str> = quantity.units().iter().map(|(u, _)| *u).collect();
+    let accepted: Vec<&str> = units(quantity).iter().map(|(u, _)| *u).collect();
     let value: f64 = digits.trim().parse().map_err(|_| {
         fail(
             text,
@@ -138,7 +129,7 @@ fn parse_number(
 }
 
 /// The canonical decimal form of `value` (at most 9 decimals, no trailing zeros).
-pub(crate) fn canonical(value: f64) -> String {
+pub fn canonical(value: f64) -> String {
     let text = format!("{value:.9}");
     let text = text.trim_end_matches('0').trim_end_matches('.');
     if text == "-0" {
@@ -149,11 +140,11 @@ pub(crate) fn canonical(value: f64) -> String {
 }
 
 /// The item of `label` (short or full form) and its quantity and component.
-pub(crate) fn resolve(
+pub fn resolve(
     text: &str,
     label: &str,
     file: &CaseFile,
-) -> Result<(String, Quantity, Option<usize>), SpecError> {
+) -> Result<(String, VariantItem, Option<usize>), SpecError> {
     let (stem, component) = match label.rsplit_once('.') {
         Some((stem, c @ ("x" | "y" | "z"))) => (
             stem,
@@ -171,90 +162,30 @@ pub(crate) fn resolve(
             }
         )
     };
-    let rods: Vec<&str> = file.rods.iter().map(|r| r.name.as_str()).collect();
-    let junctions: Vec<&str> = file.junctions.iter().map(|(n, _)| n.as_str()).collect();
-    let connectors: Vec<&str> = file.connectors.iter().map(|(n, _)| n.as_str()).collect();
-    let clips: Vec<&str> = file.clips.iter().map(|(n, _)| n.as_str()).collect();
-    let meshes: Vec<&str> = file.environment.iter().map(|e| e.name.as_str()).collect();
     let hint = format!(
         "vary e.g. <rod>.length, <rod>.segments, <rod>.end.position.z, <rod>.end.force.x, <junction>.mass, <connector>.position.x or gravity.z; {}; {}; {}",
-        names("rods", rods.clone()),
-        names("junctions", junctions.clone()),
-        names("connectors", connectors.clone())
+        names("rods", file.rods.iter().map(|r| r.name.as_str()).collect()),
+        names(
+            "junctions",
+            file.junctions.iter().map(|(n, _)| n.as_str()).collect()
+        ),
+        names(
+            "connectors",
+            file.connectors.iter().map(|(n, _)| n.as_str()).collect()
+        )
     );
-    let full = if stem == "gravity"
-        || [
-            "rods.",
-            "junctions.",
-            "connectors.",
-            "clips.",
-            "environment.",
-        ]
-        .iter()
-        .any(|p| stem.starts_with(p))
-    {
-        stem.to_string()
-    } else {
-        let prefixed = |list: &[&str], prefix: &str| {
-            list.iter()
-                .any(|n| {
-                    stem.len() > n.len() && stem.starts_with(n) && stem.as_bytes()[n.len()] == b'.'
-                })
-                .then(|| format!("{prefix}{stem}"))
-        };
-        let found: Vec<String> = [
-            prefixed(&rods, "rods."),
-            prefixed(&junctions, "junctions."),
-            prefixed(&connectors, "connectors."),
-            prefixed(&clips, "clips."),
-            prefixed(&meshes, "environment."),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
-        match found.as_slice() {
-            [one] => one.clone(),
-            [] => {
-                return Err(fail(
-                    text,
-                    format!("'{label}' names no rod, junction or connector of the case"),
-                    hint,
-                ));
-            }
-            _ => {
-                return Err(fail(
-                    text,
-                    format!("'{label}' is ambiguous: {}", found.join(" or ")),
-                    "write the full item",
-                ));
-            }
-        }
-    };
-    let field = full.rsplit('.').next().unwrap_or("");
-    let quantity = match (full.as_str(), field) {
-        ("gravity", _) => Quantity::Acceleration,
-        (_, "length") if full.starts_with("rods.") => Quantity::Length,
-        (_, "segments") if full.starts_with("rods.") => Quantity::Count,
-        (_, "position")
-            if ["rods.", "connectors.", "clips.", "environment."]
-                .iter()
-                .any(|p| full.starts_with(p)) =>
-        {
-            Quantity::Length
-        }
-        (_, "at") if full.starts_with("clips.") => Quantity::Length,
-        (_, "force") if full.starts_with("rods.") => Quantity::Force,
-        (_, "mass") if full.starts_with("junctions.") => Quantity::Mass,
-        _ => {
-            return Err(fail(
-                text,
-                format!("'{label}' is not an item a batch can vary"),
-                hint,
-            ));
-        }
-    };
-    let vector = matches!(field, "position" | "force") || full == "gravity";
-    match (vector, component) {
+    let full = expand_short(file, stem).map_err(|e| match e {
+        ShortFormError::Unknown(_) => fail(text, e.to_string(), hint.clone()),
+        ShortFormError::Ambiguous { .. } => fail(text, e.to_string(), "write the full item"),
+    })?;
+    let item = VariantItem::parse(file, &full).map_err(|_| {
+        fail(
+            text,
+            format!("'{label}' is not an item a batch can vary"),
+            hint.clone(),
+        )
+    })?;
+    match (item.is_vector(), component) {
         (true, None) => Err(fail(
             text,
             format!("'{label}' is a vector: vary one component"),
@@ -265,37 +196,13 @@ pub(crate) fn resolve(
             format!("'{stem}' is a number, not a vector"),
             format!("write {stem}=..."),
         )),
-        _ => Ok((full, quantity, component)),
-    }
-}
-
-/// The case's own value of a scalar item, in the item's base unit (m, kg, count).
-fn case_value(file: &CaseFile, item: &str, unit: Option<LengthUnit>) -> Option<f64> {
-    let (kind, rest) = item.split_once('.')?;
-    match kind {
-        "rods" => {
-            let rod = file.rods.iter().find(|r| {
-                rest.strip_prefix(r.name.as_str())
-                    .is_some_and(|f| f.starts_with('.'))
-            })?;
-            match &rest[rod.name.len() + 1..] {
-                "length" => Some(rod.length? * unit?.metres()),
-                "segments" => Some(rod.segments as f64),
-                _ => None,
-            }
-        }
-        "junctions" => file
-            .junctions
-            .iter()
-            .find(|(n, _)| rest == format!("{n}.mass"))
-            .map(|(_, j)| j.mass),
-        _ => None,
+        _ => Ok((full, item, component)),
     }
 }
 
 impl Vary {
     /// Parses `ITEM=VALUES` against the case file.
-    pub(crate) fn parse(text: &str, file: &CaseFile) -> Result<Self, SpecError> {
+    pub fn parse(text: &str, file: &CaseFile) -> Result<Self, SpecError> {
         let Some((label, values)) = text.split_once('=') else {
             return Err(fail(
                 text,
@@ -304,7 +211,8 @@ impl Vary {
             ));
         };
         let (label, values) = (label.trim(), values.trim());
-        let (item, quantity, component) = resolve(text, label, file)?;
+        let (item, target, component) = resolve(text, label, file)?;
+        let quantity = target.quantity();
         let case_unit = LengthUnit::parse(&file.units.length);
         let default_size = match quantity {
             Quantity::Length => case_unit.map_or(1.0, |u| u.metres()),
@@ -362,10 +270,9 @@ impl Vary {
                 .find_map(|n| n.unit)
                 .unwrap_or(match quantity {
                     Quantity::Length => case_unit.map_or("m", |u| u.symbol()),
-                    other => other.units().first().map_or("", |(u, _)| *u),
+                    other => units(other).first().map_or("", |(u, _)| *u),
                 });
-        let size = quantity
-            .units()
+        let size = units(quantity)
             .iter()
             .find(|(u, _)| *u == unit)
             .map_or(1.0, |(_, s)| *s);
@@ -463,7 +370,7 @@ impl Vary {
         let base = if offset {
             Some(0.0)
         } else {
-            case_value(file, &item, case_unit).map(|v| v / size)
+            target.case_value(file).map(|v| v / size)
         };
         Ok(Self {
             text: text.to_string(),
@@ -479,14 +386,14 @@ impl Vary {
     }
 
     /// The value `k` as written in ids and tables: `+30mm`, `-150mm`, `150mm`.
-    pub(crate) fn value_text(&self, k: usize) -> String {
+    pub fn value_text(&self, k: usize) -> String {
         let v = self.values[k];
         let sign = if self.offset && v >= 0.0 { "+" } else { "" };
         format!("{sign}{}{}", canonical(v), self.unit)
     }
 
     /// The id part of value `k`: `hose2.length_p30mm` (`m` for a minus sign).
-    pub(crate) fn id_part(&self, k: usize) -> String {
+    pub fn id_part(&self, k: usize) -> String {
         let value = self.value_text(k).replace('+', "p").replace('-', "m");
         let raw = format!("{}_{value}", self.label);
         raw.chars()
@@ -501,7 +408,7 @@ impl Vary {
     }
 
     /// The change of value `k` for strand-case's variant machinery (in the case's units).
-    pub(crate) fn change(&self, k: usize) -> VariantChange {
+    pub fn change(&self, k: usize) -> VariantChange {
         let x = self.values[k] * self.scale;
         let amount = match self.component {
             Some(c) => {
@@ -523,7 +430,7 @@ impl Vary {
 
     /// The index of the value nearest the case's own value (the first if unknown):
     /// where this parameter's warm-start chains start.
-    pub(crate) fn anchor(&self) -> usize {
+    pub fn anchor(&self) -> usize {
         let Some(base) = self.base else { return 0 };
         let mut best = 0;
         for (k, v) in self.values.iter().enumerate() {
@@ -536,7 +443,7 @@ impl Vary {
 }
 
 /// Parses `--shard I/N` (1 ≤ I ≤ N).
-pub(crate) fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+pub fn parse_shard(text: &str) -> Result<(usize, usize), String> {
     let parsed = text.split_once('/').and_then(|(i, n)| {
         Some((
             i.trim().parse::<usize>().ok()?,

@@ -1,5 +1,5 @@
 //! `--keep summary|results|all`: which files a solved variant keeps, so that huge
-//! sweeps fit on disk ([`crate::args::Keep`]).
+//! sweeps fit on disk ([`super::Keep`]).
 //!
 //! - `all` (default): `result.json`, `state.json`, one CSV per rod, `rods.vtp`,
 //!   `tubes.obj`, `tubes.stl` (geometry in the case's length unit);
@@ -12,7 +12,7 @@
 
 use strand_report::{ExportUnit, ResultDoc, magnitude};
 
-use crate::args::Keep;
+use super::Keep;
 
 /// The entry of `values` with the largest `key` (none for an empty list).
 fn largest<T: Clone>(values: &[T], key: impl Fn(&T) -> f64) -> Vec<T> {

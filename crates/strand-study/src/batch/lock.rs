@@ -55,7 +55,7 @@ impl Role {
 
 /// The content of a holder file: who holds the directory, for messages.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub(crate) struct Holder {
+pub struct Holder {
     /// Host name of the holding process.
     pub host: String,
     /// Its process id (on `host`).
@@ -82,7 +82,7 @@ impl std::fmt::Display for Holder {
 
 /// Why a batch directory cannot be used.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum LockError {
+pub enum LockError {
     /// Another process holds the directory in a way that excludes this run.
     #[error(
         "{} is in use by {}; wait for it to finish, or use another --out (only the shards I/N of one batch, with the same N, can share a directory)",

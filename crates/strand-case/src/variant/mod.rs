@@ -13,6 +13,10 @@
 //! }
 //! ```
 
+mod item;
+
+pub use item::{ItemError, ItemQuantity, RodEnd, ShortFormError, VariantItem, expand_short};
+
 use crate::error::{CaseError, Reporter};
 use crate::schema::{Amount, CaseFile, Change, EndDef, VariantChange, Vec3};
 
@@ -33,55 +37,6 @@ pub const BASE_VARIANT: &str = "base";
 
 /// Largest number of segments a variant may set (as the command line's `--segments`).
 const MAX_SEGMENTS: f64 = 10_000_000.0;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Side {
-    Start,
-    End,
-}
-
-impl Side {
-    fn label(self) -> &'static str {
-        match self {
-            Side::Start => "start",
-            Side::End => "end",
-        }
-    }
-}
-
-/// What an item addresses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Target {
-    Gravity,
-    Length(usize),
-    Segments(usize),
-    Position(usize, Side),
-    Force(usize, Side),
-    JunctionMass(usize),
-    ConnectorPosition(usize),
-    ClipAt(usize),
-    ClipBasePosition(usize),
-    EnvironmentPosition(usize),
-}
-
-/// The rod fields a variant can change, as written after `rods.<rod>.`.
-const ROD_FIELDS: [&str; 6] = [
-    "length",
-    "segments",
-    "start.position",
-    "end.position",
-    "start.force",
-    "end.force",
-];
-
-fn rod_names(file: &CaseFile) -> String {
-    let names: Vec<&str> = file.rods.iter().map(|r| r.name.as_str()).collect();
-    if names.is_empty() {
-        "none".to_string()
-    } else {
-        names.join(", ")
-    }
-}
 
 /// Whether `name` can name a variant: it is also a directory name (`strand study`).
 fn is_valid_name(name: &str) -> bool {
@@ -147,154 +102,6 @@ pub(crate) fn find<'f>(
             Err(report.invalid("variants", message, hint))
         }
     }
-}
-
-/// Resolves an item string against the file's rods.
-fn resolve(report: &Reporter, at: &str, file: &CaseFile, item: &str) -> Result<Target, CaseError> {
-    let unknown = |message: String| {
-        report.invalid(
-            at,
-            message,
-            format!("valid items: {VARIANT_ITEMS}; rods: {}", rod_names(file)),
-        )
-    };
-    if item == "gravity" {
-        return Ok(Target::Gravity);
-    }
-    if let Some(rest) = item.strip_prefix("junctions.") {
-        return resolve_named(report, at, item, rest, "junction", &file.junctions, "mass")
-            .map(Target::JunctionMass);
-    }
-    if let Some(rest) = item.strip_prefix("connectors.") {
-        return resolve_named(
-            report,
-            at,
-            item,
-            rest,
-            "connector",
-            &file.connectors,
-            "position",
-        )
-        .map(Target::ConnectorPosition);
-    }
-    if let Some(rest) = item.strip_prefix("clips.") {
-        let (field, target): (&str, fn(usize) -> Target) = if rest.ends_with(".base.position") {
-            ("base.position", Target::ClipBasePosition)
-        } else {
-            ("at", Target::ClipAt)
-        };
-        let name = rest
-            .strip_suffix(field)
-            .and_then(|n| n.strip_suffix('.'))
-            .unwrap_or(rest);
-        let defined: Vec<&str> = file.clips.iter().map(|(n, _)| n.as_str()).collect();
-        let Some(index) = file.clips.iter().position(|(n, _)| n == name) else {
-            return Err(report.invalid(
-                at,
-                format!("there is no clip named '{name}' with a field `{field}`"),
-                format!(
-                    "write clips.<clip>.at or clips.<clip>.base.position; clips: {}",
-                    if defined.is_empty() {
-                        "none".to_string()
-                    } else {
-                        defined.join(", ")
-                    }
-                ),
-            ));
-        };
-        return Ok(target(index));
-    }
-    if let Some(rest) = item.strip_prefix("environment.") {
-        let name = rest.strip_suffix(".position").unwrap_or(rest);
-        let defined: Vec<&str> = file.environment.iter().map(|e| e.name.as_str()).collect();
-        return match file.environment.iter().position(|e| e.name == name) {
-            Some(index) if rest.ends_with(".position") => Ok(Target::EnvironmentPosition(index)),
-            _ => Err(report.invalid(
-                at,
-                format!("'{rest}' is not the position of an environment mesh"),
-                format!(
-                    "write environment.<mesh>.position; meshes: {}",
-                    if defined.is_empty() {
-                        "none".to_string()
-                    } else {
-                        defined.join(", ")
-                    }
-                ),
-            )),
-        };
-    }
-    let Some(rest) = item.strip_prefix("rods.") else {
-        return Err(unknown(
-            "unknown item: an item is `gravity` or starts with `rods.<rod name>.`, \
-             `junctions.<junction name>.` or `connectors.<connector name>.`"
-                .to_string(),
-        ));
-    };
-    // Rod names may contain '.': take the longest name that prefixes the rest.
-    let rod = file
-        .rods
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| {
-            rest.len() > r.name.len()
-                && rest.starts_with(r.name.as_str())
-                && rest.as_bytes()[r.name.len()] == b'.'
-        })
-        .max_by_key(|(_, r)| r.name.len());
-    let Some((index, def)) = rod else {
-        let guess = ROD_FIELDS
-            .iter()
-            .find_map(|f| rest.strip_suffix(f).and_then(|r| r.strip_suffix('.')))
-            .unwrap_or_else(|| rest.split('.').next().unwrap_or(rest));
-        return Err(unknown(format!("there is no rod named '{guess}'")));
-    };
-    let field = &rest[def.name.len() + 1..];
-    Ok(match field {
-        "length" => Target::Length(index),
-        "segments" => Target::Segments(index),
-        "start.position" => Target::Position(index, Side::Start),
-        "end.position" => Target::Position(index, Side::End),
-        "start.force" => Target::Force(index, Side::Start),
-        "end.force" => Target::Force(index, Side::End),
-        _ => {
-            return Err(unknown(format!(
-                "'{field}' is not a field of rod '{}' that a variant can change",
-                def.name
-            )));
-        }
-    })
-}
-
-/// Resolves `<name>.<field>` (the item without its `junctions.`/`connectors.` prefix)
-/// against the named entries of one kind; `field` is the only changeable field.
-fn resolve_named<T>(
-    report: &Reporter,
-    at: &str,
-    item: &str,
-    rest: &str,
-    kind: &str,
-    entries: &[(String, T)],
-    field: &str,
-) -> Result<usize, CaseError> {
-    let defined: Vec<&str> = entries.iter().map(|(n, _)| n.as_str()).collect();
-    let defined = if defined.is_empty() {
-        "none".to_string()
-    } else {
-        defined.join(", ")
-    };
-    let hint = format!("valid items: {VARIANT_ITEMS}; {kind}s: {defined}");
-    let (name, wanted) = rest.split_once('.').unwrap_or((rest, ""));
-    let Some(index) = entries.iter().position(|(n, _)| n == name) else {
-        return Err(report.invalid(at, format!("there is no {kind} named '{name}'"), hint));
-    };
-    if wanted != field {
-        return Err(report.invalid(
-            at,
-            format!("'{wanted}' is not a field of {kind} '{name}' that a variant can change (only `{field}`)"),
-            format!("write e.g. \"{}\"", item.strip_suffix(wanted).map_or_else(|| item.to_string(), |p| format!("{p}{field}"))),
-        ));
-    }
-    Ok(index)
 }
 
 fn number(
@@ -367,12 +174,14 @@ pub(crate) fn apply_changes(
         let amount = match change {
             Change::Add(a) | Change::Set(a) => *a,
         };
-        match resolve(report, &at, file, item)? {
-            Target::Gravity => {
+        let target =
+            VariantItem::parse(file, item).map_err(|e| report.invalid(&at, e.message, e.hint))?;
+        match target {
+            VariantItem::Gravity => {
                 let v = vector(report, &at, item, amount, " in m/s²")?;
                 out.gravity = changed3(&out.gravity, change, &v);
             }
-            Target::Length(r) => {
+            VariantItem::RodLength(r) => {
                 let x = number(report, &at, item, amount, &unit)?;
                 let Some(length) = out.rods[r].length else {
                     return Err(report.invalid(
@@ -386,7 +195,7 @@ pub(crate) fn apply_changes(
                 };
                 out.rods[r].length = Some(changed(length, change, x));
             }
-            Target::Segments(r) => {
+            VariantItem::RodSegments(r) => {
                 let x = number(report, &at, item, amount, "")?;
                 if matches!(change, Change::Add(_)) {
                     return Err(report.invalid(
@@ -404,12 +213,12 @@ pub(crate) fn apply_changes(
                 }
                 out.rods[r].segments = x as usize;
             }
-            Target::Position(r, side) => {
+            VariantItem::EndPosition { rod: r, end: side } => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let rod = &mut out.rods[r];
                 let end = match side {
-                    Side::Start => &mut rod.start,
-                    Side::End => &mut rod.end,
+                    RodEnd::Start => &mut rod.start,
+                    RodEnd::End => &mut rod.end,
                 };
                 let position = match end {
                     EndDef::Clamp { position, .. } | EndDef::Pin { position, .. } => position,
@@ -464,19 +273,19 @@ pub(crate) fn apply_changes(
                 // The route is only the initial guess: move its point at this end along.
                 if let Some(route) = rod.route.as_mut().filter(|r| !r.is_empty()) {
                     let point = match side {
-                        Side::Start => &mut route[0],
-                        Side::End => route.last_mut().expect("non-empty"),
+                        RodEnd::Start => &mut route[0],
+                        RodEnd::End => route.last_mut().expect("non-empty"),
                     };
                     for i in 0..3 {
                         point[i] += new[i] - old[i];
                     }
                 }
             }
-            Target::Force(r, side) => {
+            VariantItem::EndForce { rod: r, end: side } => {
                 let v = vector(report, &at, item, amount, " in N")?;
                 let end = match side {
-                    Side::Start => &mut out.rods[r].start,
-                    Side::End => &mut out.rods[r].end,
+                    RodEnd::Start => &mut out.rods[r].start,
+                    RodEnd::End => &mut out.rods[r].end,
                 };
                 let force = match end {
                     EndDef::Clamp { force, .. }
@@ -500,12 +309,12 @@ pub(crate) fn apply_changes(
                 };
                 *force = changed3(force, change, &v);
             }
-            Target::JunctionMass(j) => {
+            VariantItem::JunctionMass(j) => {
                 let x = number(report, &at, item, amount, " in kg")?;
                 let mass = &mut out.junctions[j].1.mass;
                 *mass = changed(*mass, change, x);
             }
-            Target::ClipAt(c) => {
+            VariantItem::ClipAt(c) => {
                 let x = number(report, &at, item, amount, &unit)?;
                 let (name, clip) = &mut out.clips[c];
                 let Some(station) = clip.at.as_mut() else {
@@ -517,7 +326,7 @@ pub(crate) fn apply_changes(
                 };
                 *station = changed(*station, change, x);
             }
-            Target::ClipBasePosition(c) => {
+            VariantItem::ClipBasePosition(c) => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let (name, clip) = &mut out.clips[c];
                 let Some(base) = clip.base.as_mut() else {
@@ -529,12 +338,12 @@ pub(crate) fn apply_changes(
                 };
                 base.position = changed3(&base.position, change, &v);
             }
-            Target::EnvironmentPosition(e) => {
+            VariantItem::EnvironmentPosition(e) => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let mesh = &mut out.environment[e];
                 mesh.position = changed3(&mesh.position, change, &v);
             }
-            Target::ConnectorPosition(c) => {
+            VariantItem::ConnectorPosition(c) => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let (name, connector) = &mut out.connectors[c];
                 let old = connector.position;

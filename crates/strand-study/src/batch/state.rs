@@ -187,7 +187,7 @@ impl StoredState {
 
 /// `failed.json`: a variant without a converged result, and why.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct FailedVariant {
+pub struct FailedVariant {
     /// The variant's id.
     pub id: String,
     /// `"build"` (the changed case is invalid, e.g. a hose shorter than the distance
