@@ -58,6 +58,7 @@ mod environment;
 mod findings;
 mod fittings;
 pub mod motion;
+mod number;
 mod outline;
 pub mod plot;
 mod provenance;
@@ -79,7 +80,7 @@ mod tests;
 pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
-pub use csv::{CSV_HEADER, push_number, rod_csv};
+pub use csv::{CSV_HEADER, rod_csv};
 pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use findings::{
     Finding, FindingKind, FindingValue, bend_radii, find, findings_text, limits_stated,
@@ -89,6 +90,7 @@ pub use fittings::{
     CLIP_RADIUS_FACTOR, CLIP_WIDTH_FACTOR, CONNECTOR_LENGTH_FACTOR, CONNECTOR_OVERLAP_FACTOR,
     CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
+pub use number::{push_integer, push_number};
 pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
