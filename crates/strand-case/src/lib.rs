@@ -200,4 +200,25 @@ impl Case {
         self.build_file(&file, segments, build::BuildExtras::default())
             .map_err(|e| variant::in_variant(e, label))
     }
+
+    /// The case with `changes` applied to its file (items and changes as under
+    /// `variants`, see [`VARIANT_ITEMS`]), not yet validated: same name, origin and
+    /// environment cache. `label` names the changes in messages. Use it to run a batch
+    /// or study on a changed case; [`Case::build_with_changes`] builds it with the
+    /// build's errors naming `label` too.
+    pub fn with_changes(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+    ) -> Result<Case, CaseError> {
+        let report = error::Reporter {
+            origin: &self.origin,
+        };
+        Ok(Case {
+            name: self.name.clone(),
+            origin: self.origin.clone(),
+            file: variant::apply_changes(&report, &self.file, label, changes)?,
+            environment: self.environment.clone(),
+        })
+    }
 }

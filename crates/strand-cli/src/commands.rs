@@ -12,7 +12,7 @@ use strand_study::{ErrorKind, StudyError};
 
 use crate::Exit;
 use crate::args::{Command, ExportUnitArg};
-use crate::summary::{number, summary};
+use crate::summary::summary;
 
 /// A failure with the exit status it maps to.
 #[derive(Debug)]
@@ -269,9 +269,7 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     let built = case.build(segments)?;
     // Every hose must start clear of the environment and of each other, as `solve`
     // requires.
-    built
-        .check_start()
-        .map_err(|e| StudyError::solver(&built.origin, e))?;
+    strand_study::solve::check_start(&built)?;
     // Every variant must build and start clear too.
     let variants = case.variant_names();
     for name in &variants {
@@ -417,42 +415,14 @@ pub(crate) fn write_solved(
             doc.findings.len()
         );
     }
-    if doc.converged {
-        Ok(Exit::Success)
-    } else {
-        // A stall: the residual it reached is this model's floor at this start.
-        let floor = match doc.termination.as_str() {
-            "stagnated"
-                if doc.residual_n <= strand_solve::ROUND_OFF_STALL * doc.residual_floor_n =>
-            {
-                format!(
-                    "; the residual stopped decreasing at {} N, the round-off floor of this \
-                     model (estimated {} N): the state is the equilibrium to round-off; set \
-                     tolerance_n to at least {} N to accept it",
-                    number(doc.residual_n),
-                    number(doc.residual_floor_n),
-                    number(doc.residual_n)
-                )
-            }
-            "stagnated" => format!(
-                "; the residual stopped decreasing at {} N while the energy stayed constant",
-                number(doc.residual_n)
-            ),
-            _ => String::new(),
-        };
-        let _ = writeln!(
-            err,
-            "warning: {}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations{floor}); \
-             results written with \"converged\": false",
-            built.origin,
-            variant
-                .map(|v| format!(" (variant '{v}')"))
-                .unwrap_or_default(),
-            doc.termination,
-            number(doc.residual_n),
-            number(doc.tolerance_n),
-            doc.iterations
-        );
-        Ok(Exit::NotConverged)
+    match strand_study::solve::not_converged(&built.origin, variant, &doc) {
+        None => Ok(Exit::Success),
+        Some(message) => {
+            let _ = writeln!(
+                err,
+                "warning: {message}; results written with \"converged\": false"
+            );
+            Ok(Exit::NotConverged)
+        }
     }
 }

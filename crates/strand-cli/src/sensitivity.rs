@@ -31,16 +31,6 @@ pub(crate) fn run(
     parameters(&case, names)?;
     let built = case.build(None)?;
     let solution = crate::commands::solve_cold(&built)?;
-    if !solution.report.converged {
-        return Err(Failure {
-            exit: Exit::NotConverged,
-            message: format!(
-                "{}: the case did not converge (residual {} N): there is no equilibrium to differentiate",
-                case.origin,
-                significant(solution.report.residual.combined_n, 3)
-            ),
-        });
-    }
     let solve_s = started.elapsed().as_secs_f64();
     let doc = sensitivities(&case, names, &solution)?;
     write_sensitivities(dir, &doc)?;

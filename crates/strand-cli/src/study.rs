@@ -15,8 +15,9 @@ use crate::commands::Failure;
 use crate::progress::Progress;
 use crate::summary::{number, significant};
 
-/// The warning that a variant starts cold because the case did not converge.
-fn cold_start_warning(
+/// Prints the warning that variant `name` starts cold because the case did not
+/// converge ([`strand_study::solve::cold_start_warning`]).
+fn warn_cold_start(
     err: &mut dyn Write,
     origin: &str,
     name: &str,
@@ -25,9 +26,8 @@ fn cold_start_warning(
 ) {
     let _ = writeln!(
         err,
-        "warning: {origin}: the case itself did not converge (residual {} N after {iterations} iterations); \
-         variant '{name}' starts from its own initial guess instead of a warm start",
-        number(residual_n),
+        "warning: {}",
+        strand_study::solve::cold_start_warning(origin, name, residual_n, iterations)
     );
 }
 
@@ -42,7 +42,7 @@ pub(crate) fn solve_variant(
     err: &mut dyn Write,
 ) -> Result<(Solution, bool), Failure> {
     if !base_solution.report.converged {
-        cold_start_warning(
+        warn_cold_start(
             err,
             &base.origin,
             name,
@@ -84,7 +84,7 @@ pub(crate) fn run(
             variant,
             base_residual_n,
             base_iterations,
-        } => cold_start_warning(err, origin, variant, base_residual_n, base_iterations),
+        } => warn_cold_start(err, origin, variant, base_residual_n, base_iterations),
     })?;
     drop(progress);
     let unit = study.length_unit;

@@ -57,8 +57,10 @@
 //! named variants: see [`study`].
 
 pub mod batch;
+pub mod change;
 pub mod error;
 pub mod findings;
+pub mod format;
 pub mod limits;
 pub mod motion;
 pub mod sensitivity;

@@ -17,6 +17,7 @@ use strand_case::ItemQuantity as Quantity;
 
 use crate::batch::spec::resolve;
 use crate::error::{Result, StudyError};
+use crate::format::significant;
 
 fn invalid(message: String) -> StudyError {
     StudyError::Input(message)
@@ -87,9 +88,18 @@ fn outputs_at(
 
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
 /// `names` ([`parameters`]): every output's value and its derivative per parameter
-/// (per unit of the parameter: the case's length unit, kg, N, m/s²).
+/// (per unit of the parameter: the case's length unit, kg, N, m/s²). A `solution`
+/// that did not converge is [`StudyError::NotConverged`]: there is no equilibrium to
+/// differentiate.
 pub fn sensitivities(case: &Case, names: &[String], solution: &Solution) -> Result<SensitivityDoc> {
     let params = parameters(case, names)?;
+    if !solution.report.converged {
+        return Err(StudyError::NotConverged(format!(
+            "{}: the case did not converge (residual {} N): there is no equilibrium to differentiate",
+            case.origin,
+            significant(solution.report.residual.combined_n, 3)
+        )));
+    }
     let design = CaseDesign::new(case, params.iter().map(|(p, _)| p.clone()).collect());
     let fail = |e: strand_solve::sensitivity::SensitivityError| {
         StudyError::Io(format!("{}: sensitivities: {e}", case.origin))
@@ -168,6 +178,17 @@ pub fn sensitivities(case: &Case, names: &[String], solution: &Solution) -> Resu
             })
             .collect(),
     })
+}
+
+/// `strand sensitivity`'s document for `case` (checked against the limits): its
+/// parameters `names` checked, the case built with its own segments and solved cold,
+/// then [`sensitivities`] (a case that does not converge is
+/// [`StudyError::NotConverged`]).
+pub fn solve_and_differentiate(case: &Case, names: &[String]) -> Result<SensitivityDoc> {
+    parameters(case, names)?;
+    let built = case.build(None)?;
+    let solution = crate::solve::solve_cold(&built)?;
+    sensitivities(case, names, &solution)
 }
 
 /// Writes `doc` to `dir/sensitivity.json` and `dir/sensitivity.csv` (each atomically,

@@ -13,8 +13,19 @@ use std::path::{Path, PathBuf};
 use strand_case::{BuiltCase, warm_start};
 use strand_report::{ExportUnit, ResultDoc, Timing, collect, name_connectors, write_results_in};
 use strand_solve::{Solution, SolverSettings};
+use strand_system::SystemState;
 
 use crate::error::{Result, StudyError};
+use crate::format::number;
+
+/// Checks that no hose of `built` starts inside a part or another hose, as `strand
+/// check` and `strand solve` do before the first step (an input error naming the
+/// place).
+pub fn check_start(built: &BuiltCase) -> Result<()> {
+    built
+        .check_start()
+        .map_err(|e| StudyError::solver(&built.origin, e))
+}
 
 /// Solves `built` from its own initial guess with its own settings. The solution says
 /// whether it converged (`report.converged`) and its residual (N).
@@ -24,14 +35,14 @@ pub fn solve_cold(built: &BuiltCase) -> Result<Solution> {
         .map_err(|e| StudyError::solver(&built.origin, e))
 }
 
-/// Solves variant `built` from `base_solution` (a solution of `base`) resampled onto
+/// Solves variant `built` from `base_state` (a solved state of `base`) resampled onto
 /// its rods, without nested iteration (the start is already close).
 pub fn solve_warm(
     base: &BuiltCase,
-    base_solution: &Solution,
+    base_state: &SystemState,
     built: &BuiltCase,
 ) -> Result<Solution> {
-    let initial = warm_start(&base.model, &base_solution.state, &built.model);
+    let initial = warm_start(&base.model, base_state, &built.model);
     let settings = SolverSettings {
         nested_iteration: false,
         ..built.settings.clone()
@@ -49,10 +60,58 @@ pub fn solve_variant(
     built: &BuiltCase,
 ) -> Result<(Solution, bool)> {
     if base_solution.report.converged {
-        Ok((solve_warm(base, base_solution, built)?, true))
+        Ok((solve_warm(base, &base_solution.state, built)?, true))
     } else {
         Ok((solve_cold(built)?, false))
     }
+}
+
+/// The warning (printed after `warning: `) that variant `name` of the case read from
+/// `origin` starts from its own initial guess because the case itself did not
+/// converge (residual `residual_n` N after `iterations`).
+pub fn cold_start_warning(origin: &str, name: &str, residual_n: f64, iterations: usize) -> String {
+    format!(
+        "{origin}: the case itself did not converge (residual {} N after {iterations} iterations); \
+         variant '{name}' starts from its own initial guess instead of a warm start",
+        number(residual_n),
+    )
+}
+
+/// `None` for a converged `doc`, else what `strand solve` warns about it (after
+/// `warning: `): the case file `origin`, the `variant`, why the solve stopped and at
+/// which residual (N), and for a stall whether it reached the model's round-off floor.
+pub fn not_converged(origin: &str, variant: Option<&str>, doc: &ResultDoc) -> Option<String> {
+    if doc.converged {
+        return None;
+    }
+    // A stall: the residual it reached is this model's floor at this start.
+    let floor = match doc.termination.as_str() {
+        "stagnated" if doc.residual_n <= strand_solve::ROUND_OFF_STALL * doc.residual_floor_n => {
+            format!(
+                "; the residual stopped decreasing at {} N, the round-off floor of this \
+                 model (estimated {} N): the state is the equilibrium to round-off; set \
+                 tolerance_n to at least {} N to accept it",
+                number(doc.residual_n),
+                number(doc.residual_floor_n),
+                number(doc.residual_n)
+            )
+        }
+        "stagnated" => format!(
+            "; the residual stopped decreasing at {} N while the energy stayed constant",
+            number(doc.residual_n)
+        ),
+        _ => String::new(),
+    };
+    Some(format!(
+        "{origin}{}: not converged ({}; residual {} N > tolerance {} N after {} iterations{floor})",
+        variant
+            .map(|v| format!(" (variant '{v}')"))
+            .unwrap_or_default(),
+        doc.termination,
+        number(doc.residual_n),
+        number(doc.tolerance_n),
+        doc.iterations
+    ))
 }
 
 /// Contacts, clearances and the environment meshes' diagnostics and outlines (near

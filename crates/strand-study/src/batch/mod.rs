@@ -292,6 +292,14 @@ impl Batch {
     pub fn plan(spec: BatchSpec) -> Result<Self> {
         let case = Case::from_path(&spec.case)?;
         crate::limits::check_case(&case)?;
+        Self::plan_case(case, spec)
+    }
+
+    /// [`Batch::plan`] of `case`, already read and checked against the limits
+    /// (`spec.case` is not read again): a case changed in memory, by a variant or
+    /// [`Case::with_changes`], or read from a string. `batch.json` records
+    /// `case.origin` and the fingerprint of the changed file.
+    pub fn plan_case(case: Case, spec: BatchSpec) -> Result<Self> {
         if spec.vary.is_empty() {
             return Err(StudyError::Input(
                 "strand batch needs at least one --vary, e.g. --vary hose2.length=+0mm..+100mm:10mm"

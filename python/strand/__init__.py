@@ -1,0 +1,33 @@
+"""Strand from Python: static equilibria of cables and hoses as discrete quaternionic
+Cosserat rods, with the engine and messages of the ``strand`` command line.
+
+>>> import strand
+>>> case = strand.Case.load("cases/cooler_hose.ron")
+>>> result = case.solve()
+>>> result.converged, result.residual_N < 1e-9
+(True, True)
+>>> longer = case.with_changes({"hose2.length": "+50mm"}).solve(warm_start=result)
+>>> rows = strand.batch(case, vary={"hose2.length": "+0mm..+90mm:10mm"}, as_frame=False)
+
+Units: case files in their own length unit (``units: (length: "mm")``), results in SI
+with the unit in every key (``position_m``, ``force_N``, ``moment_Nm``).
+"""
+
+from ._errors import InputError, NotConvergedError, SolveError, StrandError, StrandWarning
+from ._result import Result
+from ._case import Case
+from ._batch import batch, parse_summary
+from ._strand import __version__
+
+__all__ = [
+    "Case",
+    "Result",
+    "batch",
+    "parse_summary",
+    "StrandError",
+    "InputError",
+    "SolveError",
+    "NotConvergedError",
+    "StrandWarning",
+    "__version__",
+]
