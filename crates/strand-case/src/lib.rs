@@ -167,6 +167,20 @@ impl Case {
             .map_err(|e| variant::in_variant(e, name))
     }
 
+    /// The case file with `changes` applied (items and changes as under `variants`;
+    /// not yet validated: [`Case::build_with_changes`] validates and builds it);
+    /// `label` names the changes in messages.
+    pub fn file_with_changes(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+    ) -> Result<CaseFile, CaseError> {
+        let report = error::Reporter {
+            origin: &self.origin,
+        };
+        variant::apply_changes(&report, &self.file, label, changes)
+    }
+
     /// Validates the case with `changes` applied (items and changes as under
     /// `variants`, see [`VARIANT_ITEMS`]) and builds its model, like
     /// [`Case::build_variant`] for an unnamed variant: `label` names the changes in
@@ -178,10 +192,7 @@ impl Case {
         changes: &[schema::VariantChange],
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
-        let report = error::Reporter {
-            origin: &self.origin,
-        };
-        let file = variant::apply_changes(&report, &self.file, label, changes)?;
+        let file = self.file_with_changes(label, changes)?;
         build::build(&self.name, &self.origin, &file, segments, &self.environment)
             .map_err(|e| variant::in_variant(e, label))
     }

@@ -91,6 +91,30 @@ pub enum Command {
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },
+    /// Find the best design within bounds with exact gradients (trust-region SQP):
+    /// DIR/optimum.json, DIR/history.csv, DIR/history.svg and DIR/<case>_optimum.ron.
+    Optimize {
+        /// The case file (RON).
+        case: PathBuf,
+        /// A design variable with bounds, named as in `batch --vary`:
+        /// hose2.length=150mm..300mm (values) or oil_cooler.position.z=-20mm..+20mm
+        /// (offsets from the case).
+        #[arg(long = "vary", value_name = "NAME=LO..HI", required = true)]
+        vary: Vec<String>,
+        /// What to minimise: peak_force (the largest peak |f| of all rods),
+        /// peak_force:<rod>, max_reaction, energy, or an output name of
+        /// sensitivity.json.
+        #[arg(long, value_name = "OBJECTIVE", default_value = "peak_force")]
+        minimize: String,
+        /// A constraint: "clearance>=10mm", "clearance:<rod>>=10mm",
+        /// "bend_radius>=min" (each section's min_bend_radius), "bend_radius>=60mm",
+        /// or an output: "oil_cooler.force_N.z<=20N".
+        #[arg(long = "subject-to", value_name = "CONSTRAINT")]
+        subject_to: Vec<String>,
+        /// Output directory.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
     /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
     /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.
     Study {

@@ -83,6 +83,13 @@ pub(crate) fn execute(
             params,
             out: dir,
         } => crate::sensitivity::run(case, params, dir, out),
+        Command::Optimize {
+            case,
+            vary,
+            minimize,
+            subject_to,
+            out: dir,
+        } => crate::optimize::run(case, vary, minimize, subject_to, dir, out),
         Command::Study {
             case,
             variants,
@@ -379,6 +386,34 @@ pub(crate) struct Solved<'a> {
     pub base_iterations: Option<usize>,
 }
 
+/// The result document of a solve: sectional quantities, reactions, contacts,
+/// clearances, the case's limits and the findings against them.
+pub(crate) fn result_doc(
+    built: &BuiltCase,
+    solution: &strand_solve::Solution,
+    timing: Timing,
+) -> Result<strand_report::ResultDoc, Failure> {
+    let mut doc = collect(&built.name, &built.model, solution, timing);
+    add_contacts(&mut doc, built, solution)?;
+    name_connectors(&mut doc, &built.connector_names);
+    Ok(doc)
+}
+
+/// Writes `result.json` and the per-rod files of `doc` into `dir` (for `strand
+/// report`), in the case's export unit.
+pub(crate) fn write_result_files(
+    built: &BuiltCase,
+    doc: &strand_report::ResultDoc,
+    dir: &Path,
+) -> Result<(), Failure> {
+    write_results_in(dir, doc, &export_unit(built))
+        .map(|_| ())
+        .map_err(|e| Failure {
+            exit: Exit::Failure,
+            message: format!("{}: results not written: {e}", built.origin),
+        })
+}
+
 /// Writes the results of a solve to `dir` [default out/<case>/<variant>] and prints
 /// its summary and findings; the exit status says whether it converged.
 pub(crate) fn write_solved(
@@ -394,9 +429,7 @@ pub(crate) fn write_solved(
         variant,
         base_iterations,
     } = *solved;
-    let mut doc = collect(&built.name, &built.model, solution, timing);
-    add_contacts(&mut doc, built, solution)?;
-    name_connectors(&mut doc, &built.connector_names);
+    let mut doc = result_doc(built, solution, timing)?;
     doc.variant = variant.map(str::to_string);
     doc.warm_start = base_iterations.is_some();
     doc.base_iterations = base_iterations;

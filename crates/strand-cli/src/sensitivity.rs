@@ -7,13 +7,11 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase, LengthUnit};
-use strand_report::{
-    OutputValue, SensitivityDoc, SensitivityOutput, SensitivityParameter, design_outputs,
-    sensitivity_doc, write_atomic,
-};
+use strand_case::{Case, CaseDesign, DesignParameter, LengthUnit};
+use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter, write_atomic};
 use strand_solve::Solution;
-use strand_solve::sensitivity::{Sample, Sensitivities, SensitivitySettings};
+use strand_solve::sensitivity::SensitivitySettings;
+use strand_study::optimize::output_table;
 
 use crate::Exit;
 use crate::batch::spec::{Quantity, resolve};
@@ -30,28 +28,35 @@ fn invalid(message: String) -> Failure {
     }
 }
 
+/// The typical size of a parameter of `quantity` in its unit in `case` (the
+/// difference steps are a small fraction of it; [`DesignParameter::scale`]) and that
+/// unit; `None` for a count.
+pub(crate) fn parameter_scale(quantity: Quantity, case: &Case) -> Option<(f64, String)> {
+    let unit = LengthUnit::parse(&case.file.units.length);
+    Some(match quantity {
+        Quantity::Length => (
+            1.0 / unit.map_or(1.0, |u| u.metres()),
+            case.file.units.length.clone(),
+        ),
+        // Loads enter the gradient linearly: large steps are exact and keep the
+        // round-off of the stiff forces small.
+        Quantity::Mass => (100.0, "kg".to_string()),
+        Quantity::Force => (100.0, "N".to_string()),
+        Quantity::Acceleration => (10.0, "m/s2".to_string()),
+        Quantity::Count => return None,
+    })
+}
+
 /// The design parameters named on the command line, with their units.
 fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, String)>, Failure> {
-    let unit = LengthUnit::parse(&case.file.units.length);
     let mut out: Vec<(DesignParameter, String)> = Vec::new();
     for name in names {
         let (item, quantity, component) = resolve(name, name, &case.file)
             .map_err(|e| invalid(format!("--param {name}: {} (hint: {})", e.message, e.hint)))?;
-        let (scale, unit_name) = match quantity {
-            Quantity::Length => (
-                1.0 / unit.map_or(1.0, |u| u.metres()),
-                case.file.units.length.clone(),
-            ),
-            // Loads enter the gradient linearly: large steps are exact and keep the
-            // round-off of the stiff forces small.
-            Quantity::Mass => (100.0, "kg".to_string()),
-            Quantity::Force => (100.0, "N".to_string()),
-            Quantity::Acceleration => (10.0, "m/s2".to_string()),
-            Quantity::Count => {
-                return Err(invalid(format!(
-                    "--param {name}: a number of segments is not a continuous parameter (hint: differentiate with respect to lengths, positions, masses, forces or gravity)"
-                )));
-            }
+        let Some((scale, unit_name)) = parameter_scale(quantity, case) else {
+            return Err(invalid(format!(
+                "--param {name}: a number of segments is not a continuous parameter (hint: differentiate with respect to lengths, positions, masses, forces or gravity)"
+            )));
         };
         if out
             .iter()
@@ -73,27 +78,6 @@ fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter, Str
     Ok(out)
 }
 
-/// The named outputs of a design at a solution.
-fn outputs_at(
-    built: &DesignedCase,
-    solution: &Solution,
-    pins: Option<&[OutputValue]>,
-) -> Result<Vec<OutputValue>, Failure> {
-    let b = &built.built;
-    let doc = sensitivity_doc(
-        &b.name,
-        &b.model,
-        solution,
-        built.contact.as_ref(),
-        &b.connector_names,
-    )
-    .map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: contacts: {e}", b.origin),
-    })?;
-    Ok(design_outputs(&doc, pins))
-}
-
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
 /// `names`.
 pub(crate) fn sensitivities(
@@ -103,60 +87,37 @@ pub(crate) fn sensitivities(
 ) -> Result<SensitivityDoc, Failure> {
     let params = parameters(case, names)?;
     let design = CaseDesign::new(case, params.iter().map(|(p, _)| p.clone()).collect());
-    let fail = |e: strand_solve::sensitivity::SensitivityError| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: sensitivities: {e}", case.origin),
-    };
-    let s =
-        Sensitivities::compute(&design, solution, &SensitivitySettings::default()).map_err(fail)?;
-    let base_built = strand_solve::sensitivity::Design::build(&design, &vec![0.0; names.len()])?;
-    let base = outputs_at(&base_built, solution, None)?;
-    let mut outputs: Vec<SensitivityOutput> = base
+    let table =
+        output_table(&design, solution, &SensitivitySettings::default()).map_err(|e| Failure {
+            exit: if e.is_input() {
+                Exit::InvalidInput
+            } else {
+                Exit::Failure
+            },
+            message: format!("{}: sensitivities: {e}", case.origin),
+        })?;
+    let outputs = table
+        .outputs
         .iter()
-        .map(|o| SensitivityOutput {
+        .enumerate()
+        .map(|(k, o)| SensitivityOutput {
             name: o.name.clone(),
             value: o.value,
-            d: Default::default(),
-            one_sided: Vec::new(),
+            d: names
+                .iter()
+                .zip(&table.derivatives[k])
+                .filter(|(_, d)| d.is_finite())
+                .map(|(n, d)| (n.clone(), *d))
+                .collect(),
+            // A peak whose arg differs from the base's on one side jumps here.
+            one_sided: names
+                .iter()
+                .zip(&table.one_sided[k])
+                .filter(|(_, one)| **one)
+                .map(|(n, _)| n.clone())
+                .collect(),
         })
         .collect();
-    for (j, name) in names.iter().enumerate() {
-        let mut failure = None;
-        let derivatives = s
-            .derivative(&design, solution, j, |built, at| {
-                let here = outputs_at(built, at, Some(&base)).unwrap_or_else(|e| {
-                    failure = Some(e);
-                    Vec::new()
-                });
-                base.iter()
-                    .map(|b| {
-                        here.iter().find(|o| o.name == b.name).map_or(
-                            Sample {
-                                value: f64::NAN,
-                                arg: usize::MAX,
-                            },
-                            |o| Sample {
-                                value: o.value,
-                                arg: o.arg,
-                            },
-                        )
-                    })
-                    .collect()
-            })
-            .map_err(fail)?;
-        if let Some(e) = failure {
-            return Err(e);
-        }
-        for (o, d) in outputs.iter_mut().zip(&derivatives) {
-            if d.derivative.is_finite() {
-                o.d.insert(name.clone(), d.derivative);
-            }
-            // A peak whose arg differs from the base's on one side jumps here.
-            if d.one_sided {
-                o.one_sided.push(name.clone());
-            }
-        }
-    }
     Ok(SensitivityDoc {
         case: case.name.clone(),
         converged: solution.report.converged,
@@ -170,7 +131,8 @@ pub(crate) fn sensitivities(
             })
             .collect(),
         outputs,
-        near_switch: s
+        near_switch: table
+            .sensitivities
             .flagged
             .iter()
             .map(|f| {
@@ -219,6 +181,9 @@ pub(crate) fn run(
     let json = serde_json::to_string_pretty(&doc).expect("serialisable");
     write_atomic(&dir.join("sensitivity.json"), json.as_bytes()).map_err(not_written)?;
     write_atomic(&dir.join("sensitivity.csv"), doc.csv().as_bytes()).map_err(not_written)?;
+    // The base solve's results next to them: the folder is a result for `strand report`.
+    let result = crate::commands::result_doc(&built, &solution, strand_report::Timing::default())?;
+    crate::commands::write_result_files(&built, &result, dir)?;
     let _ = write!(
         out,
         "{}",
@@ -279,9 +244,10 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
         ));
     }
     s.push_str(&format!(
-        "written: {}, {}\n",
+        "written: {}, {} (and the base solve's result.json: `strand report {}` shows the table)\n",
         dir.join("sensitivity.json").display(),
-        dir.join("sensitivity.csv").display()
+        dir.join("sensitivity.csv").display(),
+        dir.display()
     ));
     s
 }

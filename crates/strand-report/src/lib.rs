@@ -54,6 +54,7 @@ mod environment;
 mod findings;
 mod fittings;
 pub mod motion;
+mod optimum;
 mod outline;
 mod palette;
 mod provenance;
@@ -85,6 +86,9 @@ pub use fittings::{
     CLIP_RADIUS_FACTOR, CLIP_WIDTH_FACTOR, CONNECTOR_LENGTH_FACTOR, CONNECTOR_OVERLAP_FACTOR,
     CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
+pub use optimum::{
+    OptimumConstraint, OptimumDoc, OptimumIterate, OptimumObjective, OptimumParameter, optimum_svg,
+};
 pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
@@ -93,7 +97,9 @@ pub use palette::{
     DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, dash_pattern, line_colour,
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
-pub use report::{ReportInputError, ReportRun, check_result, report_html};
+pub use report::{
+    ReportInputError, ReportRun, ReportStudies, check_result, report_html, report_html_with_studies,
+};
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,
     RodResult, Timing, collect, name_connectors,

@@ -18,6 +18,7 @@
 //! - [`run`]: parallel execution, progress bar, resume;
 //! - [`merge`]: combining shard directories.
 
+pub(crate) mod bounds;
 mod checksum;
 mod cleanup;
 pub(crate) mod estimate;

@@ -35,7 +35,7 @@ pub(crate) enum Quantity {
 impl Quantity {
     /// Accepted unit suffixes with their size in the base unit (m, kg, N, m/s², 1),
     /// longest first so that `mm` is not read as `m`.
-    fn units(self) -> &'static [(&'static str, f64)] {
+    pub(super) fn units(self) -> &'static [(&'static str, f64)] {
         match self {
             Quantity::Length => &[("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)],
             Quantity::Mass => &[("kg", 1.0), ("g", 1e-3)],
@@ -79,23 +79,30 @@ pub(crate) struct SpecError {
     pub(crate) hint: String,
 }
 
-fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
-    SpecError {
-        text: text.to_string(),
-        message: message.into(),
-        hint: hint.into(),
+impl SpecError {
+    /// The error of option `text`: what is wrong and how to fix it.
+    pub(crate) fn new(text: &str, message: impl Into<String>, hint: impl Into<String>) -> Self {
+        Self {
+            text: text.to_string(),
+            message: message.into(),
+            hint: hint.into(),
+        }
     }
+}
+
+fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
+    SpecError::new(text, message, hint)
 }
 
 /// A written number: its value in the base unit (m, kg, …; the case unit when no
 /// unit is given), whether it has a sign, and the unit written (if any).
-struct Number {
-    base_value: f64,
-    signed: bool,
-    unit: Option<&'static str>,
+pub(super) struct Number {
+    pub(super) base_value: f64,
+    pub(super) signed: bool,
+    pub(super) unit: Option<&'static str>,
 }
 
-fn parse_number(
+pub(super) fn parse_number(
     text: &str,
     written: &str,
     quantity: Quantity,
@@ -270,7 +277,7 @@ pub(crate) fn resolve(
 }
 
 /// The case's own value of a scalar item, in the item's base unit (m, kg, count).
-fn case_value(file: &CaseFile, item: &str, unit: Option<LengthUnit>) -> Option<f64> {
+pub(super) fn case_value(file: &CaseFile, item: &str, unit: Option<LengthUnit>) -> Option<f64> {
     let (kind, rest) = item.split_once('.')?;
     match kind {
         "rods" => {

@@ -1,0 +1,224 @@
+//! Design optimisation with exact gradients (`strand optimize`).
+//!
+//! The design variables are parameters of the case (named as in `batch --vary`) with
+//! bounds; the objective is the largest of a few smooth pieces (`peak_force`: the
+//! peak |f| of every rod, a min–max; `max_reaction`: every support's reaction; or one
+//! output: `peak_force:<rod>`, `energy`, any output of `sensitivity.json`); the
+//! constraints bound outputs (`clearance>=10mm`: every rod to every obstacle;
+//! `bend_radius>=min`: each rod's smallest bend radius against its section's
+//! `min_bend_radius`; any output by name).
+//!
+//! Every point costs one equilibrium solve, warm-started from the last accepted
+//! point moved along its first-order path, and one sensitivity computation
+//! ([`strand_solve::sensitivity`]), which gives the gradient of every piece and row.
+//! The loop ([`run`]) is a trust-region SQP in the epigraph form of the min–max:
+//! one subproblem row per piece, solved by clarabel ([`step`]). A clearance row
+//! whose rod presses on the obstacle is replaced by the contact force there
+//! ([`pieces::Row::in_contact`]). Where the model fails (a peak's location jumps, a
+//! contact opens) steps are rejected and the history says why; a run that cannot
+//! converge there ends as `non_smooth`, not converged.
+//!
+//! [`Optimum`] is the result: the optimum's values, objective, active constraints
+//! with their multipliers (`d_objective_d_bound`: how much the optimum's objective
+//! rises per unit the bound is tightened), every output, the history, and the variant
+//! changes that make the optimal case ([`optimum::document`] makes `optimum.json`,
+//! [`strand_report::OptimumDoc`] and [`strand_report::optimum_svg`] the history's CSV
+//! and SVG).
+
+pub mod evaluate;
+pub mod optimum;
+pub mod pieces;
+pub mod problem;
+pub mod run;
+pub mod settings;
+pub mod step;
+pub mod table;
+
+use strand_case::CaseError;
+use strand_case::schema::VariantChange;
+use strand_report::OutputValue;
+use strand_solve::SettingsError;
+use strand_solve::sensitivity::SensitivityError;
+
+pub use optimum::document;
+pub use problem::{Bound, Bounded, Limit, Objective, Problem, Variable};
+pub use run::optimize;
+pub use settings::OptimizeSettings;
+pub use table::{OutputTable, output_table, outputs_at};
+
+/// Why an optimisation could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum OptimizeError {
+    /// A command-line input is wrong.
+    #[error("{option} {text}: {message} (hint: {hint})")]
+    Input {
+        /// The option (`--minimize`, `--subject-to`, `--vary`).
+        option: String,
+        /// Its value as given.
+        text: String,
+        /// What is wrong.
+        message: String,
+        /// How to fix it.
+        hint: String,
+    },
+    /// The case cannot be built.
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    /// The starting design has no differentiable equilibrium.
+    #[error("the starting design: {0}")]
+    Start(String),
+    /// The sensitivities failed.
+    #[error("sensitivities: {0}")]
+    Sensitivity(#[from] SensitivityError),
+    /// The contacts of a result could not be evaluated.
+    #[error("{origin}: contacts: {source}")]
+    Contacts {
+        /// The case.
+        origin: String,
+        /// The contact error.
+        source: strand_solve::ConstraintError,
+    },
+    /// The subproblem failed.
+    #[error("the optimisation subproblem failed: {0}")]
+    Subproblem(String),
+    /// The settings are invalid.
+    #[error("optimisation settings: {0}")]
+    Settings(#[from] SettingsError),
+}
+
+impl OptimizeError {
+    /// An input error of `option` `text`.
+    pub fn input(option: &str, text: &str, message: &str, hint: &str) -> Self {
+        Self::Input {
+            option: option.to_string(),
+            text: text.to_string(),
+            message: message.to_string(),
+            hint: hint.to_string(),
+        }
+    }
+
+    /// Whether the error is the user's input (exit 2) rather than the computation's.
+    pub fn is_input(&self) -> bool {
+        matches!(self, Self::Input { .. } | Self::Case(_))
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Termination {
+    /// The step fell below the tolerance at a feasible point.
+    Converged,
+    /// The step fell below the tolerance with a constraint still violated.
+    Infeasible,
+    /// The trust region collapsed: the gradient model does not predict the change.
+    NonSmooth,
+    /// The iteration limit.
+    MaxIterations,
+    /// The solve limit.
+    MaxSolves,
+}
+
+/// One trial point of the history.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Iterate {
+    /// 0 for the start, then one per trial point.
+    pub iteration: usize,
+    /// Equilibrium solves so far.
+    pub solves: usize,
+    /// The variables' values (their units, see [`Variable::value`]).
+    pub values: Vec<f64>,
+    /// The objective there (NaN, written null, when the equilibrium failed).
+    pub objective: f64,
+    /// The largest constraint violation, as a fraction of its bound.
+    pub violation: f64,
+    /// The merit (normalised objective plus penalty times violation).
+    pub merit: f64,
+    /// The trust radius after this trial (fraction of the widths).
+    pub radius: f64,
+    /// Actual over predicted fall of the merit.
+    pub ratio: Option<f64>,
+    /// Whether the point was accepted.
+    pub accepted: bool,
+    /// What happened.
+    pub note: String,
+}
+
+/// A constraint row at the optimum.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ConstraintState {
+    /// The constraint as written (`clearance>=10mm`).
+    pub name: String,
+    /// The output it bounds (`hose3.clearance_m.brackets`).
+    pub output: String,
+    /// The output's value, SI.
+    pub value: f64,
+    /// The bound, SI.
+    pub bound: f64,
+    /// Whether it is satisfied (to the feasibility tolerance).
+    pub satisfied: bool,
+    /// Whether it is active (on its bound, or carrying a multiplier).
+    pub active: bool,
+    /// The KKT multiplier (≥ 0), objective unit per SI unit of the output.
+    pub multiplier: f64,
+    /// The change of the optimum's objective per unit the bound rises: `+multiplier`
+    /// for `>=`, `−multiplier` for `<=`.
+    pub d_objective_d_bound: f64,
+    /// The rod presses on the obstacle here (the row was the contact force).
+    pub in_contact: bool,
+}
+
+/// A variable on one of its bounds at the optimum.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ActiveBound {
+    /// The variable.
+    pub variable: String,
+    /// Upper (`true`) or lower bound.
+    pub upper: bool,
+    /// The bound's value (the variable's unit).
+    pub value: f64,
+    /// Its multiplier: how much the objective would fall per unit of the variable
+    /// beyond the bound (objective unit per variable unit).
+    pub multiplier: f64,
+}
+
+/// The result of [`optimize`].
+#[derive(Clone, Debug)]
+pub struct Optimum {
+    /// Whether the run met its convergence test (see [`Optimum::termination`]).
+    pub converged: bool,
+    /// How it ended.
+    pub termination: Termination,
+    /// The ending in words.
+    pub message: String,
+    /// The variables' offsets from the case (item units).
+    pub offsets: Vec<f64>,
+    /// The variables' values (see [`Variable::value`]).
+    pub values: Vec<f64>,
+    /// The objective at the optimum.
+    pub objective: f64,
+    /// The pieces that attain it (several at a kink of the min–max).
+    pub attained_by: Vec<String>,
+    /// Every constraint row at the optimum.
+    pub constraints: Vec<ConstraintState>,
+    /// The variables on their bounds.
+    pub bounds: Vec<ActiveBound>,
+    /// Every output at the optimum.
+    pub outputs: Vec<OutputValue>,
+    /// The optimum's equilibrium.
+    pub solution: strand_solve::Solution,
+    /// Equilibrium solves in all.
+    pub solves: usize,
+    /// Trial points.
+    pub iterations: usize,
+    /// Newton iterations of all solves.
+    pub newton_iterations: usize,
+    /// The optimum's equilibrium residual, N.
+    pub residual_n: f64,
+    /// Where the gradient model failed.
+    pub non_smooth: Vec<String>,
+    /// Every trial point.
+    pub history: Vec<Iterate>,
+    /// The variant changes that make the optimal case from the case.
+    pub changes: Vec<VariantChange>,
+}
