@@ -460,6 +460,33 @@ fn the_command_writes_the_contract_and_rejects_bad_input_without_writing() {
         .collect();
     assert!((peak(&outputs).0 - objective).abs() <= 1e-6 * objective);
 
+    // `strand report` on the folder shows the optimisation: the optimum and every
+    // trial point of the history.
+    let report = dir.path().join("report.html");
+    let (exit, stdout, stderr) = crate::common::strand(&[
+        "report",
+        out.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(exit, strand_cli::Exit::Success, "{stderr}");
+    assert!(
+        stdout.contains("studies     optimum: optimisation"),
+        "{stdout}"
+    );
+    let html = std::fs::read_to_string(&report).unwrap();
+    let page = roxmltree::Document::parse(html.strip_prefix("<!DOCTYPE html>\n").unwrap()).unwrap();
+    let section = page
+        .descendants()
+        .find(|n| n.attribute("class") == Some("optimum"))
+        .expect("an optimisation section");
+    assert_eq!(section.attribute("data-converged"), Some("true"));
+    let trials = section
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && n.attribute("data-accepted").is_some())
+        .count();
+    assert_eq!(trials, history.len());
+
     let bad = dir.path().join("bad");
     let contact = cases_dir().join("cooler_hose_contact.ron");
     let plain = cases_dir().join("cooler_hose.ron");

@@ -292,6 +292,35 @@ fn the_command_writes_the_contract_and_rejects_bad_parameters_without_writing() 
     assert!(csv.starts_with("output,value,d/dhose2.length [per mm],d/dtee.mass [per kg]"));
     assert_eq!(csv.lines().count(), outputs.len() + 1);
 
+    // `strand report` on the folder (it holds the base solve's result.json too) says
+    // what one more millimetre of hose 2 does, with the derivatives of the file.
+    let report = dir.path().join("report.html");
+    let (exit, _, stderr) = crate::common::strand(&[
+        "report",
+        out.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(exit, strand_cli::Exit::Success, "{stderr}");
+    let html = std::fs::read_to_string(&report).unwrap();
+    let page = roxmltree::Document::parse(html.strip_prefix("<!DOCTYPE html>\n").unwrap()).unwrap();
+    let sentence: String = page
+        .descendants()
+        .find(|n| n.attribute("data-parameter") == Some("hose2.length"))
+        .expect("a sentence for hose2.length")
+        .descendants()
+        .filter_map(|n| n.text())
+        .collect();
+    let d = peak["d"]["hose2.length"].as_f64().unwrap();
+    assert!(sentence.starts_with("hose2.length +1 mm:"), "{sentence}");
+    let expected = format!("hose2 peak |f| {:.4} N", d).replace('-', "−");
+    assert!(sentence.contains(&expected), "{sentence} lacks {expected}");
+    let rows = page
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && n.attribute("data-output").is_some())
+        .count();
+    assert_eq!(rows, outputs.len());
+
     let bad = dir.path().join("bad");
     for param in ["hose2.segments", "nothing.length"] {
         let (exit, _, stderr) = crate::common::strand(&[
