@@ -71,6 +71,7 @@ pub(crate) fn build(
     file: &CaseFile,
     segments: Option<usize>,
     environment: &EnvironmentCache,
+    reuse: Option<&SystemState>,
 ) -> Result<BuiltCase, CaseError> {
     let report = Reporter { origin };
     let unit = LengthUnit::parse(&file.units.length).ok_or_else(|| {
@@ -160,13 +161,25 @@ pub(crate) fn build(
     };
     system.validate().map_err(system_error)?;
     check_reach(&report, unit, &system)?;
-    // Dead end moments are measured from the rod's nominal (initial) end frame.
-    let mut nominal = initial_state(&system);
-    use_guesses(&mut nominal, &guesses);
-    for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
-        spec.start.load.moment_reference = state.frames[0];
-        spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
-    }
+    // Dead end moments are measured from the rod's nominal (initial) end frame: a
+    // reused initial state stands in for the guess only where no end carries a moment.
+    let moments = system.rods.iter().any(|r| {
+        r.start.load.moment != nalgebra::Vector3::zeros()
+            || r.end.load.moment != nalgebra::Vector3::zeros()
+    });
+    let reused = reuse.filter(|s| !moments && s.rods.len() == system.rods.len());
+    let nominal = match reused {
+        Some(state) => state.clone(),
+        None => {
+            let mut nominal = initial_state(&system);
+            use_guesses(&mut nominal, &guesses);
+            for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
+                spec.start.load.moment_reference = state.frames[0];
+                spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
+            }
+            nominal
+        }
+    };
     let model = Model::try_new(system).map_err(system_error)?;
     let environment = load_environment(&report, unit, file, environment)?;
     // The initial guess does not depend on the loads' moment references: it is the
@@ -187,7 +200,9 @@ pub(crate) fn build(
         start: Start::Hanging,
         clip_projections: projections,
     };
-    built.start = built.clear_start(&guesses);
+    if reused.is_none() {
+        built.start = built.clear_start(&guesses);
+    }
     Ok(built)
 }
 

@@ -40,6 +40,9 @@ pub struct CaseDesign<'c> {
     parameters: Vec<DesignParameter>,
     /// Offsets of the design's zero from the case's values (item units).
     centre: Vec<f64>,
+    /// The first build's initial state, reused by the later builds (their guesses
+    /// are never used: the steps start from the base equilibrium).
+    initial: std::sync::OnceLock<strand_system::SystemState>,
 }
 
 impl<'c> CaseDesign<'c> {
@@ -50,6 +53,7 @@ impl<'c> CaseDesign<'c> {
             case,
             parameters,
             centre,
+            initial: std::sync::OnceLock::new(),
         }
     }
 
@@ -66,6 +70,7 @@ impl<'c> CaseDesign<'c> {
             case,
             parameters,
             centre,
+            initial: std::sync::OnceLock::new(),
         }
     }
 
@@ -138,14 +143,22 @@ impl Design for CaseDesign<'_> {
         self.parameters[parameter].scale
     }
 
+    /// The first build computes the case's initial guess; later builds reuse it
+    /// ([`Case::build_with_changes_reusing`]): a design is built many times at small
+    /// offsets, and its guesses are never solved from.
     fn build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
         let changes = self.changes(offsets);
-        let built = if changes.is_empty() {
-            self.case.build(None)?
-        } else {
-            self.case
-                .build_with_changes("sensitivity", &changes, None)?
+        let built = match self.initial.get() {
+            Some(initial) => {
+                self.case
+                    .build_with_changes_reusing("sensitivity", &changes, initial)?
+            }
+            None if changes.is_empty() => self.case.build(None)?,
+            None => self
+                .case
+                .build_with_changes("sensitivity", &changes, None)?,
         };
+        let _ = self.initial.set(built.initial.clone());
         Ok(DesignedCase::new(built))
     }
 }

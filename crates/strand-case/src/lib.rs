@@ -58,6 +58,8 @@ mod tests;
 
 use std::path::Path;
 
+use strand_system::SystemState;
+
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
 pub use design::{CaseDesign, DesignParameter, DesignedCase};
 pub use ends::{FrameError, frame_from_tangent_normal};
@@ -136,6 +138,7 @@ impl Case {
             &self.file,
             segments,
             &self.environment,
+            None,
         )
     }
 
@@ -163,8 +166,15 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
-            .map_err(|e| variant::in_variant(e, name))
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            segments,
+            &self.environment,
+            None,
+        )
+        .map_err(|e| variant::in_variant(e, name))
     }
 
     /// The case file with `changes` applied (items and changes as under `variants`;
@@ -193,7 +203,38 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
-            .map_err(|e| variant::in_variant(e, label))
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            segments,
+            &self.environment,
+            None,
+        )
+        .map_err(|e| variant::in_variant(e, label))
+    }
+
+    /// [`Case::build_with_changes`] for one of many nearby builds of a design (the
+    /// steps of a sensitivity): its `initial` is `initial` (a state of the same rods
+    /// and segments, e.g. the base build's), not computed again nor checked against
+    /// the environment — computing the hanging guess is most of a build's time. Where
+    /// an end carries a moment, whose potential is measured from the guess's end
+    /// frame, the guess is computed as in [`Case::build_with_changes`].
+    pub fn build_with_changes_reusing(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+        initial: &SystemState,
+    ) -> Result<BuiltCase, CaseError> {
+        let file = self.file_with_changes(label, changes)?;
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            None,
+            &self.environment,
+            Some(initial),
+        )
+        .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -237,6 +237,11 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         /// CASE, each at its own discretisation: iterations, active rows, median time.
         #[arg(long, conflicts_with_all = ["case", "segments", "grid"])]
         contact: bool,
+        /// Time the sensitivities of every output with respect to up to ten
+        /// parameters of CASE (lengths, masses, connector positions, gravity) against
+        /// its solve and its Newton iterations.
+        #[arg(long, conflicts_with_all = ["segments", "grid", "contact"])]
+        sensitivity: bool,
         /// Number of convergence-map cases to run (with --grid).
         #[arg(long, value_name = "N", requires = "grid", default_value_t = crate::bench::grid::DEFAULT_CASES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000))]
         cases: usize,

@@ -144,6 +144,25 @@ pub(crate) fn execute(
             grid: true, cases, ..
         } => Ok(bench_grid(*cases, out)),
         Command::Bench {
+            sensitivity: true,
+            case,
+            repeats,
+            ..
+        } => {
+            use crate::bench::sensitivity::{format as format_bench, run as run_bench};
+            let bench = run_bench(case, *repeats).map_err(|e| Failure {
+                exit: Exit::InvalidInput,
+                message: format!("{}: {e}", case.display()),
+            })?;
+            let _ = write!(
+                out,
+                "{}: sensitivities, median of {repeats} runs\n{}",
+                case.display(),
+                format_bench(&bench)
+            );
+            Ok(Exit::Success)
+        }
+        Command::Bench {
             contact: true,
             repeats,
             ..

@@ -11,7 +11,7 @@ use strand_case::{Case, CaseDesign, DesignParameter, LengthUnit};
 use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter, write_atomic};
 use strand_solve::Solution;
 use strand_solve::sensitivity::SensitivitySettings;
-use strand_study::optimize::output_table;
+use strand_study::optimize::{ENERGY, output_table};
 
 use crate::Exit;
 use crate::batch::spec::{Quantity, resolve};
@@ -100,6 +100,7 @@ pub(crate) fn sensitivities(
         .outputs
         .iter()
         .enumerate()
+        .filter(|(_, o)| o.name != ENERGY)
         .map(|(k, o)| SensitivityOutput {
             name: o.name.clone(),
             value: o.value,

@@ -9,7 +9,7 @@
 //! `<clip>.moment_Nm.x|y|z` and `<clip>.joint_value` (rad or m),
 //! `<body>.position_m.x|y|z` and `<body>.rotation_vector_rad.x|y|z` (free junctions),
 //! `<rod>.contact_force_N.<obstacle>.<k>` (the `k`-th pressing contact of the rod on
-//! that obstacle along the rod), and `energy_J` (the total potential energy).
+//! that obstacle along the rod).
 
 use std::collections::BTreeMap;
 
@@ -60,7 +60,7 @@ fn push3(out: &mut Vec<OutputValue>, stem: &str, v: &[f64; 3]) {
 }
 
 /// Every named output of `doc`, in a fixed order (rods, reactions, clips, bodies,
-/// energy, contacts).
+/// contacts).
 ///
 /// With `pins` (the outputs of the base design), a peak or minimum is read where the
 /// base attains it (the vertex or obstacle of the base's `arg`), while `arg` still
@@ -160,11 +160,6 @@ pub fn design_outputs(doc: &ResultDoc, pins: Option<&[OutputValue]>) -> Vec<Outp
             &[v.x, v.y, v.z],
         );
     }
-    out.push(OutputValue {
-        name: "energy_J".to_string(),
-        value: doc.energy_j,
-        arg: 0,
-    });
     let mut counts: BTreeMap<(String, String), usize> = BTreeMap::new();
     for c in doc.contacts.iter().filter(|c| c.force_n > 0.0) {
         let k = counts.entry((c.rod.clone(), c.with.clone())).or_insert(0);

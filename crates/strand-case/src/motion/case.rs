@@ -69,8 +69,15 @@ impl Case {
             ));
         };
         let file = moved(&self.file, name, &map);
-        build::build(&self.name, &self.origin, &file, segments, &self.environment)
-            .map_err(|e| at_pose(e, &at))
+        build::build(
+            &self.name,
+            &self.origin,
+            &file,
+            segments,
+            &self.environment,
+            None,
+        )
+        .map_err(|e| at_pose(e, &at))
     }
 }
 

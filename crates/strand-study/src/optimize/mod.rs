@@ -44,7 +44,7 @@ pub use optimum::document;
 pub use problem::{Bound, Bounded, Limit, Objective, Problem, Variable};
 pub use run::optimize;
 pub use settings::OptimizeSettings;
-pub use table::{OutputTable, output_table, outputs_at};
+pub use table::{ENERGY, OutputTable, output_table, outputs_at};
 
 /// Why an optimisation could not run.
 #[derive(Debug, thiserror::Error)]
