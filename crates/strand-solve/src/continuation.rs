@@ -35,6 +35,36 @@ pub(crate) struct Ramp {
     pub iterations: usize,
 }
 
+impl Ramp {
+    /// Every Newton iteration the ramp performed: its steps and the final solve
+    /// (converged or not).
+    pub(crate) fn spent(&self) -> usize {
+        self.iterations + self.solution.as_ref().map_or(0, |s| s.report.iterations)
+    }
+
+    /// A fallback's outcome for `solution` (the best so far, not converged): a
+    /// converged ramp replaces it (whose final solve's iterations it brings along, and
+    /// the replaced attempt's fine iterations go to `replaced`); the ramp's steps and
+    /// their iterations count in `continuation_*` either way, a failed final solve too.
+    pub(crate) fn adopt_into(
+        self,
+        solution: &mut Solution,
+        replaced: &mut usize,
+        continuation_iterations: &mut usize,
+        continuation_steps: &mut usize,
+    ) {
+        *continuation_steps += self.steps;
+        match self.solution {
+            Some(ramped) if ramped.report.converged => {
+                *continuation_iterations += self.iterations;
+                *replaced += solution.report.fine_iterations;
+                *solution = ramped;
+            }
+            _ => *continuation_iterations += self.spent(),
+        }
+    }
+}
+
 /// Ramps the loads from `initial` and solves `model` from the last ramp step.
 pub(crate) fn ramp(
     model: &Model,
@@ -170,6 +200,88 @@ mod tests {
         assert_eq!(half.rods[0].end.load.moment, Vector3::new(0.25, 0.0, -0.5));
         assert_eq!(half.rods[0].rod, system.rods[0].rod);
         assert_eq!(half.rods[0].start.support, system.rods[0].start.support);
+    }
+}
+
+#[cfg(test)]
+mod adopt_tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, RodSpec, initial_state};
+
+    use super::*;
+
+    /// Copies of a solved cantilever's solution with the given report figures
+    /// (converged, iterations, fine iterations).
+    fn solutions() -> impl Fn(bool, usize, usize) -> Solution {
+        let section = Section::try_explicit(3e4, 1e4, 1.0, 1.0, 0.5, 0.0).unwrap();
+        let model = Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "r".into(),
+                rod: Rod::try_straight(section, 1.0, 4).unwrap(),
+                start: End::clamped(Vector3::zeros(), UnitQuaternion::identity()),
+                end: End::free(),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        })
+        .unwrap();
+        let solved = crate::solve(
+            &model,
+            initial_state(model.system()),
+            &SolverSettings::default(),
+        )
+        .unwrap();
+        move |converged: bool, iterations: usize, fine: usize| {
+            let mut s = solved.clone();
+            s.report.converged = converged;
+            s.report.iterations = iterations;
+            s.report.fine_iterations = fine;
+            s
+        }
+    }
+
+    #[test]
+    fn a_failed_ramp_counts_its_steps_and_its_final_solve_and_keeps_the_best_so_far() {
+        let with = solutions();
+        let mut best = with(false, 200, 200);
+        let (mut replaced, mut iterations, mut steps) = (0, 0, 0);
+        let ramp = Ramp {
+            solution: Some(with(false, 37, 37)),
+            steps: 4,
+            iterations: 55,
+        };
+        ramp.adopt_into(&mut best, &mut replaced, &mut iterations, &mut steps);
+        assert_eq!((replaced, iterations, steps), (0, 55 + 37, 4));
+        assert!(!best.report.converged);
+        assert_eq!(best.report.iterations, 200);
+        // A ramp that stalled before its final solve.
+        let stalled = Ramp {
+            solution: None,
+            steps: 2,
+            iterations: 9,
+        };
+        stalled.adopt_into(&mut best, &mut replaced, &mut iterations, &mut steps);
+        assert_eq!((replaced, iterations, steps), (0, 55 + 37 + 9, 6));
+    }
+
+    #[test]
+    fn a_converged_ramp_replaces_the_attempt_whose_fine_iterations_still_count() {
+        let with = solutions();
+        let mut best = with(false, 200, 180);
+        let (mut replaced, mut iterations, mut steps) = (0, 0, 0);
+        let ramp = Ramp {
+            solution: Some(with(true, 12, 12)),
+            steps: 3,
+            iterations: 21,
+        };
+        ramp.adopt_into(&mut best, &mut replaced, &mut iterations, &mut steps);
+        assert!(best.report.converged);
+        // The final solve's 12 iterations come with the adopted solution's report.
+        assert_eq!(best.report.iterations, 12);
+        assert_eq!((replaced, iterations, steps), (180, 21, 3));
     }
 }
 

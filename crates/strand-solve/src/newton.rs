@@ -32,9 +32,6 @@ pub const SUPPORT_RAMP_ANGLE_RAD: f64 = 0.5;
 /// Largest number of escapes from unstable equilibria in one solve.
 pub const MAX_SADDLE_ESCAPES: usize = 3;
 
-/// Iteration budget of the coarse level of nested iteration.
-pub const COARSE_MAX_ITERATIONS: usize = 40;
-
 /// Solves for the equilibrium of `model` starting from `initial`: a fresh [`Solver`]
 /// (symbolic analysis included) and one [`Solver::solve`].
 ///
@@ -178,6 +175,9 @@ impl<'m> Solver<'m> {
         settings: &SolverSettings,
     ) -> Result<Solution, SolveError> {
         let started = Instant::now();
+        // Newton iterations of a stiffness continuation that did not converge (they
+        // count in `iterations` like every other attempt).
+        let mut failed_stiffening = 0;
         // A start that is already an equilibrium (a warm start, a moulded rod in its
         // nominal shape) needs no coarse guess.
         let mut eval = self.model.new_evaluation();
@@ -194,6 +194,7 @@ impl<'m> Solver<'m> {
         {
             let stiffened =
                 stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;
+            failed_stiffening = stiffened.spent();
             if let Some(mut solution) = stiffened.solution.filter(|s| s.report.converged) {
                 let escape_iterations = if settings.escape_saddles {
                     self.escape_saddle(&mut solution, settings)
@@ -222,7 +223,7 @@ impl<'m> Solver<'m> {
                 nested_iteration: false,
                 load_continuation: false,
                 support_continuation: false,
-                max_iterations: settings.max_iterations.min(COARSE_MAX_ITERATIONS),
+                max_iterations: settings.max_iterations.min(settings.coarse_max_iterations),
                 ..settings.clone()
             };
             let mut coarse_solver = Solver::try_new(&coarse_model)?;
@@ -246,12 +247,12 @@ impl<'m> Solver<'m> {
         if settings.load_continuation && !solution.report.converged && !at_floor {
             let ramped =
                 continuation::ramp(self.model, self.constraints, initial.clone(), settings)?;
-            continuation_iterations = ramped.iterations;
-            continuation_steps = ramped.steps;
-            if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
-                replaced_iterations = solution.report.fine_iterations;
-                solution = ramped;
-            }
+            ramped.adopt_into(
+                &mut solution,
+                &mut replaced_iterations,
+                &mut continuation_iterations,
+                &mut continuation_steps,
+            );
         }
         if let Some(start) = unsupported
             .filter(|_| settings.support_continuation && !solution.report.converged && !at_floor)
@@ -259,12 +260,12 @@ impl<'m> Solver<'m> {
             // The start came from another design: move the supports there and back.
             let ramped =
                 continuation::ramp_supports(self.model, self.constraints, start, settings)?;
-            continuation_iterations += ramped.iterations;
-            continuation_steps += ramped.steps;
-            if let Some(ramped) = ramped.solution.filter(|s| s.report.converged) {
-                replaced_iterations += solution.report.fine_iterations;
-                solution = ramped;
-            }
+            ramped.adopt_into(
+                &mut solution,
+                &mut replaced_iterations,
+                &mut continuation_iterations,
+                &mut continuation_steps,
+            );
         }
         // With contact, stiffness continuation is the last resort (a softened hose may
         // settle into another contact set, but any converged state of the true system
@@ -278,12 +279,12 @@ impl<'m> Solver<'m> {
         {
             let stiffened =
                 stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;
-            continuation_iterations += stiffened.iterations;
-            continuation_steps += stiffened.steps;
-            if let Some(stiffened) = stiffened.solution.filter(|s| s.report.converged) {
-                replaced_iterations += solution.report.fine_iterations;
-                solution = stiffened;
-            }
+            stiffened.adopt_into(
+                &mut solution,
+                &mut replaced_iterations,
+                &mut continuation_iterations,
+                &mut continuation_steps,
+            );
         }
         let escape_iterations = if settings.escape_saddles {
             self.escape_saddle(&mut solution, settings)
@@ -299,6 +300,7 @@ impl<'m> Solver<'m> {
             + coarse_iterations
             + continuation_iterations
             + replaced_iterations
+            + failed_stiffening
             + escape_iterations;
         report.solve_seconds = started.elapsed().as_secs_f64();
         Ok(solution)

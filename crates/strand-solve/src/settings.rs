@@ -63,6 +63,9 @@ pub struct SolverSettings {
     /// Start rods of more than 64 segments from the solution of a coarsened copy of the
     /// system (nested iteration). Turn off when warm-starting from a nearby solution.
     pub nested_iteration: bool,
+    /// Nested iteration: the iteration budget of the coarse level (it only proposes a
+    /// start, so a hard coarse problem must not cost more than it saves).
+    pub coarse_max_iterations: usize,
     /// When a direct solve does not converge, ramp gravity and the dead end loads from
     /// zero with an adaptive step (first 1/8, doubled after an easy step, quartered
     /// after a failed one), each step warm-started, and report that result instead.
@@ -171,6 +174,7 @@ impl Default for SolverSettings {
             stagnation_iterations: 12,
             stagnation_reduction: 0.5,
             nested_iteration: true,
+            coarse_max_iterations: 40,
             load_continuation: true,
             support_continuation: true,
             stiffness_continuation: true,
@@ -184,7 +188,7 @@ impl Default for SolverSettings {
             continuation_step_iterations: 40,
             stiffness_threshold: 1e3,
             stiffness_soft_ratio: 3.0,
-            stiffness_load_ratio: 100.0,
+            stiffness_load_ratio: 30.0,
             stiffness_first_growth: 1e3,
             stiffness_max_growth: 1e4,
             stiffness_min_growth: 1.5,
@@ -312,6 +316,7 @@ impl SolverSettings {
         for (field, value, max) in [
             ("max_iterations", self.max_iterations, 100_000),
             ("max_line_search_steps", self.max_line_search_steps, 200),
+            ("coarse_max_iterations", self.coarse_max_iterations, 100_000),
             ("stagnation_iterations", self.stagnation_iterations, 100_000),
             (
                 "max_continuation_steps",
