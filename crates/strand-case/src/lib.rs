@@ -166,15 +166,27 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
+        self.build_changed(&file, name, segments, None)
+    }
+
+    /// Builds `file`, this case with the changes `label` names, reusing `reuse` as
+    /// the initial state where given ([`Case::build_with_changes_reusing`]).
+    fn build_changed(
+        &self,
+        file: &CaseFile,
+        label: &str,
+        segments: Option<usize>,
+        reuse: Option<&SystemState>,
+    ) -> Result<BuiltCase, CaseError> {
         build::build(
             &self.name,
             &self.origin,
-            &file,
+            file,
             segments,
             &self.environment,
-            None,
+            reuse,
         )
-        .map_err(|e| variant::in_variant(e, name))
+        .map_err(|e| variant::in_variant(e, label))
     }
 
     /// The case file with `changes` applied (items and changes as under `variants`;
@@ -203,15 +215,7 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
-        build::build(
-            &self.name,
-            &self.origin,
-            &file,
-            segments,
-            &self.environment,
-            None,
-        )
-        .map_err(|e| variant::in_variant(e, label))
+        self.build_changed(&file, label, segments, None)
     }
 
     /// [`Case::build_with_changes`] for one of many nearby builds of a design (the
@@ -227,14 +231,6 @@ impl Case {
         initial: &SystemState,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
-        build::build(
-            &self.name,
-            &self.origin,
-            &file,
-            None,
-            &self.environment,
-            Some(initial),
-        )
-        .map_err(|e| variant::in_variant(e, label))
+        self.build_changed(&file, label, None, Some(initial))
     }
 }

@@ -418,6 +418,21 @@ pub(crate) fn result_doc(
     Ok(doc)
 }
 
+/// Creates `dir` and writes each `(name, content)` into it atomically.
+pub(crate) fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<(), Failure> {
+    std::fs::create_dir_all(dir).map_err(|e| Failure {
+        exit: Exit::Failure,
+        message: format!("{}: cannot create the output directory: {e}", dir.display()),
+    })?;
+    for (name, content) in files {
+        strand_report::write_atomic(&dir.join(name), content).map_err(|e| Failure {
+            exit: Exit::Failure,
+            message: format!("{}: {e}", dir.display()),
+        })?;
+    }
+    Ok(())
+}
+
 /// Writes `result.json` and the per-rod files of `doc` into `dir` (for `strand
 /// report`), in the case's export unit.
 pub(crate) fn write_result_files(

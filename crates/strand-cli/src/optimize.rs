@@ -10,9 +10,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use strand_case::{Case, DesignParameter};
-use strand_report::{OptimumDoc, Timing, optimum_svg, write_atomic};
+use strand_report::{OptimumDoc, Timing, optimum_svg};
 use strand_study::optimize::{
-    Iterate, Limit, Objective, OptimizeError, OptimizeSettings, Optimum, Problem, Variable,
+    Limit, Objective, OptimizeError, OptimizeSettings, Optimum, OptimumIterate, Problem, Variable,
     document, optimize,
 };
 
@@ -78,28 +78,22 @@ fn problem(
 }
 
 /// One line of progress per trial point.
-fn progress_line(problem: &Problem, unit: &str, it: &Iterate) -> String {
+fn progress_line(problem: &Problem, unit: &str, it: &OptimumIterate) -> String {
     let values: Vec<String> = problem
         .variables
         .iter()
         .zip(&it.values)
         .map(|(v, x)| format!("{} {} {}", v.name, significant(*x, 6), v.unit))
         .collect();
-    let objective = if it.objective.is_finite() {
-        format!("{} {unit}", significant(it.objective, 5))
-    } else {
-        "-".to_string()
-    };
+    let objective = it
+        .objective
+        .map_or("-".to_string(), |f| format!("{} {unit}", significant(f, 5)));
     format!(
         "  {:>3}  solves {:>3}  {}  objective {objective}  violation {}  {}\n",
         it.iteration,
         it.solves,
         values.join(", "),
-        if it.violation.is_finite() {
-            significant(it.violation, 2)
-        } else {
-            "-".into()
-        },
+        it.violation.map_or("-".to_string(), |v| significant(v, 2)),
         it.note
     )
 }
@@ -201,24 +195,22 @@ pub(crate) fn run(
         started.elapsed().as_secs_f64(),
     );
     let ron_text = optimal_case(&case, &optimum, &doc)?;
-    let not_written = |e: strand_report::ReportError| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: {e}", dir.display()),
-    };
-    std::fs::create_dir_all(dir).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: cannot create the output directory: {e}", dir.display()),
-    })?;
     let json = serde_json::to_string_pretty(&doc).expect("serialisable");
-    write_atomic(&dir.join("history.csv"), doc.history_csv().as_bytes()).map_err(not_written)?;
-    write_atomic(&dir.join("history.svg"), optimum_svg(&doc).as_bytes()).map_err(not_written)?;
-    write_atomic(&dir.join(&case_file), ron_text.as_bytes()).map_err(not_written)?;
-    // The optimum's results: the folder is a result for `strand report`.
     let built = case.build_with_changes("optimum", &optimum.changes, None)?;
     let mut result = crate::commands::result_doc(&built, &optimum.solution, Timing::default())?;
     result.variant = Some("optimum".into());
+    crate::commands::write_files(
+        dir,
+        &[
+            ("history.csv", doc.history_csv().as_bytes()),
+            ("history.svg", optimum_svg(&doc).as_bytes()),
+            (&case_file, ron_text.as_bytes()),
+        ],
+    )?;
+    // The optimum's results: the folder is a result for `strand report`; optimum.json
+    // last, so that its presence means the run's files are complete.
     crate::commands::write_result_files(&built, &result, dir)?;
-    write_atomic(&dir.join("optimum.json"), json.as_bytes()).map_err(not_written)?;
+    crate::commands::write_files(dir, &[("optimum.json", json.as_bytes())])?;
     let _ = write!(out, "{}", summary(&doc, dir));
     Ok(if doc.converged {
         Exit::Success

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use strand_case::{Case, CaseDesign, DesignParameter, LengthUnit};
-use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter, write_atomic};
+use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter};
 use strand_solve::Solution;
 use strand_solve::sensitivity::SensitivitySettings;
 use strand_study::optimize::{ENERGY, output_table};
@@ -171,17 +171,14 @@ pub(crate) fn run(
     }
     let solve_s = started.elapsed().as_secs_f64();
     let doc = sensitivities(&case, names, &solution)?;
-    let not_written = |e: strand_report::ReportError| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: {e}", dir.display()),
-    };
-    std::fs::create_dir_all(dir).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: cannot create the output directory: {e}", dir.display()),
-    })?;
     let json = serde_json::to_string_pretty(&doc).expect("serialisable");
-    write_atomic(&dir.join("sensitivity.json"), json.as_bytes()).map_err(not_written)?;
-    write_atomic(&dir.join("sensitivity.csv"), doc.csv().as_bytes()).map_err(not_written)?;
+    crate::commands::write_files(
+        dir,
+        &[
+            ("sensitivity.json", json.as_bytes()),
+            ("sensitivity.csv", doc.csv().as_bytes()),
+        ],
+    )?;
     // The base solve's results next to them: the folder is a result for `strand report`.
     let result = crate::commands::result_doc(&built, &solution, strand_report::Timing::default())?;
     crate::commands::write_result_files(&built, &result, dir)?;

@@ -108,7 +108,7 @@ pub(crate) fn parse_bounds(text: &str, file: &CaseFile) -> Result<Bounds, SpecEr
         lower -= origin;
         upper -= origin;
     }
-    if !(lower < upper) {
+    if lower >= upper {
         return Err(fail(
             "the lower bound is not below the upper bound".into(),
             format!("write {label}=LO..HI with LO < HI"),

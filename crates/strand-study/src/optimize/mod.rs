@@ -37,6 +37,7 @@ pub mod table;
 use strand_case::CaseError;
 use strand_case::schema::VariantChange;
 use strand_report::OutputValue;
+pub use strand_report::{OptimumConstraint, OptimumIterate};
 use strand_solve::SettingsError;
 use strand_solve::sensitivity::SensitivityError;
 
@@ -63,20 +64,20 @@ pub enum OptimizeError {
     },
     /// The case cannot be built.
     #[error(transparent)]
-    Case(#[from] CaseError),
+    Case(Box<CaseError>),
     /// The starting design has no differentiable equilibrium.
     #[error("the starting design: {0}")]
     Start(String),
     /// The sensitivities failed.
     #[error("sensitivities: {0}")]
-    Sensitivity(#[from] SensitivityError),
+    Sensitivity(Box<SensitivityError>),
     /// The contacts of a result could not be evaluated.
     #[error("{origin}: contacts: {source}")]
     Contacts {
         /// The case.
         origin: String,
         /// The contact error.
-        source: strand_solve::ConstraintError,
+        source: Box<strand_solve::ConstraintError>,
     },
     /// The subproblem failed.
     #[error("the optimisation subproblem failed: {0}")]
@@ -84,6 +85,18 @@ pub enum OptimizeError {
     /// The settings are invalid.
     #[error("optimisation settings: {0}")]
     Settings(#[from] SettingsError),
+}
+
+impl From<CaseError> for OptimizeError {
+    fn from(e: CaseError) -> Self {
+        Self::Case(Box::new(e))
+    }
+}
+
+impl From<SensitivityError> for OptimizeError {
+    fn from(e: SensitivityError) -> Self {
+        Self::Sensitivity(Box::new(e))
+    }
 }
 
 impl OptimizeError {
@@ -119,69 +132,6 @@ pub enum Termination {
     MaxSolves,
 }
 
-/// One trial point of the history.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Iterate {
-    /// 0 for the start, then one per trial point.
-    pub iteration: usize,
-    /// Equilibrium solves so far.
-    pub solves: usize,
-    /// The variables' values (their units, see [`Variable::value`]).
-    pub values: Vec<f64>,
-    /// The objective there (NaN, written null, when the equilibrium failed).
-    pub objective: f64,
-    /// The largest constraint violation, as a fraction of its bound.
-    pub violation: f64,
-    /// The merit (normalised objective plus penalty times violation).
-    pub merit: f64,
-    /// The trust radius after this trial (fraction of the widths).
-    pub radius: f64,
-    /// Actual over predicted fall of the merit.
-    pub ratio: Option<f64>,
-    /// Whether the point was accepted.
-    pub accepted: bool,
-    /// What happened.
-    pub note: String,
-}
-
-/// A constraint row at the optimum.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ConstraintState {
-    /// The constraint as written (`clearance>=10mm`).
-    pub name: String,
-    /// The output it bounds (`hose3.clearance_m.brackets`).
-    pub output: String,
-    /// The output's value, SI.
-    pub value: f64,
-    /// The bound, SI.
-    pub bound: f64,
-    /// Whether it is satisfied (to the feasibility tolerance).
-    pub satisfied: bool,
-    /// Whether it is active (on its bound, or carrying a multiplier).
-    pub active: bool,
-    /// The KKT multiplier (≥ 0), objective unit per SI unit of the output.
-    pub multiplier: f64,
-    /// The change of the optimum's objective per unit the bound rises: `+multiplier`
-    /// for `>=`, `−multiplier` for `<=`.
-    pub d_objective_d_bound: f64,
-    /// The rod presses on the obstacle here (the row was the contact force).
-    pub in_contact: bool,
-}
-
-/// A variable on one of its bounds at the optimum.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ActiveBound {
-    /// The variable.
-    pub variable: String,
-    /// Upper (`true`) or lower bound.
-    pub upper: bool,
-    /// The bound's value (the variable's unit).
-    pub value: f64,
-    /// Its multiplier: how much the objective would fall per unit of the variable
-    /// beyond the bound (objective unit per variable unit).
-    pub multiplier: f64,
-}
-
 /// The result of [`optimize`].
 #[derive(Clone, Debug)]
 pub struct Optimum {
@@ -199,10 +149,9 @@ pub struct Optimum {
     pub objective: f64,
     /// The pieces that attain it (several at a kink of the min–max).
     pub attained_by: Vec<String>,
-    /// Every constraint row at the optimum.
-    pub constraints: Vec<ConstraintState>,
-    /// The variables on their bounds.
-    pub bounds: Vec<ActiveBound>,
+    /// Every constraint row at the optimum, then the variables on their bounds
+    /// (`kind` `lower_bound` / `upper_bound`).
+    pub constraints: Vec<OptimumConstraint>,
     /// Every output at the optimum.
     pub outputs: Vec<OutputValue>,
     /// The optimum's equilibrium.
@@ -218,7 +167,7 @@ pub struct Optimum {
     /// Where the gradient model failed.
     pub non_smooth: Vec<String>,
     /// Every trial point.
-    pub history: Vec<Iterate>,
+    pub history: Vec<OptimumIterate>,
     /// The variant changes that make the optimal case from the case.
     pub changes: Vec<VariantChange>,
 }

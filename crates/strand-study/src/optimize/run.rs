@@ -21,9 +21,10 @@ use strand_case::Case;
 use super::evaluate::{Evaluation, Evaluator};
 use super::pieces::{Piece, Row, check_names, constraint_rows, objective_pieces, supports};
 use super::problem::Problem;
+use super::problem::unit_of;
 use super::step::{Affine, Step, Subproblem};
 use super::{
-    ActiveBound, ConstraintState, Iterate, OptimizeError, OptimizeSettings, Optimum, Termination,
+    OptimizeError, OptimizeSettings, Optimum, OptimumConstraint, OptimumIterate, Termination,
 };
 
 /// Largest penalty ρ the merit takes.
@@ -131,7 +132,7 @@ fn bfgs(b: &mut DMatrix<f64>, s: &[f64], y: &[f64]) {
     let y = DVector::from_column_slice(y);
     let bs = &*b * &s;
     let sbs = s.dot(&bs);
-    if !(sbs > 0.0) {
+    if sbs.is_nan() || sbs <= 0.0 {
         return;
     }
     let sy = s.dot(&y);
@@ -142,7 +143,7 @@ fn bfgs(b: &mut DMatrix<f64>, s: &[f64], y: &[f64]) {
     };
     let r = &y * theta + &bs * (1.0 - theta);
     let sr = s.dot(&r);
-    if !(sr > 0.0) {
+    if sr.is_nan() || sr <= 0.0 {
         return;
     }
     *b += &r * r.transpose() / sr - &bs * bs.transpose() / sbs;
@@ -190,7 +191,7 @@ pub fn optimize(
     case: &Case,
     problem: &Problem,
     settings: &OptimizeSettings,
-    progress: &mut dyn FnMut(&Iterate),
+    progress: &mut dyn FnMut(&OptimumIterate),
 ) -> Result<Optimum, OptimizeError> {
     settings.validate()?;
     let n = problem.variables.len();
@@ -252,13 +253,12 @@ pub fn optimize(
     };
     let mut radius = settings.initial_radius;
     let mut curvature = DMatrix::identity(n, n) * settings.initial_curvature;
-    let mut history = vec![Iterate {
+    let mut history = vec![OptimumIterate {
         iteration: 0,
         solves: evaluator.solves,
         values: values(&current.offsets),
-        objective: objective_value(&lin.pieces),
-        violation: worst(&lin.rows),
-        merit: scales.merit(&lin.pieces, &lin.rows),
+        objective: Some(objective_value(&lin.pieces)),
+        violation: Some(worst(&lin.rows)),
         radius,
         ratio: None,
         accepted: true,
@@ -336,13 +336,12 @@ pub fn optimize(
                 }
             })
             .collect();
-        let mut record = Iterate {
+        let mut record = OptimumIterate {
             iteration: iterations,
             solves: 0,
             values: values(&trial_x),
-            objective: f64::NAN,
-            violation: f64::NAN,
-            merit: f64::NAN,
+            objective: None,
+            violation: None,
             radius,
             ratio: None,
             accepted: false,
@@ -357,10 +356,9 @@ pub fn optimize(
                 let tlin = linearise(&trial)?;
                 let tmerit = scales.merit(&tlin.pieces, &tlin.rows);
                 let ratio = (merit - tmerit) / predicted;
-                record.objective = objective_value(&tlin.pieces);
-                record.violation = worst(&tlin.rows);
-                record.merit = tmerit;
-                record.ratio = Some(ratio);
+                record.objective = Some(objective_value(&tlin.pieces));
+                record.violation = Some(worst(&tlin.rows));
+                record.ratio = ratio.is_finite().then_some(ratio);
                 let events = switches(&current, &trial, &tlin);
                 if ratio >= settings.accept_ratio {
                     let g0 = lagrangian_gradient(&scales, &lin, &lin, &step);
@@ -411,7 +409,8 @@ pub fn optimize(
         &curvature,
         &current.offsets,
     )?;
-    let constraints = lin
+    let objective_unit = problem.objective.unit();
+    let mut constraints: Vec<OptimumConstraint> = lin
         .rows
         .iter()
         .zip(&step.multipliers)
@@ -424,8 +423,9 @@ pub fn optimize(
             } else {
                 0.0
             };
-            ConstraintState {
+            OptimumConstraint {
                 name: limit.text.clone(),
+                kind: "constraint".into(),
                 output: r.piece.label.clone(),
                 value: r.output,
                 bound: r.bound,
@@ -437,38 +437,44 @@ pub fn optimize(
                 } else {
                     -multiplier
                 },
+                multiplier_unit: format!("{objective_unit}/{}", unit_of(&r.piece.label)),
                 in_contact: r.in_contact,
             }
         })
         .collect();
-    let bounds = problem
-        .variables
-        .iter()
-        .enumerate()
-        .filter_map(|(j, v)| {
-            let x = current.offsets[j];
-            let near = 1e-9 * v.width();
-            let (zl, zu) = step.bound_multipliers[j];
-            let per_unit = scales.objective / v.width();
-            if x <= v.lower + near {
-                Some(ActiveBound {
-                    variable: v.name.clone(),
-                    upper: false,
-                    value: v.value(v.lower),
-                    multiplier: zl * per_unit,
-                })
-            } else if x >= v.upper - near {
-                Some(ActiveBound {
-                    variable: v.name.clone(),
-                    upper: true,
-                    value: v.value(v.upper),
-                    multiplier: zu * per_unit,
-                })
-            } else {
-                None
-            }
-        })
-        .collect();
+    for (j, v) in problem.variables.iter().enumerate() {
+        let x = current.offsets[j];
+        let near = 1e-9 * v.width();
+        let (zl, zu) = step.bound_multipliers[j];
+        let upper = if x <= v.lower + near {
+            false
+        } else if x >= v.upper - near {
+            true
+        } else {
+            continue;
+        };
+        let bound = v.value(if upper { v.upper } else { v.lower });
+        // Per unit of the variable beyond its bound, the objective would fall by this.
+        let multiplier = if upper { zu } else { zl } * scales.objective / v.width();
+        constraints.push(OptimumConstraint {
+            name: format!(
+                "{} {} {bound}{}",
+                v.name,
+                if upper { "<=" } else { ">=" },
+                v.unit
+            ),
+            kind: if upper { "upper_bound" } else { "lower_bound" }.into(),
+            output: String::new(),
+            value: bound,
+            bound,
+            satisfied: true,
+            active: true,
+            multiplier,
+            d_objective_d_bound: if upper { -multiplier } else { multiplier },
+            multiplier_unit: format!("{objective_unit}/{}", v.unit),
+            in_contact: false,
+        });
+    }
     let top = objective_value(&lin.pieces);
     let attained_by = lin
         .pieces
@@ -513,7 +519,6 @@ pub fn optimize(
         objective: top,
         attained_by,
         constraints,
-        bounds,
         outputs: current.table.outputs.clone(),
         solution: current.solution.clone(),
         solves: evaluator.solves,

@@ -65,17 +65,7 @@ impl Default for OptimizeSettings {
 impl OptimizeSettings {
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let positive = |field, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(SettingsError {
-                    field,
-                    value,
-                    requirement: "must be > 0",
-                })
-            }
-        };
+        let positive = SettingsError::require_positive;
         positive("max_iterations", self.max_iterations as f64)?;
         positive("max_solves", self.max_solves as f64)?;
         positive("initial_radius", self.initial_radius)?;

@@ -49,7 +49,7 @@ pub fn outputs_at(
     )
     .map_err(|source| OptimizeError::Contacts {
         origin: b.origin.clone(),
-        source,
+        source: Box::new(source),
     })?;
     let mut outputs = design_outputs(&doc, pins);
     // The energy of this state (a point near an equilibrium carries the equilibrium's
