@@ -37,6 +37,12 @@ impl Iteration<'_> {
             (radius * settings.max_rotation_step_rad / rotation.max(1e-300)).min(radius * advance)
         };
         let fits = move |radius: f64| reach(radius).min(1.0);
+        // Whether the translation limits (conservative advancement towards the
+        // constraints, the settings' largest move), not the trust region's rotation
+        // limit, set the length of the first trial: a step cut there says nothing
+        // about the quality of the model, so an accurate one still lowers the damping.
+        let advance_bound =
+            advance < 1.0 && advance <= settings.max_rotation_step_rad / rotation.max(1e-300);
         // Quadratic model along the step: m(t) = t·gᵀd + ½t²·dᵀHd (undamped H).
         let slope: f64 = self
             .work
@@ -78,6 +84,7 @@ impl Iteration<'_> {
         let mut correction: Option<Vec<f64>> = None;
         for attempt in 0..=settings.max_line_search_steps {
             let full = attempt == 0;
+            self.step_at_limit = full && advance_bound;
             // The quadratic model's decrease along the trial's step (energy only).
             let mut model_decrease = -(t * slope + 0.5 * t * t * curvature);
             if let Some(c) = &correction {
@@ -163,8 +170,12 @@ impl Iteration<'_> {
             }
             if self.trace {
                 eprintln!(
-                    "strand-solve: iteration {:3} trial {attempt}: residual {residual:.3e} N, energy {:.9e} J, damping {:.1e}, radius {:.2e}, t {t:.2e}, ratio {ratio:.3}, rotation {rotation:.2e} rad, translation {translation:.2e} m",
-                    self.report.iterations, self.work.eval.energy, self.damping, self.radius
+                    "strand-solve: iteration {:3} trial {attempt}: residual {residual:.3e} N, energy {:.9e} J, damping {:.1e}, radius {:.2e}, t {t:.2e}, ratio {ratio:.3}, rotation {rotation:.2e} rad, translation {translation:.2e} m, advance {advance:.2e}, rows {}",
+                    self.report.iterations,
+                    self.work.eval.energy,
+                    self.damping,
+                    self.radius,
+                    self.rows.len()
                 );
             }
             if full && let Some(v) = &negative {
@@ -418,7 +429,7 @@ impl Iteration<'_> {
                 .evaluate_mixed(&self.state, &mut self.work.eval, stresses);
         }
         self.mixed_hessian = stresses.is_some();
-        let full_step = t >= 1.0;
+        let full_step = t >= 1.0 || self.step_at_limit;
         self.try_undamped =
             full_step && (super::EXACT_RATIO..=1.0 / super::EXACT_RATIO).contains(&ratio);
         if ratio >= settings.trust_ratio {

@@ -164,6 +164,9 @@ pub(crate) struct Iteration<'a> {
     /// Whether `work.eval.hessian` was assembled with predicted edge stresses (mixed
     /// Newton) rather than the state's own.
     mixed_hessian: bool,
+    /// Whether the trial being accepted is the first one and was as long as the
+    /// translation limits allow (see [`Iteration::globalise`]).
+    step_at_limit: bool,
 }
 
 impl<'a> Iteration<'a> {
@@ -220,6 +223,7 @@ impl<'a> Iteration<'a> {
             try_undamped: false,
             curvature_direction: Vec::new(),
             mixed_hessian: stresses.is_some(),
+            step_at_limit: false,
         };
         let mut rows = Vec::new();
         iteration.collect_rows(&iteration.state.clone(), &mut rows);
