@@ -11,8 +11,9 @@ use strand_case::{Case, CaseDesign, DesignParameter};
 use strand_solve::SolverSettings;
 use strand_solve::sensitivity::Design;
 use strand_study::optimize::{
-    Limit, Objective, OptimizeSettings, Optimum, Problem, Variable, optimize, outputs_at,
+    Limit, Objective, OptimizeSettings, Optimum, Problem, Variable, optimize,
 };
+use strand_study::sensitivity::outputs_at;
 use strand_system::SystemState;
 
 use crate::common::cases_dir;

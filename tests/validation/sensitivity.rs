@@ -8,9 +8,10 @@
 use std::collections::BTreeMap;
 
 use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase};
-use strand_report::{OutputValue, design_outputs, sensitivity_doc};
+use strand_report::OutputValue;
 use strand_solve::sensitivity::{Design, Sample, Sensitivities, SensitivitySettings};
 use strand_solve::{Solution, SolverSettings};
+use strand_study::sensitivity::{ENERGY, outputs_at};
 
 use crate::common::cases_dir;
 
@@ -58,23 +59,16 @@ fn solve_from(
 }
 
 /// Named outputs of a design at a solution (peaks read at the base's arg when `pins`
-/// are given).
+/// are given), those of `sensitivity.json` (without the optimiser's energy).
 fn outputs(
     built: &DesignedCase,
     solution: &Solution,
     pins: Option<&[OutputValue]>,
 ) -> BTreeMap<String, Sample> {
-    let b = &built.built;
-    let doc = sensitivity_doc(
-        &b.name,
-        &b.model,
-        solution,
-        built.contact.as_ref(),
-        &b.connector_names,
-    )
-    .unwrap();
-    design_outputs(&doc, pins)
+    outputs_at(built, solution, pins)
+        .unwrap()
         .into_iter()
+        .filter(|o| o.name != ENERGY)
         .map(|o| {
             (
                 o.name,

@@ -52,6 +52,9 @@ pub struct BuiltCase {
     pub min_clearance: Vec<Option<f64>>,
     /// The named connectors with an allowed load (`max_force`, `max_moment`).
     pub connector_limits: Vec<crate::limits::ConnectorLimit>,
+    /// Per rod, the name of its section and, for a `Tube` section, its inner radius
+    /// in m (`None` for an `Explicit` section): the report's input table.
+    pub sections: Vec<(String, Option<f64>)>,
     /// Environment meshes (OBJ files in world coordinates, m, with their BVH), in
     /// file order; shared with the case's other builds (variants, batches).
     pub environment: Vec<Arc<ObstacleMesh>>,
@@ -196,6 +199,20 @@ pub(crate) fn build(
         min_bend_radius,
         min_clearance,
         connector_limits,
+        sections: file
+            .rods
+            .iter()
+            .map(|rod| {
+                let def = file.sections.iter().find(|(n, _)| *n == rod.section);
+                let inner = match def.map(|(_, d)| d) {
+                    Some(crate::schema::SectionDef::Tube { inner_radius, .. }) => {
+                        Some(inner_radius * unit.metres())
+                    }
+                    _ => None,
+                };
+                (rod.section.clone(), inner)
+            })
+            .collect(),
         environment,
         start: Start::Hanging,
         clip_projections: projections,

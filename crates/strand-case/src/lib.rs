@@ -70,7 +70,10 @@ pub use nominal::NOMINAL_LENGTH_TOLERANCE;
 pub use schema::CaseFile;
 pub use start::Start;
 pub use units::LengthUnit;
-pub use variant::{BASE_VARIANT, VARIANT_ITEMS};
+pub use variant::{
+    BASE_VARIANT, ItemError, ItemQuantity, RodEnd, ShortFormError, VARIANT_ITEMS, VariantItem,
+    expand_short,
+};
 pub use warm::{resample_rod_state, warm_start};
 
 /// A parsed (not yet validated) case file with its origin.

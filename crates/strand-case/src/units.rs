@@ -4,7 +4,7 @@ use std::fmt;
 
 /// Length unit of a case file (`units: (length: "mm")`). Only lengths are scaled; every
 /// other quantity is SI in the file already.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum LengthUnit {
     /// Millimetre, `"mm"` (0.001 m).
     Millimetre,

@@ -25,13 +25,32 @@ pub enum Keep {
     All,
 }
 
-impl Keep {
-    /// The option value as written.
-    pub fn name(self) -> &'static str {
+impl From<Keep> for strand_study::batch::Keep {
+    fn from(keep: Keep) -> Self {
+        match keep {
+            Keep::Summary => Self::Summary,
+            Keep::Results => Self::Results,
+            Keep::All => Self::All,
+        }
+    }
+}
+
+/// `--export-unit`: the length unit of the exported geometry (`rods.vtp`, `tubes.obj`,
+/// `tubes.stl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ExportUnitArg {
+    /// Millimetres.
+    Mm,
+    /// Metres.
+    M,
+}
+
+impl ExportUnitArg {
+    /// The unit of the exported geometry.
+    pub fn unit(self) -> strand_report::ExportUnit {
         match self {
-            Keep::Summary => "summary",
-            Keep::Results => "results",
-            Keep::All => "all",
+            Self::Mm => strand_report::ExportUnit::new(1e-3, "mm"),
+            Self::M => strand_report::ExportUnit::metre(),
         }
     }
 }
@@ -57,6 +76,10 @@ pub enum Command {
         /// `--motion engine_roll=4deg` [default output: out/<case name>/<NAME=VALUE>].
         #[arg(long, value_name = "NAME=VALUE", conflicts_with = "variant")]
         motion: Option<String>,
+        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
+        /// `length_unit`, the unit its environment meshes are usually drawn in].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Follow a motion of the case's parts (defined under `motions`) from the case's
     /// pose in both directions, warm-started: DIR/motion.csv, DIR/events.csv,
@@ -90,6 +113,10 @@ pub enum Command {
         /// Output directory.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Length unit of the base solve's rods.vtp, tubes.obj and tubes.stl
+        /// [default: the case's `length_unit`].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Find the best design within bounds with exact gradients (trust-region SQP):
     /// DIR/optimum.json, DIR/history.csv, DIR/history.svg and DIR/<case>_optimum.ron.
@@ -114,6 +141,10 @@ pub enum Command {
         /// Output directory.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Length unit of the optimum's rods.vtp, tubes.obj and tubes.stl
+        /// [default: the case's `length_unit`].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
     /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.
@@ -130,6 +161,10 @@ pub enum Command {
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
+        /// Length unit of rods.vtp, tubes.obj and tubes.stl [default: the case's
+        /// `length_unit`, the unit its environment meshes are usually drawn in].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Solve every combination of varied parameters in parallel, warm-started along
     /// each parameter; resumable; DIR/summary.csv, DIR/summary.svg and
@@ -170,6 +205,11 @@ pub enum Command {
         /// Solve variants recorded as failed (failed.json) again instead of skipping them.
         #[arg(long)]
         retry_failed: bool,
+        /// Length unit of each variant's rods.vtp, tubes.obj and tubes.stl (with
+        /// `--keep all`) [default: the case's `length_unit`]; applies to the variants
+        /// solved in this run, like --keep.
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Combine the directories of a sharded batch and write summary.csv and summary.svg.
     Merge {

@@ -6,11 +6,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strand_case::{BuiltCase, Case, CaseError};
-use strand_report::{ExportUnit, Timing, collect, name_connectors, write_results_in};
-use strand_solve::SolveError;
+use strand_report::{ExportUnit, Timing};
+use strand_solve::Solution;
+use strand_study::{ErrorKind, StudyError};
 
 use crate::Exit;
-use crate::args::Command;
+use crate::args::{Command, ExportUnitArg};
 use crate::summary::{number, summary};
 
 /// A failure with the exit status it maps to.
@@ -29,6 +30,31 @@ impl From<CaseError> for Failure {
     }
 }
 
+impl From<ErrorKind> for Exit {
+    fn from(kind: ErrorKind) -> Self {
+        match kind {
+            ErrorKind::Input => Exit::InvalidInput,
+            ErrorKind::Io => Exit::Failure,
+            ErrorKind::NotConverged => Exit::NotConverged,
+        }
+    }
+}
+
+impl From<StudyError> for Failure {
+    fn from(e: StudyError) -> Self {
+        Failure {
+            exit: e.kind().into(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Solves `built` cold ([`strand_study::solve::solve_cold`]) with the progress line.
+pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
+    let _progress = crate::progress::Progress::start(&built.origin);
+    Ok(strand_study::solve::solve_cold(built)?)
+}
+
 pub(crate) fn execute(
     command: &Command,
     out: &mut dyn Write,
@@ -41,11 +67,13 @@ pub(crate) fn execute(
             segments,
             variant,
             motion: None,
+            export_unit: unit,
         } => solve_case(
             case,
             dir.as_deref(),
             segments.map(|n| n as usize),
             variant.as_deref(),
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -54,12 +82,14 @@ pub(crate) fn execute(
             out: dir,
             segments,
             motion: Some(pose),
+            export_unit: unit,
             ..
         } => crate::motion::solve_pose(
             case,
             pose,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -82,24 +112,38 @@ pub(crate) fn execute(
             case,
             params,
             out: dir,
-        } => crate::sensitivity::run(case, params, dir, out),
+            export_unit: unit,
+        } => crate::sensitivity::run(case, params, dir, unit.map(ExportUnitArg::unit), out),
         Command::Optimize {
             case,
             vary,
             minimize,
             subject_to,
             out: dir,
-        } => crate::optimize::run(case, vary, minimize, subject_to, dir, out),
+            export_unit: unit,
+        } => crate::optimize::run(
+            &crate::optimize::Options {
+                case,
+                vary,
+                minimize,
+                subject_to,
+                dir,
+                export_unit: unit.map(ExportUnitArg::unit),
+            },
+            out,
+        ),
         Command::Study {
             case,
             variants,
             out: dir,
             segments,
+            export_unit: unit,
         } => crate::study::run(
             case,
             variants,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            unit.map(ExportUnitArg::unit),
             out,
             err,
         ),
@@ -114,25 +158,25 @@ pub(crate) fn execute(
             shard,
             segments,
             retry_failed,
+            export_unit: unit,
         } => crate::batch::run(
-            &crate::batch::BatchOptions {
-                case,
-                vary,
-                out: dir,
+            strand_study::batch::BatchSpec {
+                case: case.clone(),
+                vary: vary.clone(),
+                out: dir.clone(),
                 jobs: *jobs,
                 force_jobs: *force_jobs,
                 yes: *yes,
-                keep: *keep,
-                shard: shard.as_deref(),
+                keep: (*keep).into(),
+                shard: shard.clone(),
                 segments: segments.map(|n| n as usize),
                 retry_failed: *retry_failed,
+                export_unit: unit.map(ExportUnitArg::unit),
             },
             out,
             err,
         ),
-        Command::Merge { dirs, out: dir } => {
-            crate::batch::merge::run(dirs, dir.as_deref(), out, err)
-        }
+        Command::Merge { dirs, out: dir } => crate::batch::merge(dirs, dir.as_deref(), out, err),
         Command::Report {
             dirs,
             out: file,
@@ -241,7 +285,7 @@ fn bench_grid(cases: usize, out: &mut dyn Write) -> Exit {
 fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let read = started.elapsed().as_secs_f64();
     let built = case.build(segments)?;
     let total = started.elapsed().as_secs_f64();
@@ -258,20 +302,20 @@ fn load(path: &Path, segments: Option<usize>) -> Result<(BuiltCase, Timing), Fai
 
 fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Result<Exit, Failure> {
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let built = case.build(segments)?;
     // Every hose must start clear of the environment and of each other, as `solve`
     // requires.
     built
         .check_start()
-        .map_err(|e| solver_failure(&built.origin, e))?;
+        .map_err(|e| StudyError::solver(&built.origin, e))?;
     // Every variant must build and start clear too.
     let variants = case.variant_names();
     for name in &variants {
         let variant = case.build_variant(name, segments)?;
         variant
             .check_start()
-            .map_err(|e| solver_failure(&format!("{} (variant '{name}')", built.origin), e))?;
+            .map_err(|e| StudyError::solver(&format!("{} (variant '{name}')", built.origin), e))?;
     }
     let system = built.model.system();
     let segments: usize = system.rods.iter().map(|r| r.rod.segments()).sum();
@@ -307,50 +351,12 @@ fn check_case(path: &Path, segments: Option<usize>, out: &mut dyn Write) -> Resu
     Ok(Exit::Success)
 }
 
-/// Contacts, clearances and the environment meshes' diagnostics and outlines (near
-/// the hoses) of `solution` into `doc`, then the case's limits and the findings
-/// against them ([`crate::findings::add_findings`]).
-pub(crate) fn add_contacts(
-    doc: &mut strand_report::ResultDoc,
-    built: &BuiltCase,
-    solution: &strand_solve::Solution,
-) -> Result<(), Failure> {
-    strand_report::collect_environment(doc, &built.environment);
-    strand_report::collect_outlines(doc, &built.environment);
-    if let Some(contact) = built.contact() {
-        strand_report::collect_contacts(doc, &built.model, solution, &contact).map_err(|e| {
-            Failure {
-                exit: Exit::Failure,
-                message: format!("{}: contacts: {e}", built.origin),
-            }
-        })?;
-    }
-    crate::findings::add_findings(doc, built, solution)
-}
-
-/// The failure of a solve that could not start.
-pub(crate) fn solver_failure(origin: &str, e: SolveError) -> Failure {
-    match e {
-        SolveError::StartsInside(_) => Failure {
-            exit: Exit::InvalidInput,
-            message: format!("{origin}: {e}"),
-        },
-        SolveError::Settings(_) => Failure {
-            exit: Exit::InvalidInput,
-            message: format!("{origin}: solver: {e}"),
-        },
-        _ => Failure {
-            exit: Exit::Failure,
-            message: format!("{origin}: the solver could not start: {e}"),
-        },
-    }
-}
-
 fn solve_case(
     path: &Path,
     dir: Option<&Path>,
     segments: Option<usize>,
     variant: Option<&str>,
+    export_unit: Option<ExportUnit>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -358,17 +364,17 @@ fn solve_case(
     let (built, solution, mut timing, base_iterations) = match variant {
         None => {
             let (built, timing) = load(path, segments)?;
-            let solution = crate::study::solve_cold(&built)?;
+            let solution = solve_cold(&built)?;
             (built, solution, timing, None)
         }
         Some(name) => {
             let case = Case::from_path(path)?;
-            crate::limits::check_case(&case)?;
+            strand_study::limits::check_case(&case)?;
             let read = started.elapsed().as_secs_f64();
             let base = case.build(segments)?;
             let built = case.build_variant(name, segments)?;
             let build = started.elapsed().as_secs_f64() - read;
-            let base_solution = crate::study::solve_cold(&base)?;
+            let base_solution = solve_cold(&base)?;
             let (solution, warm) =
                 crate::study::solve_variant(&base, &base_solution, &built, name, err)?;
             let timing = Timing {
@@ -392,6 +398,7 @@ fn solve_case(
         timing,
         variant,
         base_iterations,
+        export_unit,
     };
     write_solved(&solved, dir, out, err)
 }
@@ -403,49 +410,8 @@ pub(crate) struct Solved<'a> {
     pub timing: Timing,
     pub variant: Option<&'a str>,
     pub base_iterations: Option<usize>,
-}
-
-/// The result document of a solve: sectional quantities, reactions, contacts,
-/// clearances, the case's limits and the findings against them.
-pub(crate) fn result_doc(
-    built: &BuiltCase,
-    solution: &strand_solve::Solution,
-    timing: Timing,
-) -> Result<strand_report::ResultDoc, Failure> {
-    let mut doc = collect(&built.name, &built.model, solution, timing);
-    add_contacts(&mut doc, built, solution)?;
-    name_connectors(&mut doc, &built.connector_names);
-    Ok(doc)
-}
-
-/// Creates `dir` and writes each `(name, content)` into it atomically.
-pub(crate) fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<(), Failure> {
-    std::fs::create_dir_all(dir).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: cannot create the output directory: {e}", dir.display()),
-    })?;
-    for (name, content) in files {
-        strand_report::write_atomic(&dir.join(name), content).map_err(|e| Failure {
-            exit: Exit::Failure,
-            message: format!("{}: {e}", dir.display()),
-        })?;
-    }
-    Ok(())
-}
-
-/// Writes `result.json` and the per-rod files of `doc` into `dir` (for `strand
-/// report`), in the case's export unit.
-pub(crate) fn write_result_files(
-    built: &BuiltCase,
-    doc: &strand_report::ResultDoc,
-    dir: &Path,
-) -> Result<(), Failure> {
-    write_results_in(dir, doc, &export_unit(built))
-        .map(|_| ())
-        .map_err(|e| Failure {
-            exit: Exit::Failure,
-            message: format!("{}: results not written: {e}", built.origin),
-        })
+    /// `--export-unit`, if given (default: the case's length unit).
+    pub export_unit: Option<ExportUnit>,
 }
 
 /// Writes the results of a solve to `dir` [default out/<case>/<variant>] and prints
@@ -462,11 +428,9 @@ pub(crate) fn write_solved(
         timing,
         variant,
         base_iterations,
+        ref export_unit,
     } = *solved;
-    let mut doc = result_doc(built, solution, timing)?;
-    doc.variant = variant.map(str::to_string);
-    doc.warm_start = base_iterations.is_some();
-    doc.base_iterations = base_iterations;
+    let doc = strand_study::solve::result_doc(built, solution, timing, variant, base_iterations)?;
     let dir: PathBuf = dir.map(Path::to_path_buf).unwrap_or_else(|| {
         let dir = Path::new("out").join(&built.name);
         match variant {
@@ -474,10 +438,7 @@ pub(crate) fn write_solved(
             None => dir,
         }
     });
-    let written = write_results_in(&dir, &doc, &export_unit(built)).map_err(|e| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: results not written: {e}", built.origin),
-    })?;
+    let written = strand_study::solve::write_result(&dir, &doc, built, export_unit.as_ref())?;
     let _ = write!(out, "{}", summary(built, &doc, &written));
     let unit = built.length_unit;
     let _ = write!(
@@ -531,10 +492,4 @@ pub(crate) fn write_solved(
         );
         Ok(Exit::NotConverged)
     }
-}
-
-/// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
-/// of `solve`, `study` and `batch`: the case's length unit.
-pub(crate) fn export_unit(built: &BuiltCase) -> ExportUnit {
-    ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol())
 }

@@ -2,7 +2,9 @@
 //!
 //! The `strand` command line, as a library so that tests drive exactly the code path
 //! of the binary: `main` only calls [`run`] with the process's arguments, stdout and
-//! stderr and exits with the returned [`Exit`] code.
+//! stderr and exits with the returned [`Exit`] code. It is a thin front end: argument
+//! parsing, progress display, printing and exit codes; the engines of `study`,
+//! `batch`, `merge` and `sensitivity` are in [`strand_study`].
 //!
 //! ```text
 //! strand solve CASE [--out DIR] [--segments N]   solve, write DIR/result.json + DIR/<rod>.csv
@@ -47,8 +49,6 @@ mod args;
 mod batch;
 pub mod bench;
 mod commands;
-mod findings;
-pub mod limits;
 mod motion;
 mod optimize;
 mod progress;
@@ -63,6 +63,8 @@ use std::io::Write;
 use clap::Parser;
 
 pub use args::{Cli, Command};
+/// The boundary checks of a case, from the library ([`strand_study::limits`]).
+pub use strand_study::limits;
 
 /// Exit status of a `strand` run (see the table in the crate docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,5 +140,7 @@ where
     }
 }
 
+#[cfg(test)]
+mod findings_tests;
 #[cfg(test)]
 mod tests;

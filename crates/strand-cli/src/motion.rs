@@ -13,19 +13,14 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use strand_case::motion::{
-    FollowSettings, MotionEvent, MotionRange, MotionStep, follow, parse_value,
-};
-use strand_case::{BuiltCase, Case};
-use strand_report::motion::{
-    MotionEventRecord, MotionRow, doc_events, envelope_obj, events_csv, motion_csv, motion_svg,
-};
-use strand_report::{
-    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
-};
+use strand_case::Case;
+use strand_case::motion::{FollowSettings, MotionEvent, MotionRange, MotionStep, follow};
+use strand_report::motion::{MotionRow, envelope_obj, events_csv, motion_csv, motion_svg};
+use strand_report::{ResultDoc, Timing, write_atomic, write_results_in};
+use strand_study::motion::{SolvedPose as Solved, build_pose, events_of, step_doc};
 
 use crate::Exit;
-use crate::commands::{Failure, add_contacts};
+use crate::commands::Failure;
 use crate::summary::number;
 
 fn invalid(message: String) -> Failure {
@@ -42,56 +37,20 @@ fn write_failure(origin: &str, e: impl std::fmt::Display) -> Failure {
     }
 }
 
-/// `NAME=VALUE` of `--motion`, split and checked against the case.
-pub(crate) fn parse_pose(case: &Case, text: &str) -> Result<(String, f64, String), Failure> {
-    let (name, value) = text.split_once('=').ok_or_else(|| {
-        invalid(format!(
-            "--motion '{text}': write NAME=VALUE, e.g. --motion engine_roll=4deg (motions: {})",
-            names(case)
-        ))
-    })?;
-    let motion = case.motion(name.trim())?;
-    let value = parse_value(value, &motion.name, &motion.unit)
-        .map_err(|e| invalid(format!("{}: --motion: {e}", case.origin)))?;
-    Ok((motion.name, value, motion.unit))
-}
-
-fn names(case: &Case) -> String {
-    let n = case.motion_names();
-    if n.is_empty() {
-        "none".into()
-    } else {
-        n.join(", ")
-    }
-}
-
-/// The case built at the pose `NAME=VALUE` (for `strand solve --motion`), with the
-/// label of the pose (`engine_roll=4deg`).
-pub(crate) fn build_pose(
-    path: &Path,
-    pose: &str,
-    segments: Option<usize>,
-) -> Result<(BuiltCase, String), Failure> {
-    let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
-    let (name, value, unit) = parse_pose(&case, pose)?;
-    let built = case.build_motion(&name, value, segments)?;
-    Ok((built, format!("{name}={value}{unit}")))
-}
-
 /// `strand solve CASE --motion NAME=VALUE`: the case at one pose, solved cold.
 pub(crate) fn solve_pose(
     path: &Path,
     pose: &str,
     dir: Option<&Path>,
     segments: Option<usize>,
+    export_unit: Option<strand_report::ExportUnit>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
     let (built, label) = build_pose(path, pose, segments)?;
     let build = started.elapsed().as_secs_f64();
-    let solution = crate::study::solve_cold(&built)?;
+    let solution = crate::commands::solve_cold(&built)?;
     let timing = Timing {
         build,
         solve: solution.report.solve_seconds,
@@ -104,6 +63,7 @@ pub(crate) fn solve_pose(
         timing,
         variant: Some(&label),
         base_iterations: None,
+        export_unit,
     };
     crate::commands::write_solved(&solved, dir, out, err)
 }
@@ -112,15 +72,6 @@ pub(crate) fn solve_pose(
 fn step_id(k: usize, count: usize) -> String {
     let width = count.saturating_sub(1).to_string().len().max(3);
     format!("{k:0width$}")
-}
-
-/// One solved pose, kept for the tables.
-struct Solved {
-    id: String,
-    value: f64,
-    doc: ResultDoc,
-    solves: usize,
-    iterations: usize,
 }
 
 /// `strand motion`.
@@ -135,7 +86,7 @@ pub(crate) fn run(
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
     let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
+    strand_study::limits::check_case(&case)?;
     let pose = case.motion(motion)?;
     let range = MotionRange::parse(range, motion, &pose.unit)
         .map_err(|e| invalid(format!("{}: --range: {e}", case.origin)))?;
@@ -184,10 +135,7 @@ pub(crate) fn run(
             let _count = WriteTime(&mut writing_s, writing);
             match step_doc(&step, &label(step.value)) {
                 Ok(doc) => {
-                    let unit = ExportUnit::new(
-                        step.built.length_unit.metres(),
-                        step.built.length_unit.symbol(),
-                    );
+                    let unit = strand_study::solve::export_unit(&step.built, None);
                     if let Err(e) = write_results_in(&dir.join("steps").join(&id), &doc, &unit) {
                         failure = Some(write_failure(&step.built.origin, e));
                         return;
@@ -211,7 +159,7 @@ pub(crate) fn run(
                         iterations: step.iterations,
                     });
                 }
-                Err(f) => failure = Some(f),
+                Err(f) => failure = Some(f.into()),
             }
         },
     )?;
@@ -340,67 +288,6 @@ impl Drop for WriteTime<'_> {
     fn drop(&mut self) {
         *self.0 += self.1.elapsed().as_secs_f64();
     }
-}
-
-/// The result document of one pose.
-fn step_doc(step: &MotionStep, label: &str) -> Result<ResultDoc, Failure> {
-    let timing = Timing {
-        solve: step.solution.report.solve_seconds,
-        ..Timing::default()
-    };
-    let mut doc = collect(&step.built.name, &step.built.model, &step.solution, timing);
-    add_contacts(&mut doc, &step.built, &step.solution)?;
-    name_connectors(&mut doc, &step.built.connector_names);
-    doc.variant = Some(label.to_string());
-    doc.warm_start = step.warm;
-    Ok(doc)
-}
-
-/// The events of the motion: those of the path following, and those found between
-/// neighbouring poses along each direction from the case's pose.
-fn events_of(solved: &[Solved], path: &[(f64, MotionEvent)]) -> Vec<MotionEventRecord> {
-    let mut out = Vec::new();
-    for direction in [1.0, -1.0] {
-        let mut chain: Vec<&Solved> = solved
-            .iter()
-            .filter(|s| s.value * direction > 0.0 || s.value == 0.0)
-            .collect();
-        chain.sort_by(|a, b| (a.value * direction).total_cmp(&(b.value * direction)));
-        for k in 1..chain.len() {
-            let earlier = (k >= 2).then(|| (chain[k - 2].value, &chain[k - 2].doc));
-            out.extend(doc_events(
-                earlier,
-                (chain[k - 1].value, &chain[k - 1].doc),
-                (chain[k].value, &chain[k].doc),
-            ));
-        }
-    }
-    for (at, e) in path {
-        out.push(match e {
-            MotionEvent::SnapThrough { from, to, jump_m } => MotionEventRecord {
-                kind: "snap_through".into(),
-                what: "state".into(),
-                between: [*from, *to],
-                at: *to,
-                detail: format!("the hoses jumped by up to {jump_m:.4e} m within the smallest step (reached at pose {at})"),
-            },
-            MotionEvent::StabilityLost { at: v, negative_directions } => MotionEventRecord {
-                kind: "stability_lost".into(),
-                what: "state".into(),
-                between: [*v, *v],
-                at: *v,
-                detail: format!("{negative_directions} direction(s) of negative curvature"),
-            },
-            MotionEvent::StabilityRegained { at: v } => MotionEventRecord {
-                kind: "stability_regained".into(),
-                what: "state".into(),
-                between: [*v, *v],
-                at: *v,
-                detail: String::new(),
-            },
-        });
-    }
-    out
 }
 
 /// The worst pose of each quantity.

@@ -9,72 +9,39 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use strand_case::{Case, DesignParameter};
-use strand_report::{OptimumDoc, Timing, optimum_svg};
+use strand_case::Case;
+use strand_report::{ExportUnit, OptimumDoc};
 use strand_study::optimize::{
-    Limit, Objective, OptimizeError, OptimizeSettings, Optimum, OptimumIterate, Problem, Variable,
-    document, optimize,
+    OptimizeError, OptimizeSettings, OptimumIterate, Problem, optimize, write_optimum,
 };
 
 use crate::Exit;
-use crate::batch::bounds::parse_bounds;
 use crate::commands::Failure;
-use crate::sensitivity::parameter_scale;
 use crate::summary::significant;
 
-fn invalid(message: String) -> Failure {
-    Failure {
-        exit: Exit::InvalidInput,
-        message,
+impl From<OptimizeError> for Failure {
+    fn from(e: OptimizeError) -> Self {
+        Failure {
+            exit: e.kind().into(),
+            message: e.to_string(),
+        }
     }
 }
 
-/// The problem stated on the command line.
-fn problem(
-    case: &Case,
-    vary: &[String],
-    minimize: &str,
-    subject_to: &[String],
-) -> Result<Problem, Failure> {
-    let mut variables: Vec<Variable> = Vec::new();
-    for text in vary {
-        let b = parse_bounds(text, &case.file).map_err(|e| invalid(e.to_string()))?;
-        let Some((scale, _)) = parameter_scale(b.quantity, case) else {
-            return Err(invalid(format!(
-                "--vary {text}: not a continuous parameter"
-            )));
-        };
-        if variables
-            .iter()
-            .any(|v| v.parameter.item == b.item && v.parameter.component == b.component)
-        {
-            return Err(invalid(format!(
-                "--vary {text}: the variable is named twice (hint: give each variable once)"
-            )));
-        }
-        variables.push(Variable {
-            name: b.label,
-            unit: b.unit,
-            parameter: DesignParameter {
-                item: b.item,
-                component: b.component,
-                scale,
-            },
-            origin: b.origin,
-            lower: b.lower,
-            upper: b.upper,
-        });
-    }
-    let input = |e: OptimizeError| invalid(e.to_string());
-    Ok(Problem {
-        variables,
-        objective: Objective::parse(minimize).map_err(input)?,
-        limits: subject_to
-            .iter()
-            .map(|t| Limit::parse(t))
-            .collect::<Result<_, _>>()
-            .map_err(input)?,
-    })
+/// The options of `strand optimize`.
+pub(crate) struct Options<'a> {
+    /// The case file.
+    pub case: &'a Path,
+    /// `--vary ITEM=LO..HI`.
+    pub vary: &'a [String],
+    /// `--minimize`.
+    pub minimize: &'a str,
+    /// `--subject-to`.
+    pub subject_to: &'a [String],
+    /// `--out`.
+    pub dir: &'a Path,
+    /// `--export-unit` (default: the case's length unit).
+    pub export_unit: Option<ExportUnit>,
 }
 
 /// One line of progress per trial point.
@@ -98,60 +65,12 @@ fn progress_line(problem: &Problem, unit: &str, it: &OptimumIterate) -> String {
     )
 }
 
-/// The optimal case file: the case with the optimum's changes, its relative paths
-/// rebased onto the case's folder, checked to build.
-fn optimal_case(case: &Case, optimum: &Optimum, doc: &OptimumDoc) -> Result<String, Failure> {
-    let internal = |message: String| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: the optimal case: {message}", case.origin),
-    };
-    let file = case
-        .file_with_changes("optimum", &optimum.changes)
-        .map_err(|e| internal(e.to_string()))?;
-    let folder = Path::new(&case.origin)
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
-    let folder = std::fs::canonicalize(&folder).unwrap_or(folder);
-    let file = file.rebased(&folder);
-    let config =
-        ron::ser::PrettyConfig::new().extensions(ron::extensions::Extensions::IMPLICIT_SOME);
-    let body = ron::ser::to_string_pretty(&file, config).map_err(|e| internal(e.to_string()))?;
-    let values: Vec<String> = doc
-        .variables
-        .iter()
-        .filter_map(|v| doc.parameters.get(v).map(|p| (v, p)))
-        .map(|(v, p)| format!("{v} = {} {}", significant(p.value, 7), p.unit))
-        .collect();
-    let text = format!(
-        "// The optimal design of {} by `strand optimize` (minimise {}: {} {}; {}):\n// {}\n{body}\n",
-        case.origin,
-        doc.objective.name,
-        significant(doc.objective.value, 5),
-        doc.objective.unit,
-        doc.termination,
-        values.join(", ")
-    );
-    // Ready to solve: it parses and builds as written.
-    Case::from_str(&text, "optimum.ron")
-        .and_then(|c| c.build(None).map(|_| ()))
-        .map_err(|e| internal(format!("does not build: {e}")))?;
-    Ok(text)
-}
-
 /// `strand optimize`.
-pub(crate) fn run(
-    path: &Path,
-    vary: &[String],
-    minimize: &str,
-    subject_to: &[String],
-    dir: &Path,
-    out: &mut dyn Write,
-) -> Result<Exit, Failure> {
+pub(crate) fn run(options: &Options, out: &mut dyn Write) -> Result<Exit, Failure> {
     let started = Instant::now();
-    let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
-    let problem = problem(&case, vary, minimize, subject_to)?;
+    let case = Case::from_path(options.case)?;
+    strand_study::limits::check_case(&case)?;
+    let problem = Problem::from_options(&case, options.vary, options.minimize, options.subject_to)?;
     let unit = problem.objective.unit();
     let _ = writeln!(
         out,
@@ -179,39 +98,18 @@ pub(crate) fn run(
         })
     }
     .map_err(|e| Failure {
-        exit: match &e {
-            e if e.is_input() => Exit::InvalidInput,
-            OptimizeError::Start(_) => Exit::NotConverged,
-            _ => Exit::Failure,
-        },
         message: format!("{}: {e}", case.origin),
+        ..e.into()
     })?;
-    let case_file = format!("{}_optimum.ron", case.name);
-    let doc = document(
-        &case.name,
+    let doc = write_optimum(
+        options.dir,
+        &case,
         &problem,
         &optimum,
-        &case_file,
         started.elapsed().as_secs_f64(),
-    );
-    let ron_text = optimal_case(&case, &optimum, &doc)?;
-    let json = serde_json::to_string_pretty(&doc).expect("serialisable");
-    let built = case.build_with_changes("optimum", &optimum.changes, None)?;
-    let mut result = crate::commands::result_doc(&built, &optimum.solution, Timing::default())?;
-    result.variant = Some("optimum".into());
-    crate::commands::write_files(
-        dir,
-        &[
-            ("history.csv", doc.history_csv().as_bytes()),
-            ("history.svg", optimum_svg(&doc).as_bytes()),
-            (&case_file, ron_text.as_bytes()),
-        ],
+        options.export_unit.as_ref(),
     )?;
-    // The optimum's results: the folder is a result for `strand report`; optimum.json
-    // last, so that its presence means the run's files are complete.
-    crate::commands::write_result_files(&built, &result, dir)?;
-    crate::commands::write_files(dir, &[("optimum.json", json.as_bytes())])?;
-    let _ = write!(out, "{}", summary(&doc, dir));
+    let _ = write!(out, "{}", summary(&doc, options.dir));
     Ok(if doc.converged {
         Exit::Success
     } else {

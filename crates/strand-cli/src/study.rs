@@ -1,56 +1,39 @@
-//! Variants: the warm-started solve of one variant (`strand solve CASE --variant NAME`)
-//! and `strand study`, which solves several variants and compares their internal
-//! forces and moments.
-//!
-//! A variant is warm-started from the converged solution of the case itself: every
-//! rod's solved state is resampled onto the variant's rod by reference arc-length
-//! fraction ([`strand_case::warm_start`]) and Newton runs without nested iteration.
-//! When the base case does not converge the variant starts cold, with a warning.
+//! Variants on the command line: the warm-started solve of one variant (`strand solve
+//! CASE --variant NAME`) and `strand study` ([`strand_study::study`]), printed as a
+//! table of convergence and of the peaks per rod per variant.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::path::Path;
 
-use strand_case::{BASE_VARIANT, BuiltCase, Case, warm_start};
-use strand_report::{
-    ArcOrigin, ResultDoc, StudyPeak, StudyRun, Timing, arc_origin, collect, name_connectors,
-    study_csv, study_peaks, study_svg, write_atomic, write_results_in,
-};
-use strand_solve::{Solution, SolverSettings};
+use strand_case::BuiltCase;
+use strand_report::{ArcOrigin, ResultDoc, StudyPeak};
+use strand_solve::Solution;
+use strand_study::study::{StudyEvent, StudySpec, run_study};
 
 use crate::Exit;
-use crate::commands::{Failure, solver_failure};
+use crate::commands::Failure;
+use crate::progress::Progress;
 use crate::summary::{number, significant};
 
-/// Solves `built` from its own initial guess with its own settings.
-pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
-    let _progress = crate::progress::Progress::start(&built.origin);
-    built
-        .solve_from(built.initial.clone(), &built.settings)
-        .map_err(|e| solver_failure(&built.origin, e))
-}
-
-/// Solves variant `built` from `base_solution` (a solution of `base`) resampled onto
-/// its rods, without nested iteration (the start is already close).
-pub(crate) fn solve_warm(
-    base: &BuiltCase,
-    base_solution: &Solution,
-    built: &BuiltCase,
-) -> Result<Solution, Failure> {
-    let initial = warm_start(&base.model, &base_solution.state, &built.model);
-    let settings = SolverSettings {
-        nested_iteration: false,
-        ..built.settings.clone()
-    };
-    let _progress = crate::progress::Progress::start(&built.origin);
-    built
-        .solve_from(initial, &settings)
-        .map_err(|e| solver_failure(&built.origin, e))
+/// The warning that a variant starts cold because the case did not converge.
+fn cold_start_warning(
+    err: &mut dyn Write,
+    origin: &str,
+    name: &str,
+    residual_n: f64,
+    iterations: usize,
+) {
+    let _ = writeln!(
+        err,
+        "warning: {origin}: the case itself did not converge (residual {} N after {iterations} iterations); \
+         variant '{name}' starts from its own initial guess instead of a warm start",
+        number(residual_n),
+    );
 }
 
 /// Solves variant `name` warm-started from the base solution if that converged,
-/// otherwise cold (with a warning on `err`). Returns the solution and whether it was
-/// warm-started.
+/// otherwise cold (with a warning on `err`), with the progress line. Returns the
+/// solution and whether it was warm-started.
 pub(crate) fn solve_variant(
     base: &BuiltCase,
     base_solution: &Solution,
@@ -58,26 +41,21 @@ pub(crate) fn solve_variant(
     name: &str,
     err: &mut dyn Write,
 ) -> Result<(Solution, bool), Failure> {
-    if base_solution.report.converged {
-        Ok((solve_warm(base, base_solution, built)?, true))
-    } else {
-        let _ = writeln!(
+    if !base_solution.report.converged {
+        cold_start_warning(
             err,
-            "warning: {}: the case itself did not converge (residual {} N after {} iterations); \
-             variant '{name}' starts from its own initial guess instead of a warm start",
-            base.origin,
-            number(base_solution.report.residual.combined_n),
-            base_solution.report.iterations
+            &base.origin,
+            name,
+            base_solution.report.residual.combined_n,
+            base_solution.report.iterations,
         );
-        Ok((solve_cold(built)?, false))
     }
-}
-
-fn invalid(message: String) -> Failure {
-    Failure {
-        exit: Exit::InvalidInput,
-        message,
-    }
+    let _progress = Progress::start(&built.origin);
+    Ok(strand_study::solve::solve_variant(
+        base,
+        base_solution,
+        built,
+    )?)
 }
 
 /// `strand study CASE [--variants a,b,…] [--out DIR] [--segments N]`.
@@ -86,108 +64,40 @@ pub(crate) fn run(
     names: &[String],
     dir: Option<&Path>,
     segments: Option<usize>,
+    export_unit: Option<strand_report::ExportUnit>,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
-    let started = Instant::now();
-    let case = Case::from_path(path)?;
-    crate::limits::check_case(&case)?;
-    let read = started.elapsed().as_secs_f64();
-    let names: Vec<String> = if names.is_empty() {
-        std::iter::once(BASE_VARIANT)
-            .chain(case.variant_names())
-            .map(str::to_string)
-            .collect()
-    } else {
-        names.to_vec()
+    let spec = StudySpec {
+        case: path.to_path_buf(),
+        variants: names.to_vec(),
+        out: dir.map(Path::to_path_buf),
+        segments,
+        export_unit,
     };
-    for (i, name) in names.iter().enumerate() {
-        if name.is_empty() {
-            return Err(invalid(
-                "--variants: empty variant name (write e.g. --variants base,longer)".into(),
-            ));
-        }
-        if names[..i].contains(name) {
-            return Err(invalid(format!(
-                "--variants: '{name}' is listed twice (list every variant once)"
-            )));
-        }
-    }
-    // Build everything first: bad input stops the study before anything is written.
-    let base = case.build(segments)?;
-    let variants: Vec<Option<BuiltCase>> = names
-        .iter()
-        .map(|name| {
-            if name == BASE_VARIANT {
-                Ok(None)
-            } else {
-                case.build_variant(name, segments).map(Some)
-            }
-        })
-        .collect::<Result<_, _>>()?;
-    let build = started.elapsed().as_secs_f64() - read;
-    let dir: PathBuf = dir
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| Path::new("out").join(format!("{}-study", case.name)));
-    let not_written = |e: strand_report::ReportError| Failure {
-        exit: Exit::Failure,
-        message: format!("{}: results not written: {e}", case.origin),
-    };
-
-    let base_solution = solve_cold(&base)?;
-    let mut docs: Vec<ResultDoc> = Vec::with_capacity(names.len());
-    for (name, variant) in names.iter().zip(&variants) {
-        let (built, solution, warm) = match variant {
-            None => (&base, base_solution.clone(), false),
-            Some(built) => {
-                let (solution, warm) = solve_variant(&base, &base_solution, built, name, err)?;
-                (built, solution, warm)
-            }
-        };
-        let solve_s = solution.report.solve_seconds;
-        let timing = Timing {
-            read,
-            build,
-            solve: solve_s,
-            post: 0.0,
-            total: read + build + solve_s,
-        };
-        let mut doc = collect(&case.name, &built.model, &solution, timing);
-        crate::commands::add_contacts(&mut doc, built, &solution)?;
-        name_connectors(&mut doc, &built.connector_names);
-        doc.variant = Some(name.clone());
-        doc.warm_start = warm;
-        doc.base_iterations = warm.then_some(base_solution.report.iterations);
-        write_results_in(&dir.join(name), &doc, &crate::commands::export_unit(built))
-            .map_err(not_written)?;
-        docs.push(doc);
-    }
-
-    let runs: Vec<StudyRun> = names
-        .iter()
-        .zip(&docs)
-        .map(|(variant, doc)| StudyRun { variant, doc })
-        .collect();
-    let origins: Vec<ArcOrigin> = (0..base.model.system().rods.len())
-        .map(|r| arc_origin(&base.model, r))
-        .collect();
-    let peaks = study_peaks(&runs, &origins);
-    let unit = base.length_unit;
-    let title = format!("{}: variants {}", case.name, names.join(", "));
-    let svg = study_svg(&title, &runs, &origins, unit.symbol(), unit.metres());
-    let (svg_path, csv_path) = (dir.join("study.svg"), dir.join("study.csv"));
-    write_atomic(&csv_path, study_csv(&peaks).as_bytes()).map_err(not_written)?;
-    write_atomic(&svg_path, svg.as_bytes()).map_err(not_written)?;
-
+    let mut progress = None;
+    let study = run_study(&spec, &mut |event| match event {
+        StudyEvent::Solving { origin } => progress = Some(Progress::start(origin)),
+        StudyEvent::Solved => progress = None,
+        StudyEvent::ColdStart {
+            origin,
+            variant,
+            base_residual_n,
+            base_iterations,
+        } => cold_start_warning(err, origin, variant, base_residual_n, base_iterations),
+    })?;
+    drop(progress);
+    let unit = study.length_unit;
     let _ = write!(
         out,
         "{}",
         table(
-            &case,
-            &names,
-            &docs,
-            &peaks,
-            &origins,
+            &study.case_name,
+            &study.origin,
+            &study.names,
+            &study.docs,
+            &study.peaks,
+            &study.origins,
             unit.symbol(),
             unit.metres()
         )
@@ -195,17 +105,19 @@ pub(crate) fn run(
     let _ = writeln!(
         out,
         "written     {}, {}, {}",
-        svg_path.display(),
-        csv_path.display(),
-        names
+        study.svg.display(),
+        study.csv.display(),
+        study
+            .names
             .iter()
-            .map(|n| format!("{}", dir.join(n).join("result.json").display()))
+            .map(|n| format!("{}", study.dir.join(n).join("result.json").display()))
             .collect::<Vec<_>>()
             .join(", ")
     );
-    let failed: Vec<&str> = names
+    let failed: Vec<&str> = study
+        .names
         .iter()
-        .zip(&docs)
+        .zip(&study.docs)
         .filter(|(_, d)| !d.converged)
         .map(|(n, _)| n.as_str())
         .collect();
@@ -215,7 +127,7 @@ pub(crate) fn run(
         let _ = writeln!(
             err,
             "warning: {}: not converged: {}; results written with \"converged\": false",
-            case.origin,
+            study.origin,
             failed.join(", ")
         );
         Ok(Exit::NotConverged)
@@ -254,7 +166,8 @@ fn percent(change: Option<f64>, first: bool) -> String {
 /// The terminal summary of a study: convergence per variant, then the peaks per rod
 /// per variant with the change against the first variant.
 fn table(
-    case: &Case,
+    case_name: &str,
+    origin: &str,
     names: &[String],
     docs: &[ResultDoc],
     peaks: &[StudyPeak],
@@ -264,8 +177,8 @@ fn table(
 ) -> String {
     let mut s = format!(
         "study       {} ({}): {} variant(s), reference {}\n",
-        case.name,
-        case.origin,
+        case_name,
+        origin,
         names.len(),
         names[0]
     );

@@ -11,7 +11,7 @@ fn case_path(name: &str) -> PathBuf {
 }
 
 /// Runs `strand ARGS`, returning the exit status, stdout and stderr.
-fn strand(args: &[&str]) -> (Exit, String, String) {
+pub(crate) fn strand(args: &[&str]) -> (Exit, String, String) {
     let (mut out, mut err) = (Vec::new(), Vec::new());
     let exit = run(
         std::iter::once("strand").chain(args.iter().copied()),

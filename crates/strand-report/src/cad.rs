@@ -15,7 +15,7 @@ use crate::result::ResultDoc;
 use crate::tube::{tube_mesh, tube_radius};
 
 /// The length unit of exported geometry: how many metres one unit is, and its symbol.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ExportUnit {
     /// One unit in m (`0.001` for mm).
     pub metres: f64,

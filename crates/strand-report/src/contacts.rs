@@ -11,6 +11,16 @@ use crate::{ClearanceResult, ContactResult, ResultDoc};
 /// rod than this get no `clearance` entry.
 pub const CLEARANCE_SEARCH_M: f64 = 0.1;
 
+/// How far (surface to surface, m) clearances are searched when rods require the
+/// clearances `required` (m): [`CLEARANCE_SEARCH_M`], or 1 % (and 1 µm) beyond the
+/// largest requirement, so that a pair just outside it is listed as fine.
+pub fn clearance_search_m(required: impl IntoIterator<Item = f64>) -> f64 {
+    required
+        .into_iter()
+        .map(|c| 1.01 * c + 1e-6)
+        .fold(CLEARANCE_SEARCH_M, f64::max)
+}
+
 fn arr(v: &nalgebra::Vector3<f64>) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
@@ -114,5 +124,50 @@ pub fn collect_clearances(
     }
     doc.clearance
         .sort_by(|a, b| (&a.rod, &a.with).cmp(&(&b.rod, &b.with)));
+    vertex_clearances(
+        doc,
+        model,
+        solution,
+        contact,
+        search_m.max(CLEARANCE_SEARCH_M),
+    );
     Ok(())
+}
+
+/// Fills every rod's per-vertex `clearance_m`: the distance from each vertex to the
+/// nearest mesh of `contact` minus the rod's outer radius (at least 0), `None` beyond
+/// `search_m` (m) surface to surface; left empty without meshes.
+fn vertex_clearances(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+    search_m: f64,
+) {
+    let meshes = contact.meshes();
+    for ((rod, spec), state) in doc
+        .rods
+        .iter_mut()
+        .zip(&model.system().rods)
+        .zip(&solution.state.rods)
+    {
+        rod.clearance_m.clear();
+        if meshes.is_empty() {
+            continue;
+        }
+        let radius = spec.rod.section().outer_radius;
+        rod.clearance_m = state
+            .positions
+            .iter()
+            .map(|p| {
+                let point = nalgebra::Point3::from(*p);
+                meshes
+                    .iter()
+                    .filter_map(|m| m.point_proximity(&point, search_m + radius))
+                    .map(|near| near.distance)
+                    .reduce(f64::min)
+                    .map(|d| (d - radius).max(0.0))
+            })
+            .collect();
+    }
 }

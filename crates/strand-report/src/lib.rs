@@ -25,6 +25,10 @@
 //! [`study_svg`] plots `|f|` and `|m|` against arc length (from the rod's
 //! [`arc_origin`]) in two stacked panels, as self-contained SVG.
 //!
+//! Plots: every SVG figure (study, batch summary, motion, the report's plots,
+//! projections and 3D view) is drawn with the one module [`plot`] (figure, axes,
+//! ticks, series, legend, palette, escaping).
+//!
 //! Exports: [`rods_vtp`] (VTK XML PolyData of the centrelines with the sectional
 //! quantities as point data, `DIR/rods.vtp`) and [`tubes_obj`] (tube surface meshes,
 //! `DIR/tubes.obj`), both written by [`write_results`]; CAD out ([`write_results_in`]):
@@ -50,20 +54,22 @@ mod cad;
 mod clips;
 mod contacts;
 mod csv;
+mod digits;
 mod environment;
 mod findings;
 mod fittings;
 pub mod motion;
 mod optimum;
+mod optimum_plot;
 mod outline;
-mod palette;
+pub mod plot;
 mod provenance;
 mod report;
 mod result;
 mod sensitivity;
 mod study;
+mod study_plot;
 mod surface;
-mod svg;
 mod tube;
 mod vtk;
 mod write;
@@ -75,8 +81,9 @@ mod tests;
 
 pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
-pub use contacts::{CLEARANCE_SEARCH_M, collect_clearances, collect_contacts};
+pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
 pub use csv::{CSV_HEADER, push_number, rod_csv};
+pub use digits::significant;
 pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use findings::{
     Finding, FindingKind, FindingValue, bend_radii, find, findings_text, limits_stated,
@@ -87,14 +94,16 @@ pub use fittings::{
     CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
 pub use optimum::{
-    OptimumConstraint, OptimumDoc, OptimumIterate, OptimumObjective, OptimumParameter, optimum_svg,
+    OptimumConstraint, OptimumDoc, OptimumIterate, OptimumObjective, OptimumParameter,
 };
+pub use optimum_plot::optimum_svg;
 pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
 };
-pub use palette::{
-    DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, dash_pattern, line_colour,
+pub use plot::{
+    DASH_PATTERNS, LINE_COLOURS, MIN_DEUTERANOPIA_DELTA_E, axis_label, axis_ticks, dash_pattern,
+    line_colour,
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
 pub use report::{
@@ -111,8 +120,8 @@ pub use sensitivity::{
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,
 };
+pub use study_plot::study_svg;
 pub use surface::{MAX_SURFACE_TRIANGLES, mesh_surface};
-pub use svg::{axis_label, axis_ticks, study_svg};
 pub use tube::{
     BALL_BANDS, DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, TubeMesh, ball_mesh, tube_mesh,
     tube_radius, tube_rings, tubes_obj, tubes_obj_in,

@@ -1,6 +1,6 @@
 //! `optimum.json` as other tools read it ([`OptimumDoc`], written by `strand
 //! optimize`), its history as CSV ([`OptimumDoc::history_csv`]) and as an SVG
-//! ([`optimum_svg`]): the objective per trial point (accepted points joined, rejected
+//! ([`crate::optimum_svg`]): the objective per trial point (accepted points joined, rejected
 //! ones hollow) over the variables, each as a fraction of its bounds.
 //!
 //! ```text
@@ -16,8 +16,6 @@ use std::collections::BTreeMap;
 use std::fmt::Write;
 
 use serde::{Deserialize, Serialize};
-
-use crate::svg::{Panel, axis_ticks, escape, path_data, tick_range};
 
 /// A design variable at the optimum.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -178,135 +176,4 @@ impl OptimumDoc {
         }
         s
     }
-}
-
-const WIDTH: f64 = 820.0;
-const LEFT: f64 = 84.0;
-const RIGHT: f64 = 640.0;
-const TOP: f64 = 56.0;
-const PANEL: f64 = 200.0;
-const GAP: f64 = 76.0;
-
-/// The history plot: the objective per trial point (accepted points joined by the
-/// line, rejected and failed ones hollow), and below it every variable as a fraction
-/// of its bounds. Plain SVG 1.1; each curve is a `<path class="curve">` with
-/// `data-panel` (`objective`, `variables`) and, for variables, `data-variable`.
-pub fn optimum_svg(doc: &OptimumDoc) -> String {
-    let height = TOP + 2.0 * PANEL + GAP + 60.0;
-    let mut svg = String::new();
-    let _ = writeln!(
-        svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{WIDTH}\" height=\"{height}\" viewBox=\"0 0 {WIDTH} {height}\" font-family=\"sans-serif\" font-size=\"12\">"
-    );
-    let _ = writeln!(
-        svg,
-        "<rect width=\"{WIDTH}\" height=\"{height}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"24\" font-size=\"15\" font-weight=\"bold\">{}: minimise {} ({}; {} solves)</text>",
-        escape(&doc.case),
-        escape(&doc.objective.name),
-        escape(&doc.termination),
-        doc.solves
-    );
-    let iterations = doc.history.len().saturating_sub(1).max(1) as f64;
-    let (x_step, _) = crate::svg::ticks(iterations);
-    let x_max = (iterations / x_step).ceil() * x_step;
-    let objectives: Vec<f64> = doc.history.iter().filter_map(|h| h.objective).collect();
-    let lo = objectives.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = objectives.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let (y_step, y_min, y_max) = axis_ticks(lo, hi);
-    let top_panel = Panel {
-        left: LEFT,
-        right: RIGHT,
-        top: TOP,
-        height: PANEL,
-        x_min: 0.0,
-        x_max,
-        y_min,
-        y_max,
-    };
-    top_panel.draw_axes(
-        &mut svg,
-        x_step,
-        y_step,
-        "trial point",
-        &format!("{} [{}]", doc.objective.name, doc.objective.unit),
-        "objective",
-    );
-    let accepted = doc
-        .history
-        .iter()
-        .filter(|h| h.accepted)
-        .map(|h| (h.iteration as f64, h.objective.unwrap_or(f64::NAN)));
-    let _ = writeln!(
-        svg,
-        "<path class=\"curve\" data-panel=\"objective\" d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>",
-        path_data(&top_panel, accepted),
-        crate::palette::LINE_COLOURS[0]
-    );
-    for h in &doc.history {
-        let y = h.objective.unwrap_or(y_min);
-        let fill = if h.accepted {
-            crate::palette::LINE_COLOURS[0]
-        } else {
-            "#ffffff"
-        };
-        let _ = writeln!(
-            svg,
-            "<circle class=\"trial\" data-accepted=\"{}\" cx=\"{:.2}\" cy=\"{:.2}\" r=\"4\" fill=\"{fill}\" stroke=\"{}\" stroke-width=\"1.5\"><title>{}</title></circle>",
-            h.accepted,
-            top_panel.x(h.iteration as f64),
-            top_panel.y(y),
-            crate::palette::LINE_COLOURS[0],
-            escape(&h.note)
-        );
-    }
-    let (v_step, v_min, v_max) = tick_range(0.0, 1.0);
-    let bottom = Panel {
-        top: TOP + PANEL + GAP,
-        y_min: v_min,
-        y_max: v_max,
-        ..top_panel
-    };
-    bottom.draw_axes(
-        &mut svg,
-        x_step,
-        v_step,
-        "trial point",
-        "fraction of the bounds",
-        "variables (0: lower bound, 1: upper bound)",
-    );
-    for (k, name) in doc.variables.iter().enumerate() {
-        let Some(p) = doc.parameters.get(name) else {
-            continue;
-        };
-        let colour = crate::palette::LINE_COLOURS[(k + 1) % crate::palette::LINE_COLOURS.len()];
-        let points = doc.history.iter().map(|h| {
-            (
-                h.iteration as f64,
-                h.values
-                    .get(k)
-                    .map_or(f64::NAN, |v| (v - p.lower) / (p.upper - p.lower)),
-            )
-        });
-        let _ = writeln!(
-            svg,
-            "<path class=\"curve\" data-panel=\"variables\" data-variable=\"{}\" d=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\"/>",
-            escape(name),
-            path_data(&bottom, points)
-        );
-        let y = TOP + PANEL + GAP + 16.0 * k as f64 + 8.0;
-        let _ = writeln!(
-            svg,
-            "<line x1=\"{:.0}\" y1=\"{y:.0}\" x2=\"{:.0}\" y2=\"{y:.0}\" stroke=\"{colour}\" stroke-width=\"2\"/><text x=\"{:.0}\" y=\"{:.0}\">{} ({}..{} {})</text>",
-            RIGHT + 16.0,
-            RIGHT + 40.0,
-            RIGHT + 46.0,
-            y + 4.0,
-            escape(name),
-            p.lower,
-            p.upper,
-            escape(&p.unit)
-        );
-    }
-    svg.push_str("</svg>\n");
-    svg
 }

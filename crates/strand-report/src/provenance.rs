@@ -28,19 +28,23 @@ impl Provenance {
     /// The provenance of a result solved now from the case file `case_path` with
     /// `settings`.
     pub fn now(case_path: &str, settings: &strand_solve::SolverSettings) -> Self {
-        let seconds = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs());
         Provenance {
             strand_version: env!("CARGO_PKG_VERSION").to_string(),
             case_path: case_path.to_string(),
             case_fnv1a64: std::fs::read(Path::new(case_path))
                 .ok()
                 .map(|b| fnv1a64(&b)),
-            created_utc: utc(seconds),
+            created_utc: utc_now(),
             solver_settings: serde_json::to_value(settings).unwrap_or(serde_json::Value::Null),
         }
     }
+}
+
+/// The current time, UTC, as [`utc`] writes it.
+pub fn utc_now() -> String {
+    utc(std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()))
 }
 
 /// FNV-1a (64 bit) of `bytes`, 16 hex digits.

@@ -275,6 +275,20 @@ pub struct RodResult {
     /// surface), m, if the case states one (`min_clearance`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_clearance_m: Option<f64>,
+    /// Name of the rod's section in the case file, if known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<String>,
+    /// Inner radius of a tube section, m (absent for a section given by its
+    /// stiffnesses).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_radius_m: Option<f64>,
+    /// Per vertex, the clearance of the tube there to the nearest environment mesh:
+    /// distance from the vertex to the mesh minus the outer radius, m (0 at contact);
+    /// `null` where no mesh is within the clearance search
+    /// ([`crate::CLEARANCE_SEARCH_M`] or the largest required clearance). Empty
+    /// without an environment. Rod–rod distances are in `clearance` only.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clearance_m: Vec<Option<f64>>,
 }
 
 /// Force and moment a support exerts on a rod end.
@@ -358,6 +372,9 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
                 mass_kg: Some(spec.rod.section().mass_per_length * spec.rod.length()),
                 min_bend_radius_m: None,
                 min_clearance_m: None,
+                section: None,
+                inner_radius_m: None,
+                clearance_m: Vec::new(),
             }
         })
         .collect();

@@ -8,7 +8,7 @@ use crate::csv::push_number;
 use crate::result::{ResultDoc, RodResult};
 
 /// Where the arc length of a rod's curves is measured from in a study.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ArcOrigin {
     /// `s = 0` at the rod's start (vertex 0): `s` is the reference arc length `s_m`.
     Start,
@@ -50,7 +50,7 @@ pub struct StudyRun<'a> {
 }
 
 /// The peaks of one rod in one variant.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StudyPeak {
     /// Variant name.
     pub variant: String,

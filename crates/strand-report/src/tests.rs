@@ -31,6 +31,9 @@ pub(crate) fn sample_rod() -> RodResult {
         mass_kg: Some(0.25),
         min_bend_radius_m: None,
         min_clearance_m: None,
+        section: None,
+        inner_radius_m: None,
+        clearance_m: Vec::new(),
     }
 }
 

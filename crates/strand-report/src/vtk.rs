@@ -16,9 +16,9 @@
 use std::fmt::Write;
 
 use crate::csv::push_number;
+use crate::plot::escape;
 use crate::result::{ResultDoc, RodResult};
 use crate::study::magnitude;
-use crate::svg::escape;
 
 /// A point-data array of the `.vtp`: its name, number of components, and how to get
 /// the values of one rod (flattened, `components` numbers per vertex).

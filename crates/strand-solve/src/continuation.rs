@@ -5,6 +5,8 @@
 //! (DESIGN §3, robustness). A step that does not converge is retried at a quarter of
 //! its size; a step that converges quickly doubles the next one.
 
+pub mod predictor;
+
 use strand_system::{Model, System, SystemState};
 
 use crate::constraints::Constraints;

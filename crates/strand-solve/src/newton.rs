@@ -235,6 +235,14 @@ impl<'m> Solver<'m> {
             // straight rod beyond buckling) would be carried into the fine solve.
             if coarse.report.stable {
                 start = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
+            } else if !coarse.report.converged {
+                // A coarse level that ran out of budget may still have come most of the
+                // way: its state is the better start when its energy on the fine model
+                // is lower than the initial state's.
+                let prolonged = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
+                if self.model.energy(&prolonged) < self.model.energy(&initial) {
+                    start = prolonged;
+                }
             }
         }
         let mut solution = self.iterate(start, settings);

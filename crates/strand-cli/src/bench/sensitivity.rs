@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use strand_case::{Case, CaseDesign, DesignParameter};
 use strand_solve::sensitivity::{Sensitivities, SensitivitySettings};
-use strand_study::optimize::output_table;
+use strand_study::sensitivity::output_table;
 
 /// Most parameters the benchmark differentiates with respect to.
 pub const MAX_PARAMETERS: usize = 10;

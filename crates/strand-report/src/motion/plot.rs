@@ -1,5 +1,5 @@
 //! `DIR/motion.svg`: the outputs of a motion against its parameter, stacked panels
-//! drawn with the study plot's axes ([`crate::svg`]): peak `|f|` and peak `|m|` per
+//! drawn with [`crate::plot`]: peak `|f|` and peak `|m|` per
 //! hose, the smallest bend radius per hose and the smallest clearance per obstacle,
 //! with every event marked by a vertical line across the panels
 //! (`<line class="event" data-kind=...>`). Curves are `<path class="curve">` with
@@ -10,15 +10,17 @@ use std::fmt::Write;
 use super::MotionRow;
 use super::events::MotionEventRecord;
 use super::table::{clearance_to, min_bend_radius, peak, union};
-use crate::svg::{COLOURS, Panel, escape, path_data, tick_range};
+use crate::plot::{
+    Figure, Layout, Legend, LineStyle, WIDE, close_figure, curve, escape, line_colour, open_figure,
+    tick_range,
+};
 
-const WIDTH: f64 = 900.0;
-const LEFT: f64 = 84.0;
-const RIGHT: f64 = 680.0;
-const LEGEND_X: f64 = 704.0;
-const TOP: f64 = 58.0;
-const HEIGHT: f64 = 200.0;
-const GAP: f64 = 78.0;
+/// One panel per output, the legend of each at its right.
+const LAYOUT: Layout = Layout {
+    panel_height: 200.0,
+    bottom: 98.0,
+    ..WIDE
+};
 
 /// One panel's series: name and `(parameter, value)` points.
 type Series = (String, Vec<(f64, f64)>);
@@ -105,18 +107,9 @@ pub fn motion_svg(
     };
     // Ticks at whole multiples of a nice step, the axis rounded outwards to them.
     let (x_step, x_min, x_max) = tick_range(x_min, x_max);
-    let height = TOP + panels.len() as f64 * (HEIGHT + GAP) + 20.0;
     let mut svg = String::new();
-    let _ = writeln!(
-        svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{height:.0}\" viewBox=\"0 0 {WIDTH} {height:.0}\" font-family=\"sans-serif\" font-size=\"12\">"
-    );
-    let _ = writeln!(svg, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
-    let _ = writeln!(
-        svg,
-        "<text x=\"{LEFT}\" y=\"24\" font-size=\"15\" font-weight=\"bold\">{}</text>",
-        escape(title)
-    );
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(panels.len()), title).class("motion");
+    open_figure(&mut svg, &figure);
     let x_label = format!("{parameter} [{unit}]");
     for (k, (id, label, series)) in panels.iter().enumerate() {
         let values = series
@@ -128,33 +121,31 @@ pub fn motion_svg(
         });
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
         let (y_step, y_min, y_max) = tick_range(lo, hi);
-        let panel = Panel {
-            left: LEFT,
-            right: RIGHT,
-            top: TOP + k as f64 * (HEIGHT + GAP),
-            height: HEIGHT,
-            x_min,
-            x_max,
-            y_min,
-            y_max,
-        };
+        let panel = LAYOUT.panel(k, [x_min, x_max], [y_min, y_max]);
         panel.draw_axes(&mut svg, x_step, y_step, &x_label, label, label);
+        let mut legend = Legend::new(LAYOUT.legend_x, panel.top + 18.0);
+        legend.row = 16.0;
         for (s, (name, points)) in series.iter().enumerate() {
-            let colour = COLOURS[s % COLOURS.len()];
-            let _ = writeln!(
-                svg,
-                "<path class=\"curve\" data-panel=\"{id}\" data-series=\"{}\" d=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.6\"/>",
-                escape(name),
-                path_data(&panel, points.iter().copied())
+            let style = LineStyle {
+                colour: line_colour(s),
+                width: 1.6,
+                dash: None,
+            };
+            curve(
+                &mut svg,
+                &panel,
+                &[("panel", id), ("series", name)],
+                &style,
+                points.iter().copied(),
             );
-            let y = panel.top + 14.0 + 16.0 * s as f64;
-            let _ = writeln!(
-                svg,
-                "<line x1=\"{LEGEND_X}\" y1=\"{y:.1}\" x2=\"{:.1}\" y2=\"{y:.1}\" stroke=\"{colour}\" stroke-width=\"2\"/><text x=\"{:.1}\" y=\"{:.1}\">{}</text>",
-                LEGEND_X + 22.0,
-                LEGEND_X + 28.0,
-                y + 4.0,
-                escape(name)
+            legend.line(
+                &mut svg,
+                &LineStyle {
+                    width: 2.0,
+                    ..style
+                },
+                name,
+                None,
             );
         }
         for e in events {
@@ -175,6 +166,6 @@ pub fn motion_svg(
             );
         }
     }
-    let _ = writeln!(svg, "</svg>");
+    close_figure(&mut svg);
     svg
 }

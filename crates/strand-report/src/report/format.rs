@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use crate::svg::escape;
+use crate::plot::escape;
 
 /// `value` rounded to 4 significant digits: positional for magnitudes in
 /// [1e-3, 1e6), exponent form (`1.235e-5`) otherwise; `0` for zero, `NaN`/`inf` for

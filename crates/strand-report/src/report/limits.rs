@@ -7,7 +7,7 @@ use std::fmt::Write;
 use super::ReportRun;
 use super::format::{Cell, push_table};
 use crate::findings::{FindingValue, find, limits_stated};
-use crate::svg::escape;
+use crate::plot::escape;
 
 /// Appends the "Findings" section's content: a table of every violation of every run
 /// (result, limit, hose, obstacle or connector, s from the hose's start, value and
@@ -124,9 +124,11 @@ fn push_limits(html: &mut String, runs: &[ReportRun]) {
                 ],
                 vec![
                     Cell::text(&rod.name),
+                    rod.section.as_deref().map_or(Cell::None, Cell::text),
                     Cell::Num(1e3 * rod.length_m),
                     rod.outer_radius_m
                         .map_or(Cell::None, |r| Cell::Num(2e3 * r)),
+                    Cell::opt(rod.inner_radius_m.map(|r| 2e3 * r)),
                     Cell::opt(rod.mass_kg),
                     Cell::Int(rod.segments),
                     Cell::opt(rod.min_bend_radius_m.map(|r| 1e3 * r)),
@@ -137,7 +139,7 @@ fn push_limits(html: &mut String, runs: &[ReportRun]) {
         .collect();
     let _ = writeln!(
         html,
-        "<h3>Hoses and their limits ({})</h3>",
+        "<h3>Hoses: inputs and limits ({})</h3>",
         escape(reference.label)
     );
     push_table(
@@ -145,8 +147,10 @@ fn push_limits(html: &mut String, runs: &[ReportRun]) {
         "limits",
         &[
             "hose",
+            "section",
             "length [mm]",
             "outer diameter [mm]",
+            "inner diameter [mm]",
             "mass [kg]",
             "segments",
             "min bend radius [mm]",

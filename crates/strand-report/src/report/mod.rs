@@ -32,9 +32,9 @@ mod view_tests;
 
 use std::fmt::Write;
 
+use crate::plot::escape;
 use crate::result::{ResultDoc, RodResult};
 use crate::study::ArcOrigin;
-use crate::svg::escape;
 
 /// One result shown in the report.
 #[derive(Clone, Copy, Debug)]
@@ -197,10 +197,11 @@ pub fn report_html_with_studies(
     cases.dedup();
     let _ = writeln!(
         html,
-        "<p class=\"meta\">Case {}; {} result(s), the first ({}) is the reference: solid lines, and differences are taken against it. Units: lengths in mm, forces in N, moments in N·m. Report by Strand {}; where each result comes from: Provenance, at the end.</p>",
+        "<p class=\"meta\">Case {}; {} result(s), the first ({}) is the reference: solid lines, and differences are taken against it. Units: lengths in mm, forces in N, moments in N·m. Report made <span class=\"created\">{}</span> by Strand {}; where each result comes from (case file, its hash, when it was solved, the solver settings): Provenance, at the end.</p>",
         escape(&cases.join(", ")),
         runs.len(),
         escape(runs.first().map_or("none", |r| r.label)),
+        crate::provenance::utc_now(),
         env!("CARGO_PKG_VERSION")
     );
     provenance::push_mixed_warning(&mut html, runs);

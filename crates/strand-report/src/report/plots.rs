@@ -8,27 +8,24 @@ use std::fmt::Write;
 
 use super::format::sig;
 use super::{ReportRun, arc_at};
+use crate::plot::{
+    CONTACT_COLOUR, Figure, Layout, Legend, LineStyle, Panel, close_figure, curve, dash_pattern,
+    diamond, escape, line_colour, open_figure, tick_range, ticks,
+};
 use crate::result::RodResult;
 use crate::study::{ArcOrigin, magnitude};
-use crate::svg::{Panel, dash, escape, path_data, tick_range, ticks};
 
-const WIDTH: f64 = 600.0;
-const LEFT: f64 = 72.0;
-const RIGHT: f64 = 440.0;
-const LEGEND_X: f64 = 458.0;
-const TOP: f64 = 52.0;
-const PANEL_HEIGHT: f64 = 170.0;
-const PANEL_GAP: f64 = 72.0;
-const HEIGHT: f64 = TOP + 2.0 * PANEL_HEIGHT + PANEL_GAP + 52.0;
-
-/// Colours of the three quantities of a panel (magnitude, tangential/bending,
-/// shear/torsion)
-/// (the first three colour-blind-safe line colours, [`crate::palette`]).
-const QUANTITY_COLOURS: [&str; 3] = [
-    crate::palette::LINE_COLOURS[0],
-    crate::palette::LINE_COLOURS[1],
-    crate::palette::LINE_COLOURS[2],
-];
+/// Two panels (forces over moments), the legend at the right.
+const LAYOUT: Layout = Layout {
+    width: 600.0,
+    left: 72.0,
+    right: 440.0,
+    legend_x: 458.0,
+    top: 52.0,
+    panel_height: 170.0,
+    gap: 72.0,
+    bottom: 52.0,
+};
 
 /// A plotted quantity: `data-quantity` key, legend label, values of one rod.
 type Quantity = (&'static str, &'static str, fn(&RodResult) -> Vec<f64>);
@@ -51,9 +48,6 @@ const MOMENTS: [Quantity; 3] = [
     ("torsion", "m_t", |r| r.torsion_nm.clone()),
 ];
 
-/// Colour of contact markers (Okabe–Ito vermillion), in the plots and the views.
-pub(crate) const CONTACT_COLOUR: &str = "#d55e00";
-
 /// The contacts on rod `name` in every run: (run index, arc length from `origin` in
 /// mm, contact force in N).
 fn contact_points(
@@ -73,21 +67,6 @@ fn contact_points(
         })
         .filter(|(_, s, f)| s.is_finite() && f.is_finite())
         .collect()
-}
-
-/// SVG path data of a diamond marker centred at (`x`, `y`), px.
-fn diamond(x: f64, y: f64) -> String {
-    format!(
-        "M{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} Z",
-        x,
-        y - 5.0,
-        x + 5.0,
-        y,
-        x,
-        y + 5.0,
-        x - 5.0,
-        y
-    )
 }
 
 /// Marks every contact in the force panel: a thin vertical line at its arc length and
@@ -111,27 +90,9 @@ fn draw_contacts(
             sig(force),
             panel.top,
             panel.top + panel.height,
-            diamond(x, y)
+            diamond(x, y, 5.0)
         );
     }
-}
-
-fn legend_line(svg: &mut String, y: f64, colour: &str, dash_attr: &str, label: &str) {
-    let _ = writeln!(
-        svg,
-        "<line x1=\"{LEGEND_X:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"{dash_attr}/><text x=\"{:.1}\" y=\"{y:.1}\">{}</text>",
-        y - 4.0,
-        LEGEND_X + 26.0,
-        y - 4.0,
-        LEGEND_X + 32.0,
-        escape(label)
-    );
-}
-
-fn dash_attr(k: usize) -> String {
-    dash(k)
-        .map(|d| format!(" stroke-dasharray=\"{d}\""))
-        .unwrap_or_default()
 }
 
 /// A legend label of at most 18 characters.
@@ -159,28 +120,23 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
         .fold(0.0, f64::max);
     let (x_step, x_top) = ticks(x_max);
     let mut svg = String::with_capacity(16 * 1024);
-    let _ = writeln!(
-        svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" class=\"hose-plot\" data-rod=\"{}\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">",
-        escape(name)
-    );
-    let _ = writeln!(svg, "<title>{}</title>", escape(name));
-    let _ = writeln!(
-        svg,
-        "<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"22\" font-size=\"15\" font-weight=\"bold\">{}</text>",
-        escape(name)
-    );
+    let data = [("rod", name)];
+    let figure = Figure::new(LAYOUT.width, LAYOUT.height(2), name)
+        .class("hose-plot")
+        .data(&data);
+    open_figure(&mut svg, &figure);
     let x_label = match origin {
         ArcOrigin::Start => "arc length s [mm] from the start",
         ArcOrigin::End => "arc length s [mm] from the junction",
     };
-    let mut legend_y = TOP + 4.0;
+    let mut legend = Legend::new(LAYOUT.legend_x, LAYOUT.top + 4.0);
+    legend.row = 18.0;
     for (p, (quantities, unit, title)) in
         [(&FORCES, "[N]", "forces"), (&MOMENTS, "[N·m]", "moments")]
             .into_iter()
             .enumerate()
     {
-        let top = TOP + p as f64 * (PANEL_HEIGHT + PANEL_GAP);
+        let top = LAYOUT.panel_top(p);
         // series[q][i]: quantity q of rods[i].
         let series: Vec<Vec<Vec<f64>>> = quantities
             .iter()
@@ -202,76 +158,61 @@ pub(crate) fn hose_svg(name: &str, runs: &[ReportRun], origin: ArcOrigin) -> Str
             .filter(|v| v.is_finite())
             .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (y_step, y_min, y_max) = tick_range(low, high);
-        let panel = Panel {
-            left: LEFT,
-            right: RIGHT,
-            top,
-            height: PANEL_HEIGHT,
-            x_min: 0.0,
-            x_max: x_top,
-            y_min,
-            y_max,
-        };
+        let panel = LAYOUT.panel(p, [0.0, x_top], [y_min, y_max]);
         let y_label = format!("{title} {unit}");
         panel.draw_axes(&mut svg, x_step, y_step, x_label, &y_label, title);
-        if y_min < 0.0 {
-            let y0 = panel.y(0.0);
-            let _ = writeln!(
-                svg,
-                "<line x1=\"{LEFT}\" y1=\"{y0:.2}\" x2=\"{RIGHT}\" y2=\"{y0:.2}\" stroke=\"#888888\" stroke-width=\"1\"/>"
-            );
-        }
+        panel.draw_zero_line(&mut svg);
+        legend.at_least(top + 4.0);
         for (q, (key, label, _)) in quantities.iter().enumerate() {
             for (values, (k, rod)) in series[q].iter().zip(&rods) {
                 let points = values
                     .iter()
                     .enumerate()
                     .map(|(j, v)| (1e3 * arc_at(rod, origin, j), *v));
-                let _ = writeln!(
-                    svg,
-                    "<path class=\"curve\" data-rod=\"{}\" data-result=\"{}\" data-quantity=\"{key}\" d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linejoin=\"round\"{}/>",
-                    escape(name),
-                    escape(runs[*k].label),
-                    path_data(&panel, points),
-                    QUANTITY_COLOURS[q],
-                    if q == 0 { 2.2 } else { 1.4 },
-                    dash_attr(*k)
+                let style = LineStyle {
+                    colour: line_colour(q),
+                    width: if q == 0 { 2.2 } else { 1.4 },
+                    dash: dash_pattern(*k),
+                };
+                curve(
+                    &mut svg,
+                    &panel,
+                    &[("rod", name), ("result", runs[*k].label), ("quantity", key)],
+                    &style,
+                    points,
                 );
             }
-            legend_y = legend_y.max(top + 4.0);
-            legend_line(&mut svg, legend_y, QUANTITY_COLOURS[q], "", label);
-            legend_y += 18.0;
+            let style = LineStyle {
+                colour: line_colour(q),
+                width: 2.0,
+                dash: None,
+            };
+            legend.line(&mut svg, &style, label, None);
         }
         if p == 0 && !contacts.is_empty() {
             draw_contacts(&mut svg, &panel, name, runs, &contacts);
-            legend_y += 4.0;
-            let _ = writeln!(
-                svg,
-                "<path d=\"{}\" fill=\"{CONTACT_COLOUR}\"/><text x=\"{:.1}\" y=\"{legend_y:.1}\">contact force</text>",
-                diamond(LEGEND_X + 13.0, legend_y - 4.0),
-                LEGEND_X + 32.0
+            legend.skip(4.0);
+            legend.marker(
+                &mut svg,
+                |x, y| diamond(x, y, 5.0),
+                CONTACT_COLOUR,
+                "contact force",
             );
-            legend_y += 18.0;
         }
         if p == 0 {
-            legend_y += 10.0;
-            let _ = writeln!(
-                svg,
-                "<text x=\"{LEGEND_X}\" y=\"{legend_y:.1}\" font-weight=\"bold\">results</text>"
-            );
+            legend.skip(10.0);
+            legend.heading(&mut svg, "results");
             for (k, run) in runs.iter().enumerate() {
-                legend_y += 18.0;
-                legend_line(
-                    &mut svg,
-                    legend_y,
-                    "#333333",
-                    &dash_attr(k),
-                    &short(run.label),
-                );
+                let style = LineStyle {
+                    colour: "#333333",
+                    width: 2.0,
+                    dash: dash_pattern(k),
+                };
+                legend.line(&mut svg, &style, &short(run.label), None);
             }
-            legend_y += 30.0;
+            legend.skip(12.0);
         }
     }
-    svg.push_str("</svg>");
+    close_figure(&mut svg);
     svg
 }

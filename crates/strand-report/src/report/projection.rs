@@ -10,10 +10,12 @@ use std::fmt::Write;
 
 use super::ReportRun;
 use super::format::sig;
-use super::plots::CONTACT_COLOUR;
+use crate::plot::{
+    CONTACT_COLOUR, Figure, Panel, close_figure, colour_bar, escape, open_figure, ticks,
+    viridis as colour,
+};
 use crate::result::ResultDoc;
 use crate::study::magnitude;
-use crate::svg::{Panel, escape, ticks};
 
 const WIDTH: f64 = 600.0;
 const HEIGHT: f64 = 520.0;
@@ -21,27 +23,6 @@ const LEFT: f64 = 70.0;
 const PLOT_WIDTH: f64 = 420.0;
 const TOP: f64 = 40.0;
 const PLOT_HEIGHT: f64 = 420.0;
-
-/// Viridis at five stops, interpolated linearly.
-pub(crate) const VIRIDIS: [[f64; 3]; 5] = [
-    [68.0, 1.0, 84.0],
-    [59.0, 82.0, 139.0],
-    [33.0, 145.0, 140.0],
-    [94.0, 201.0, 98.0],
-    [253.0, 231.0, 37.0],
-];
-
-/// The colour of `t` in [0, 1] (clamped; NaN is magenta) as `#rrggbb`.
-pub(crate) fn colour(t: f64) -> String {
-    if t.is_nan() {
-        return "#ff00ff".into();
-    }
-    let x = t.clamp(0.0, 1.0) * (VIRIDIS.len() - 1) as f64;
-    let i = (x.floor() as usize).min(VIRIDIS.len() - 2);
-    let f = x - i as f64;
-    let c = [0, 1, 2].map(|k| (VIRIDIS[i][k] + f * (VIRIDIS[i + 1][k] - VIRIDIS[i][k])).round());
-    format!("#{:02x}{:02x}{:02x}", c[0] as u8, c[1] as u8, c[2] as u8)
-}
 
 /// Every point that should be in view in `doc`, m.
 fn points(doc: &ResultDoc) -> impl Iterator<Item = [f64; 3]> + '_ {
@@ -145,17 +126,12 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
         for (view, axes, x_label, y_label, caption) in &views {
             let (panel, step) = fit(runs, *axes, scale);
             let mut svg = String::with_capacity(32 * 1024);
-            let _ = writeln!(
-                svg,
-                "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" class=\"projection\" data-view=\"{view}\" data-result=\"{}\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">",
-                escape(run.label)
-            );
             let title = format!("{}: {view} view", run.label);
-            let _ = writeln!(
-                svg,
-                "<title>{0}</title>\n<rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<text x=\"{LEFT}\" y=\"20\" font-size=\"15\" font-weight=\"bold\">{0}</text>",
-                escape(&title)
-            );
+            let data = [("view", *view), ("result", run.label)];
+            let figure = Figure::new(WIDTH, HEIGHT, &title)
+                .class("projection")
+                .data(&data);
+            open_figure(&mut svg, &figure);
             panel.draw_axes(&mut svg, step, step, x_label, y_label, "");
             let at = |p: &[f64; 3]| (panel.x(1e3 * p[axes[0]]), panel.y(1e3 * p[axes[1]]));
             draw_environment(&mut svg, run.doc, &at);
@@ -166,7 +142,7 @@ pub(crate) fn push_projections(html: &mut String, runs: &[ReportRun]) {
             draw_supports(&mut svg, run.doc, &at);
             draw_contacts(&mut svg, run, &at, *axes);
             draw_colour_bar(&mut svg, f_max, (panel.right + 34.0).min(WIDTH - 70.0));
-            svg.push_str("</svg>");
+            close_figure(&mut svg);
             let _ = writeln!(
                 html,
                 "<figure data-view=\"{view}\" data-result=\"{}\">{svg}<figcaption>{}: {} view ({})</figcaption></figure>",
@@ -359,23 +335,11 @@ fn draw_contacts(
     }
 }
 
-/// The colour bar of `|f|` from 0 to `f_max` (N) at `bar_x` (px).
+/// The colour bar of `|f|` from 0 to `f_max` (N) at `bar_x` (px), with its labels.
 fn draw_colour_bar(svg: &mut String, f_max: f64, bar_x: f64) {
-    const STEPS: usize = 24;
-    let h = PLOT_HEIGHT / STEPS as f64;
-    let _ = writeln!(svg, "<g class=\"colour-bar\">");
-    for i in 0..STEPS {
-        let t = (i as f64 + 0.5) / STEPS as f64;
-        let y = TOP + PLOT_HEIGHT - (i + 1) as f64 * h;
-        let _ = writeln!(
-            svg,
-            "<rect x=\"{bar_x:.1}\" y=\"{y:.2}\" width=\"14\" height=\"{:.2}\" fill=\"{}\"/>",
-            h + 0.3,
-            colour(t)
-        );
-    }
-    for (t, anchor) in [(0.0, 0.0), (0.5, 0.5), (1.0, 1.0)] {
-        let y = TOP + PLOT_HEIGHT * (1.0 - anchor);
+    colour_bar(svg, bar_x, TOP, 14.0, PLOT_HEIGHT);
+    for t in [0.0, 0.5, 1.0] {
+        let y = TOP + PLOT_HEIGHT * (1.0 - t);
         let _ = writeln!(
             svg,
             "<text x=\"{:.1}\" y=\"{:.2}\">{}</text>",
@@ -386,7 +350,7 @@ fn draw_colour_bar(svg: &mut String, f_max: f64, bar_x: f64) {
     }
     let _ = writeln!(
         svg,
-        "<text x=\"{bar_x:.1}\" y=\"{:.1}\" font-weight=\"bold\">|f| [N]</text>\n</g>",
+        "<text x=\"{bar_x:.1}\" y=\"{:.1}\" font-weight=\"bold\">|f| [N]</text>",
         TOP - 8.0
     );
 }

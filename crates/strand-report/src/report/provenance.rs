@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use super::ReportRun;
 use super::format::{Cell, push_table};
-use crate::svg::escape;
+use crate::plot::escape;
 
 /// The warning paragraph (`id="mixed-cases"`) when `runs` come from different cases.
 pub(crate) fn push_mixed_warning(html: &mut String, runs: &[ReportRun]) {

@@ -7,9 +7,10 @@
 use std::fmt::Write;
 
 use super::format::{Cell, Row, push_table, sig};
-use crate::optimum::{OptimumDoc, optimum_svg};
+use crate::optimum::OptimumDoc;
+use crate::optimum_svg;
+use crate::plot::escape;
 use crate::sensitivity::SensitivityDoc;
-use crate::svg::escape;
 
 /// How many changes the sentence of one parameter names.
 const NAMED: usize = 6;

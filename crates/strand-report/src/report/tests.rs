@@ -404,3 +404,48 @@ fn inconsistent_arrays_are_refused_by_name() {
     );
     assert!(err.to_string().contains("rod 'other': torsion_Nm"));
 }
+
+/// The per-hose input table: section, length, outer and inner diameter, mass,
+/// segments and the limits, in mm and kg, from the reference result; and the page
+/// says when it was made.
+#[test]
+fn the_input_table_lists_every_hose_with_its_section_and_diameters() {
+    let (mut base, longer) = docs();
+    base.rods[0].section = Some("hose_large".into());
+    base.rods[0].outer_radius_m = Some(0.0184);
+    base.rods[0].inner_radius_m = Some(0.0144);
+    base.rods[0].mass_kg = Some(0.18);
+    base.rods[0].min_bend_radius_m = Some(0.06);
+    base.rods[0].min_clearance_m = Some(0.005);
+    let html = render(&base, &longer);
+    let xml = parse(&html);
+    let rows = table(&xml, "limits");
+    assert_eq!(rows.len(), 2, "one row per hose of the reference");
+    let (result, rod, cells) = &rows[0];
+    assert_eq!((result.as_str(), rod.as_str()), ("base", "rod"));
+    assert_eq!(cell(cells, "section"), "hose_large");
+    assert_shown(
+        cell(cells, "length [mm]"),
+        1e3 * base.rods[0].length_m,
+        "length",
+    );
+    assert_shown(cell(cells, "outer diameter [mm]"), 36.8, "OD");
+    assert_shown(cell(cells, "inner diameter [mm]"), 28.8, "ID");
+    assert_shown(cell(cells, "mass [kg]"), 0.18, "mass");
+    assert_eq!(cell(cells, "segments"), base.rods[0].segments.to_string());
+    assert_shown(cell(cells, "min bend radius [mm]"), 60.0, "bend limit");
+    assert_shown(cell(cells, "min clearance [mm]"), 5.0, "clearance limit");
+    // The other hose states none of these: dashes, not zeros.
+    for header in ["section", "inner diameter [mm]", "min clearance [mm]"] {
+        assert_eq!(cell(&rows[1].2, header), "–", "{header}");
+    }
+    let created = xml
+        .descendants()
+        .find(|n| n.attribute("class") == Some("created"))
+        .and_then(|n| n.text())
+        .unwrap();
+    assert!(
+        created.len() == 20 && created.starts_with("20") && created.ends_with('Z'),
+        "{created}"
+    );
+}

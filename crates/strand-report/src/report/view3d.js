@@ -13,7 +13,9 @@
   var scene = document.getElementById("v3d-scene");
   var readout = document.getElementById("v3d-readout");
   var state = { yaw: D.view.yaw, pitch: D.view.pitch, zoom: 1, panX: 0, panY: 0,
-    quantity: D.view.quantity, run: 0, overlay: true };
+    quantity: D.view.quantity, run: 0,
+    // Results drawn as outlines behind the shown one: the reference at first.
+    overlay: D.runs.map(function (r, k) { return k === 0; }) };
   var VIRIDIS = D.viridis;
 
   // The viridis colour of t in [0, 1]; magenta where there is no value (null).
@@ -72,13 +74,13 @@
     return a && typeof a[j] === "number" ? a[j] : null;
   }
 
-  // The colour parameter in [0, 1] of edge j (mean of its vertices; bend radius: the
-  // tighter vertex, tight = 1, straight = 0), or null.
+  // The colour parameter in [0, 1] of edge j (mean of its vertices; bend radius and
+  // clearance: the tighter vertex, tight = 1, straight or out of reach = 0), or null.
   function edgeT(rod, q, j) {
     var r = D.ranges[q];
     var lo = r[0], hi = r[1];
     var a = value(rod, q, j - 1), b = value(rod, q, j);
-    if (q === "rb") {
+    if (q === "rb" || q === "c") {
       var tight = a === null ? b : (b === null ? a : Math.min(a, b));
       if (tight === null) { return 0; }
       return hi > lo ? 1 - (Math.min(tight, hi) - lo) / (hi - lo) : 1;
@@ -127,18 +129,21 @@
     });
     var run = D.runs[state.run];
     var q = state.quantity;
-    // The reference's hoses as thin dark lines behind the shown result's.
-    if (state.overlay && state.run !== 0) {
-      D.runs[0].rods.forEach(function (rod) {
+    // Every other result whose toggle is on, as thin dashed lines in its own colour
+    // behind the shown result's hoses (the reference in black).
+    D.runs.forEach(function (other, k) {
+      if (k === state.run || !state.overlay[k]) { return; }
+      other.rods.forEach(function (rod) {
         for (var j = 1; j < rod.p.length; j++) {
           var a = at(rod.p[j - 1]), b = at(rod.p[j]);
           items.push({ depth: 0.5 * (a[2] + b[2]) + 1e-6, node: el("line", {
-            "class": "v3d-reference", x1: fmt(a[0]), y1: fmt(a[1]), x2: fmt(b[0]),
-            y2: fmt(b[1]), stroke: "#000000", "stroke-opacity": "0.45",
-            "stroke-width": "1.5", "stroke-dasharray": "4 3" }) });
+            "class": "v3d-overlay", "data-result": other.label, "data-rod": rod.name,
+            x1: fmt(a[0]), y1: fmt(a[1]), x2: fmt(b[0]),
+            y2: fmt(b[1]), stroke: D.overlayColours[k % D.overlayColours.length],
+            "stroke-opacity": "0.7", "stroke-width": "1.5", "stroke-dasharray": "4 3" }) });
         }
       });
-    }
+    });
     run.rods.forEach(function (rod) {
       var width = Math.max(2, 2 * rod.r * s);
       for (var j = 1; j < rod.p.length; j++) {
@@ -186,7 +191,7 @@
     var top = document.getElementById("v3d-legend-top");
     var bottom = document.getElementById("v3d-legend-bottom");
     var title = document.getElementById("v3d-legend-title");
-    var reversed = state.quantity === "rb";
+    var reversed = state.quantity === "rb" || state.quantity === "c";
     if (title) { title.textContent = info.label + " [" + info.unit + "]"; }
     if (top) { top.textContent = (reversed ? r[0] : r[1]).toPrecision(4) + (reversed ? " (tight)" : ""); }
     if (bottom) { bottom.textContent = (reversed ? "≥ " + r[1].toPrecision(4) : r[0].toPrecision(4)); }
@@ -214,8 +219,11 @@
       var x = rod[k] ? rod[k][i] : null;
       return x === null || x === undefined ? "–" : Number(x).toPrecision(digits);
     }
+    var clear = rod.c && typeof rod.c[i] === "number" ? Number(rod.c[i]).toPrecision(4) + " mm"
+      : (rod.c && rod.c.length > 0 ? "over " + D.clearanceSearch.toPrecision(4) + " mm" : "– (no environment)");
     readout.textContent = name + ": s = " + v("s", 4) + " mm, |f| = " + v("f", 4) +
-      " N, |m| = " + v("m", 4) + " N·m, bend radius = " + v("rb", 4) + " mm" +
+      " N, |m| = " + v("m", 4) + " N·m, bend radius = " + v("rb", 4) + " mm, clearance = " +
+      clear +
       (state.run !== 0 ? ", moved " + v("d", 4) + " mm from the reference" : "");
   }
 
@@ -247,10 +255,12 @@
   if (quantity) {
     quantity.addEventListener("change", function () { state.quantity = quantity.value; draw(); });
   }
-  var overlay = document.getElementById("v3d-overlay");
-  if (overlay) {
-    overlay.addEventListener("change", function () { state.overlay = overlay.checked; draw(); });
-  }
+  Array.prototype.forEach.call(document.querySelectorAll("input.v3d-toggle"), function (box) {
+    box.addEventListener("change", function () {
+      state.overlay[Number(box.getAttribute("data-run"))] = box.checked;
+      draw();
+    });
+  });
   var result = document.getElementById("v3d-result");
   if (result) {
     result.addEventListener("change", function () { state.run = Number(result.value); draw(); });

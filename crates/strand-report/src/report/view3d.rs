@@ -24,12 +24,12 @@ use serde::Serialize;
 
 use super::ReportRun;
 use super::format::sig;
-use super::plots::CONTACT_COLOUR;
-use super::projection::VIRIDIS;
 use crate::findings::bend_radii;
 use crate::fittings::FittingPiece;
+use crate::plot::{
+    CONTACT_COLOUR, Figure, VIRIDIS, close_figure, colour_bar, escape, open_figure, viridis,
+};
 use crate::study::magnitude;
-use crate::svg::escape;
 
 /// Width and height of the view, px.
 pub(crate) const WIDTH: f64 = 900.0;
@@ -47,7 +47,7 @@ pub(crate) const PRESETS: [(&str, f64, f64); 4] = [
 ];
 
 /// The colour quantities: key in the data, label, unit.
-const QUANTITIES: [(&str, &str, &str); 5] = [
+const QUANTITIES: [(&str, &str, &str); 6] = [
     ("f", "|f| internal force", "N"),
     ("m", "|m| internal moment", "N·m"),
     ("rb", "bend radius", "mm"),
@@ -57,6 +57,7 @@ const QUANTITIES: [(&str, &str, &str); 5] = [
         "1",
     ),
     ("d", "moved from the reference", "mm"),
+    ("c", "clearance to the environment", "mm"),
 ];
 
 /// Screen axes of a view: right `u`, up `v` and depth `d` (into the screen), world
@@ -120,6 +121,9 @@ struct Rod {
     /// Bend-radius utilisation: the allowed minimum bend radius over the bend radius
     /// (1 at the limit, above 1 violated, 0 where straight); `null` without a limit.
     u: Vec<Option<f64>>,
+    /// Clearance of the tube at each vertex to the nearest environment mesh, mm
+    /// (`null` beyond the search, or without an environment).
+    c: Vec<Option<f64>>,
 }
 
 /// `|a − b|`, mm, of two positions in m (rounded as the data).
@@ -170,6 +174,23 @@ struct Part {
     /// Diameter, mm.
     w: f64,
 }
+
+/// The outline colour of result `k` when overlaid: black for the reference, then the
+/// line palette (skipping its black).
+fn overlay_colour(k: usize) -> &'static str {
+    OVERLAY_COLOURS[k % OVERLAY_COLOURS.len()]
+}
+
+/// Outline colours of overlaid results ([`overlay_colour`]).
+const OVERLAY_COLOURS: [&str; 7] = [
+    "#000000",
+    crate::plot::LINE_COLOURS[0],
+    crate::plot::LINE_COLOURS[1],
+    crate::plot::LINE_COLOURS[2],
+    crate::plot::LINE_COLOURS[3],
+    crate::plot::LINE_COLOURS[4],
+    crate::plot::LINE_COLOURS[5],
+];
 
 /// Fill colour of each kind of fitting.
 const PART_COLOURS: [(&str, &str); 3] = [
@@ -291,6 +312,13 @@ struct Scene {
     part_colours: std::collections::BTreeMap<&'static str, &'static str>,
     #[serde(rename = "surfaceOpacity")]
     surface_opacity: f64,
+    /// Outline colour of each result when overlaid, cyclic.
+    #[serde(rename = "overlayColours")]
+    overlay_colours: [&'static str; 7],
+    /// How far clearances were searched, mm (a vertex without a value is farther than
+    /// this from every mesh).
+    #[serde(rename = "clearanceSearch")]
+    clearance_search: f64,
 }
 
 fn scene(runs: &[ReportRun]) -> Scene {
@@ -320,6 +348,16 @@ fn scene(runs: &[ReportRun]) -> Scene {
                             rod.min_bend_radius_m
                                 .map(|limit| (limit / r * 1e6).round() / 1e6)
                                 .filter(|u| u.is_finite())
+                        })
+                        .collect(),
+                    c: (0..rod.position_m.len())
+                        .map(|j| {
+                            rod.clearance_m
+                                .get(j)
+                                .copied()
+                                .flatten()
+                                .map(mm)
+                                .filter(|c| c.is_finite())
                         })
                         .collect(),
                 })
@@ -386,6 +424,8 @@ fn scene(runs: &[ReportRun]) -> Scene {
     ranges.insert("d", [0.0, farthest.max(1e-3)]);
     let [_, most] = range(all(&|r| r.u.iter().flatten().copied().collect()));
     ranges.insert("u", [0.0, most.max(1.0)]);
+    let [_, widest] = range(all(&|r| r.c.iter().flatten().copied().collect()));
+    ranges.insert("c", [0.0, widest.max(1e-3)]);
     let quantities = QUANTITIES
         .iter()
         .map(|(key, label, unit)| (*key, Quantity { label, unit }))
@@ -439,6 +479,11 @@ fn scene(runs: &[ReportRun]) -> Scene {
         contact_colour: CONTACT_COLOUR,
         part_colours: PART_COLOURS.into_iter().collect(),
         surface_opacity: SURFACE_OPACITY,
+        overlay_colours: OVERLAY_COLOURS,
+        clearance_search: mm(crate::clearance_search_m(
+            runs.iter()
+                .flat_map(|r| r.doc.rods.iter().filter_map(|rod| rod.min_clearance_m)),
+        )),
     }
 }
 
@@ -518,7 +563,7 @@ fn first_frame(svg: &mut String, scene: &Scene) {
                         a.1,
                         b.0,
                         b.1,
-                        super::projection::colour(t)
+                        viridis(t)
                     ),
                 ));
             }
@@ -579,22 +624,11 @@ fn first_frame(svg: &mut String, scene: &Scene) {
 
 /// The colour legend at the right of the view (texts updated by the script).
 fn legend(svg: &mut String, scene: &Scene) {
-    const STEPS: usize = 24;
     const TOP: f64 = 70.0;
     const BAR: f64 = 420.0;
     let x = DRAW_WIDTH + 20.0;
-    let h = BAR / STEPS as f64;
     svg.push_str("<g class=\"v3d-legend\">\n");
-    for i in 0..STEPS {
-        let t = (i as f64 + 0.5) / STEPS as f64;
-        let _ = writeln!(
-            svg,
-            "<rect x=\"{x:.1}\" y=\"{:.2}\" width=\"16\" height=\"{:.2}\" fill=\"{}\"/>",
-            TOP + BAR - (i + 1) as f64 * h,
-            h + 0.3,
-            super::projection::colour(t)
-        );
-    }
+    colour_bar(svg, x, TOP, 16.0, BAR);
     let [lo, hi] = scene.ranges["f"];
     let _ = writeln!(
         svg,
@@ -663,11 +697,18 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
     }
     html.push_str("</select></label>\n");
     if runs.len() > 1 {
-        let _ = writeln!(
-            html,
-            "<label><input type=\"checkbox\" id=\"v3d-overlay\" checked=\"checked\"/> {} overlaid (dashed)</label>",
-            escape(runs[0].label)
-        );
+        // One toggle per result: drawn dashed in its colour behind the shown one.
+        html.push_str("<span class=\"v3d-toggles\">overlay (dashed):");
+        for (k, run) in runs.iter().enumerate() {
+            let _ = write!(
+                html,
+                " <label><input type=\"checkbox\" class=\"v3d-toggle\" data-run=\"{k}\"{}/> <span style=\"color:{}\">■</span> {}</label>",
+                if k == 0 { " checked=\"checked\"" } else { "" },
+                overlay_colour(k),
+                escape(run.label)
+            );
+        }
+        html.push_str("</span>\n");
     }
     for (name, yaw, pitch) in PRESETS {
         let _ = write!(
@@ -677,16 +718,16 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
         );
     }
     html.push_str("\n<span id=\"v3d-readout\" class=\"readout\">Hover a hose for its values; drag to turn, shift-drag to pan, wheel to zoom.</span>\n</div>\n");
-    let _ = writeln!(
-        html,
-        "<figure class=\"v3d\"><svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" id=\"v3d-svg\" width=\"{WIDTH}\" height=\"{HEIGHT}\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\"><rect x=\"0\" y=\"0\" width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n<g id=\"v3d-scene\">"
-    );
+    html.push_str("<figure class=\"v3d\">");
+    open_figure(html, &Figure::new(WIDTH, HEIGHT, "").id("v3d-svg"));
+    html.push_str("<g id=\"v3d-scene\">\n");
     first_frame(html, &scene);
     html.push_str("</g>\n");
     legend(html, &scene);
+    close_figure(html);
     let _ = writeln!(
         html,
-        "</svg><figcaption>Orthographic 3D view of the hoses (tube width to scale) with the environment outlines and contacts; {} shown first (isometric, coloured by |f|).</figcaption></figure>",
+        "<figcaption>Orthographic 3D view of the hoses (tube width to scale) with the environment outlines and contacts; {} shown first (isometric, coloured by |f|).</figcaption></figure>",
         escape(runs.first().map_or("none", |r| r.label))
     );
     let _ = writeln!(

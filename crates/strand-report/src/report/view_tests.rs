@@ -102,6 +102,15 @@ fn tick_map(view: roxmltree::Node, anchor: &str) -> (f64, f64) {
 }
 
 /// The endpoints of the `M x y L x y` segments of path data `d`.
+/// The 3D view's scene data (`#v3d-data`) of a parsed page.
+fn scene_of(xml: &roxmltree::Document) -> serde_json::Value {
+    let data = xml
+        .descendants()
+        .find(|n| n.attribute("id") == Some("v3d-data"))
+        .unwrap();
+    serde_json::from_str(data.text().unwrap()).unwrap()
+}
+
 fn path_points(d: &str) -> Vec<(f64, f64)> {
     let numbers: Vec<f64> = d
         .split(|c: char| c == 'M' || c == 'L' || c.is_whitespace())
@@ -289,11 +298,7 @@ fn the_3d_view_draws_the_box_where_an_independent_rotation_puts_it() {
     let d = with_box();
     let html = render_one(&d);
     let xml = parse(&html);
-    let data = xml
-        .descendants()
-        .find(|n| n.attribute("id") == Some("v3d-data"))
-        .unwrap();
-    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let scene = scene_of(&xml);
     let view = &scene["view"];
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
     let (yaw, pitch, scale) = (f(&view["yaw"]), f(&view["pitch"]), f(&view["scale"]));
@@ -437,7 +442,7 @@ const iso = new El("button"); iso.setAttribute("data-yaw", "0"); iso.setAttribut
 global.document = {
   getElementById: (id) => byId[id] || null,
   createElementNS: (ns, tag) => new El(tag),
-  querySelectorAll: () => [iso],
+  querySelectorAll: (selector) => (selector.startsWith("button") ? [iso] : []),
 };
 global.window = { addEventListener: () => {} };
 eval(script);
@@ -466,8 +471,11 @@ const top = drawn("v3d-edge");
 if (top.some((l) => l.some((v) => !isFinite(v)))) { throw new Error("non-finite after preset"); }
 byId["v3d-quantity"].value = "rb"; byId["v3d-quantity"].listeners.change();
 if (!/bend radius/.test(byId["v3d-legend-title"].textContent)) { throw new Error("legend"); }
+byId["v3d-quantity"].value = "c"; byId["v3d-quantity"].listeners.change();
+if (!/clearance/.test(byId["v3d-legend-title"].textContent) || !/tight/.test(byId["v3d-legend-top"].textContent)) { throw new Error("clearance legend"); }
+if (drawn("v3d-edge").some((l) => l.some((v) => !isFinite(v)))) { throw new Error("non-finite with clearance"); }
 byId["v3d-svg"].listeners.mouseover({ target: scene.find((n) => n.attrs["class"] === "v3d-edge") });
-if (!/s = .* mm, \|f\| = .* N/.test(byId["v3d-readout"].textContent)) { throw new Error("readout: " + byId["v3d-readout"].textContent); }
+if (!/s = .* mm, \|f\| = .* N.*, clearance = /.test(byId["v3d-readout"].textContent)) { throw new Error("readout: " + byId["v3d-readout"].textContent); }
 byId["v3d-svg"].listeners.mouseover({ target: scene.find((n) => n.attrs["class"] === "v3d-contact") });
 if (!/^contact of rod with box: 7\.500 N$/.test(byId["v3d-readout"].textContent)) { throw new Error("contact readout: " + byId["v3d-readout"].textContent); }
 console.log("ok");
@@ -497,11 +505,7 @@ fn the_3d_view_carries_utilisation_movement_and_surfaces() {
         ],
     );
     let xml = parse(&html);
-    let data = xml
-        .descendants()
-        .find(|n| n.attribute("id") == Some("v3d-data"))
-        .unwrap();
-    let scene: serde_json::Value = serde_json::from_str(data.text().unwrap()).unwrap();
+    let scene = scene_of(&xml);
     let rod = &scene["runs"][1]["rods"][0];
     assert_eq!(rod["u"][1].as_f64(), Some(0.5));
     assert!(rod["u"][0].as_f64() == Some(0.0), "straight: 0");
@@ -520,5 +524,35 @@ fn the_3d_view_carries_utilisation_movement_and_surfaces() {
     let polygons = scene["env"][0]["poly"].as_array().unwrap();
     assert_eq!(polygons.len(), 12);
     assert!(polygons.iter().all(|p| p.as_array().unwrap().len() == 3));
-    assert!(html.contains("id=\"v3d-overlay\""));
+    // One overlay toggle per result, the reference's on.
+    let toggles: Vec<_> = xml
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("v3d-toggle"))
+        .collect();
+    assert_eq!(toggles.len(), 2);
+    assert_eq!(toggles[0].attribute("checked"), Some("checked"));
+    assert_eq!(toggles[1].attribute("checked"), None);
+    assert_eq!(toggles[1].attribute("data-run"), Some("1"));
+}
+
+/// The per-vertex clearance reaches the 3D view's data in mm (`null` beyond the
+/// search) with its colour range from 0 to the widest value, and the search distance
+/// for the readout.
+#[test]
+fn the_3d_view_carries_the_clearance_per_vertex() {
+    let mut d = with_box();
+    d.rods[0].clearance_m = vec![Some(0.002), None, Some(0.0105)];
+    d.rods[0].min_clearance_m = Some(0.15);
+    let html = render_one(&d);
+    let xml = parse(&html);
+    let scene = scene_of(&xml);
+    let c = &scene["runs"][0]["rods"][0]["c"];
+    assert_eq!(c[0].as_f64(), Some(2.0));
+    assert!(c[1].is_null());
+    assert_eq!(c[2].as_f64(), Some(10.5));
+    assert_eq!(scene["ranges"]["c"][0].as_f64(), Some(0.0));
+    assert_eq!(scene["ranges"]["c"][1].as_f64(), Some(10.5));
+    // Searched 1 % beyond the required 150 mm.
+    assert_eq!(scene["clearanceSearch"].as_f64(), Some(151.501));
+    assert!(html.contains("<option value=\"c\">clearance to the environment [mm]</option>"));
 }

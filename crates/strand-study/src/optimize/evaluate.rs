@@ -7,7 +7,8 @@ use strand_solve::sensitivity::{Design, SensitivitySettings};
 use strand_solve::{Solution, SolveError, SolverSettings};
 
 use super::OptimizeError;
-use super::table::{OutputTable, output_table};
+use crate::error::StudyError;
+use crate::sensitivity::{OutputTable, output_table};
 
 /// A solved design point with its outputs and their gradients.
 pub struct Evaluation {
@@ -108,12 +109,12 @@ impl<'c> Evaluator<'c> {
         };
         let table = match output_table(&design, &solution, &self.sensitivity) {
             Ok(t) => t,
-            Err(OptimizeError::Sensitivity(e)) => {
+            Err(StudyError::Sensitivity { source, .. }) => {
                 return Ok(Err(format!(
-                    "the equilibrium cannot be differentiated: {e}"
+                    "the equilibrium cannot be differentiated: {source}"
                 )));
             }
-            Err(e) => return Err(e),
+            Err(e) => return Err(e.into()),
         };
         Ok(Ok(Evaluation {
             offsets: offsets.to_vec(),

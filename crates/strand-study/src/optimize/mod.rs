@@ -27,25 +27,27 @@
 
 pub mod evaluate;
 pub mod optimum;
+pub mod options;
 pub mod pieces;
 pub mod problem;
 pub mod run;
 pub mod settings;
 pub mod step;
-pub mod table;
+pub mod write;
 
 use strand_case::CaseError;
 use strand_case::schema::VariantChange;
 use strand_report::OutputValue;
 pub use strand_report::{OptimumConstraint, OptimumIterate};
 use strand_solve::SettingsError;
-use strand_solve::sensitivity::SensitivityError;
+
+use crate::error::{ErrorKind, StudyError};
 
 pub use optimum::document;
 pub use problem::{Bound, Bounded, Limit, Objective, Problem, Variable};
 pub use run::optimize;
 pub use settings::OptimizeSettings;
-pub use table::{ENERGY, OutputTable, output_table, outputs_at};
+pub use write::{optimal_case, write_optimum};
 
 /// Why an optimisation could not run.
 #[derive(Debug, thiserror::Error)]
@@ -68,17 +70,10 @@ pub enum OptimizeError {
     /// The starting design has no differentiable equilibrium.
     #[error("the starting design: {0}")]
     Start(String),
-    /// The sensitivities failed.
-    #[error("sensitivities: {0}")]
-    Sensitivity(Box<SensitivityError>),
-    /// The contacts of a result could not be evaluated.
-    #[error("{origin}: contacts: {source}")]
-    Contacts {
-        /// The case.
-        origin: String,
-        /// The contact error.
-        source: Box<strand_solve::ConstraintError>,
-    },
+    /// The outputs or their sensitivities at a point could not be computed
+    /// ([`crate::sensitivity::output_table`]).
+    #[error(transparent)]
+    Study(Box<StudyError>),
     /// The subproblem failed.
     #[error("the optimisation subproblem failed: {0}")]
     Subproblem(String),
@@ -93,9 +88,9 @@ impl From<CaseError> for OptimizeError {
     }
 }
 
-impl From<SensitivityError> for OptimizeError {
-    fn from(e: SensitivityError) -> Self {
-        Self::Sensitivity(Box::new(e))
+impl From<StudyError> for OptimizeError {
+    fn from(e: StudyError) -> Self {
+        Self::Study(Box::new(e))
     }
 }
 
@@ -112,7 +107,19 @@ impl OptimizeError {
 
     /// Whether the error is the user's input (exit 2) rather than the computation's.
     pub fn is_input(&self) -> bool {
-        matches!(self, Self::Input { .. } | Self::Case(_))
+        self.kind() == ErrorKind::Input
+    }
+
+    /// The kind of the failure (the exit status of `strand optimize`): input for the
+    /// options and the case, not converged for a starting design without an
+    /// equilibrium, I/O (internal) for the rest.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Self::Input { .. } | Self::Case(_) | Self::Settings(_) => ErrorKind::Input,
+            Self::Start(_) => ErrorKind::NotConverged,
+            Self::Study(e) => e.kind(),
+            Self::Subproblem(_) => ErrorKind::Io,
+        }
     }
 }
 

@@ -183,7 +183,9 @@ pub fn objective_pieces(
             .iter()
             .filter_map(|s| norm(at, &format!("{s}.force_N")))
             .collect(),
-        Objective::Energy => piece(at, super::ENERGY, 1.0, 0.0).into_iter().collect(),
+        Objective::Energy => piece(at, crate::sensitivity::ENERGY, 1.0, 0.0)
+            .into_iter()
+            .collect(),
         Objective::Output(name) => piece(at, name, 1.0, 0.0).into_iter().collect(),
     };
     if pieces.is_empty() {

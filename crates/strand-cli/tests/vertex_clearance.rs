@@ -1,0 +1,144 @@
+//! Per-vertex clearance (`rods[*].clearance_m` in `result.json`, the 3D view's
+//! "clearance" colouring and hover readout): for `cases/cooler_hose_contact.ron`,
+//! solved by the real binary, every vertex's value equals an independent brute-force
+//! distance — every triangle of every environment file (`assets/engine_bay/*.obj`,
+//! mm, placed as the case places them: unscaled, unmoved) against the vertex, closest
+//! point on a triangle by Ericson's Voronoi-region method, minus the outer radius —
+//! and is `null` exactly where that distance exceeds the 100 mm search.
+
+mod common;
+
+use std::path::Path;
+
+use common::{case, strand};
+
+type V = [f64; 3];
+
+fn sub(a: V, b: V) -> V {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: V, b: V) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn along(a: V, d: V, t: f64) -> V {
+    [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]]
+}
+
+/// The point of triangle `abc` closest to `p` (Ericson, Real-Time Collision
+/// Detection, 5.1.5).
+fn closest_on_triangle(p: V, a: V, b: V, c: V) -> V {
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(p, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return along(a, ab, d1 / (d1 - d3));
+    }
+    let cp = sub(p, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return along(a, ac, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    along(along(a, ab, v), ac, w)
+}
+
+/// Every triangle of an OBJ file (global 1-based indices), mm.
+fn triangles(path: &Path) -> Vec<[V; 3]> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut vertices = Vec::new();
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let v: Vec<f64> = words.map(|t| t.parse().unwrap()).collect();
+                vertices.push([v[0], v[1], v[2]]);
+            }
+            Some("f") => {
+                let i: Vec<usize> = words
+                    .map(|t| t.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect();
+                for k in 1..i.len() - 1 {
+                    out.push([vertices[i[0]], vertices[i[k]], vertices[i[k + 1]]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn vertex_clearances_match_a_brute_force_distance_to_every_triangle() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("contact");
+    let case = case("cooler_hose_contact.ron");
+    let (exit, _, err) = strand(&["solve", &case, "--out", dir.to_str().unwrap()]);
+    assert_eq!(exit, Some(0), "{err}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/engine_bay");
+    let all: Vec<[V; 3]> = ["radiator", "fan_shroud", "engine", "oil_cooler", "brackets"]
+        .iter()
+        .flat_map(|part| triangles(&assets.join(format!("{part}.obj"))))
+        .collect();
+    assert_eq!(all.len(), 112 + 640 + 236 + 12 + 24);
+    let (mut compared, mut beyond, mut touching) = (0, 0, 0);
+    for rod in doc["rods"].as_array().unwrap() {
+        let name = rod["name"].as_str().unwrap();
+        let radius_mm = 1e3 * rod["outer_radius_m"].as_f64().unwrap();
+        let positions = rod["position_m"].as_array().unwrap();
+        let clearances = rod["clearance_m"].as_array().unwrap();
+        assert_eq!(clearances.len(), positions.len(), "{name}");
+        for (j, (p, c)) in positions.iter().zip(clearances).enumerate() {
+            let p: V = [0, 1, 2].map(|i| 1e3 * p[i].as_f64().unwrap());
+            let distance = all
+                .iter()
+                .map(|[a, b, c]| {
+                    let q = closest_on_triangle(p, *a, *b, *c);
+                    dot(sub(p, q), sub(p, q)).sqrt()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let expected = (distance - radius_mm).max(0.0);
+            match c.as_f64() {
+                Some(value) => {
+                    assert!(
+                        expected <= 100.0 + 1e-6,
+                        "{name} {j}: {expected} mm reported"
+                    );
+                    assert!(
+                        (1e3 * value - expected).abs() < 1e-6,
+                        "{name} vertex {j}: clearance {} mm, brute force {expected} mm",
+                        1e3 * value
+                    );
+                    compared += 1;
+                    touching += usize::from(expected < 1e-3);
+                }
+                None => {
+                    assert!(expected > 100.0 - 1e-6, "{name} {j}: {expected} mm missing");
+                    beyond += 1;
+                }
+            }
+        }
+    }
+    // The case has both kinds, and hose 3 rests on its support (two contacts).
+    assert!(compared > 50 && beyond > 0, "{compared} {beyond}");
+    assert!(touching >= 1, "no vertex at contact");
+}

@@ -1,0 +1,127 @@
+//! One solve and its result document: a case solved cold from its own initial guess,
+//! a variant warm-started from the case's solution, and the [`ResultDoc`] of a solve
+//! with contacts, clearances, limits and findings filled in, written like `strand
+//! solve` writes it.
+//!
+//! A variant is warm-started from the converged solution of the case itself: every
+//! rod's solved state is resampled onto the variant's rod by reference arc-length
+//! fraction ([`strand_case::warm_start`]) and Newton runs without nested iteration.
+//! When the base case did not converge the variant starts cold.
+
+use std::path::{Path, PathBuf};
+
+use strand_case::{BuiltCase, warm_start};
+use strand_report::{ExportUnit, ResultDoc, Timing, collect, name_connectors, write_results_in};
+use strand_solve::{Solution, SolverSettings};
+
+use crate::error::{Result, StudyError};
+
+/// Solves `built` from its own initial guess with its own settings. The solution says
+/// whether it converged (`report.converged`) and its residual (N).
+pub fn solve_cold(built: &BuiltCase) -> Result<Solution> {
+    built
+        .solve_from(built.initial.clone(), &built.settings)
+        .map_err(|e| StudyError::solver(&built.origin, e))
+}
+
+/// Solves variant `built` from `base_solution` (a solution of `base`) resampled onto
+/// its rods, without nested iteration (the start is already close).
+pub fn solve_warm(
+    base: &BuiltCase,
+    base_solution: &Solution,
+    built: &BuiltCase,
+) -> Result<Solution> {
+    let initial = warm_start(&base.model, &base_solution.state, &built.model);
+    let settings = SolverSettings {
+        nested_iteration: false,
+        ..built.settings.clone()
+    };
+    built
+        .solve_from(initial, &settings)
+        .map_err(|e| StudyError::solver(&built.origin, e))
+}
+
+/// Solves variant `built` warm-started from `base_solution` if that converged,
+/// otherwise cold. Returns the solution and whether it was warm-started.
+pub fn solve_variant(
+    base: &BuiltCase,
+    base_solution: &Solution,
+    built: &BuiltCase,
+) -> Result<(Solution, bool)> {
+    if base_solution.report.converged {
+        Ok((solve_warm(base, base_solution, built)?, true))
+    } else {
+        Ok((solve_cold(built)?, false))
+    }
+}
+
+/// Contacts, clearances and the environment meshes' diagnostics and outlines (near
+/// the hoses) of `solution` into `doc`, then the case's limits and the findings
+/// against them ([`crate::findings::add_findings`]).
+pub fn add_contacts(doc: &mut ResultDoc, built: &BuiltCase, solution: &Solution) -> Result<()> {
+    strand_report::collect_environment(doc, &built.environment);
+    strand_report::collect_outlines(doc, &built.environment);
+    if let Some(contact) = built.contact() {
+        strand_report::collect_contacts(doc, &built.model, solution, &contact)
+            .map_err(|e| StudyError::Io(format!("{}: contacts: {e}", built.origin)))?;
+    }
+    crate::findings::add_findings(doc, built, solution)
+}
+
+/// The result document of `solution` of `built`, as `strand solve` writes it:
+/// sectional quantities, reactions (connectors named), contacts, clearances,
+/// limits and findings; `variant` names the variant (or pose), `base_iterations`
+/// the Newton iterations of the case it was warm-started from (`None`: cold).
+pub fn result_doc(
+    built: &BuiltCase,
+    solution: &Solution,
+    timing: Timing,
+    variant: Option<&str>,
+    base_iterations: Option<usize>,
+) -> Result<ResultDoc> {
+    let mut doc = collect(&built.name, &built.model, solution, timing);
+    add_contacts(&mut doc, built, solution)?;
+    name_connectors(&mut doc, &built.connector_names);
+    doc.variant = variant.map(str::to_string);
+    doc.warm_start = base_iterations.is_some();
+    doc.base_iterations = base_iterations;
+    Ok(doc)
+}
+
+/// CAD out: the unit of the exported geometry (`rods.vtp`, `tubes.obj`, `tubes.stl`)
+/// of `solve`, `study` and `batch`: `chosen` (`--export-unit`) if given, else the
+/// case's length unit.
+pub fn export_unit(built: &BuiltCase, chosen: Option<&ExportUnit>) -> ExportUnit {
+    chosen
+        .cloned()
+        .unwrap_or_else(|| ExportUnit::new(built.length_unit.metres(), built.length_unit.symbol()))
+}
+
+/// Writes `doc` (a result of `built`) into `dir`: `result.json` (last), one CSV per
+/// rod, `rods.vtp`, `tubes.obj`, `tubes.stl`, each atomically. Returns the written
+/// paths. The geometry is in `unit` (default: the case's length unit, [`export_unit`]).
+pub fn write_result(
+    dir: &Path,
+    doc: &ResultDoc,
+    built: &BuiltCase,
+    unit: Option<&ExportUnit>,
+) -> Result<Vec<PathBuf>> {
+    write_results_in(dir, doc, &export_unit(built, unit))
+        .map_err(|e| StudyError::Io(format!("{}: results not written: {e}", built.origin)))
+}
+
+/// Creates `dir` and writes each `(name, content)` into it atomically (a temporary
+/// file renamed: never a half-written file).
+pub fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        StudyError::Io(format!(
+            "{}: cannot create the output directory: {e}",
+            dir.display()
+        ))
+    })?;
+    for (name, content) in files {
+        strand_report::write_atomic(&dir.join(name), content)
+            .map_err(|e| StudyError::Io(format!("{}: {e}", dir.display())))?;
+    }
+    Ok(())
+}
