@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector3};
 use strand_contact::ObstacleMesh;
 use strand_rod::{NominalRod, RodState, Section};
 use strand_solve::SolverSettings;
@@ -66,6 +66,19 @@ pub struct BuiltCase {
     pub clip_projections: Vec<(String, f64)>,
 }
 
+/// What a build takes beyond the case file: the meshes a motion moves, and the state a
+/// warm-started solve will begin from.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct BuildExtras<'a> {
+    /// Environment meshes (by name) moved rigidly by the map (world, m): placed
+    /// ([`strand_contact::ObstacleMesh::placed`]), not rebuilt.
+    pub moved_meshes: &'a [(String, Isometry3<f64>)],
+    /// The state a warm-started solve begins from: it becomes `initial`, and no
+    /// default guess is computed or checked against the environment (the guess is
+    /// only computed where an end's dead moment is measured from it).
+    pub warm: Option<&'a SystemState>,
+}
+
 /// Builds the model; `segments` overrides every rod's number of segments. Environment
 /// meshes come from `environment` when already built there.
 pub(crate) fn build(
@@ -74,7 +87,7 @@ pub(crate) fn build(
     file: &CaseFile,
     segments: Option<usize>,
     environment: &EnvironmentCache,
-    reuse: Option<&SystemState>,
+    extras: BuildExtras<'_>,
 ) -> Result<BuiltCase, CaseError> {
     let report = Reporter { origin };
     let unit = LengthUnit::parse(&file.units.length).ok_or_else(|| {
@@ -164,30 +177,33 @@ pub(crate) fn build(
     };
     system.validate().map_err(system_error)?;
     check_reach(&report, unit, &system)?;
-    // Dead end moments are measured from the rod's nominal (initial) end frame: a
-    // reused initial state stands in for the guess only where no end carries a moment.
-    let moments = system.rods.iter().any(|r| {
-        r.start.load.moment != nalgebra::Vector3::zeros()
-            || r.end.load.moment != nalgebra::Vector3::zeros()
-    });
-    let reused = reuse.filter(|s| !moments && s.rods.len() == system.rods.len());
-    let nominal = match reused {
-        Some(state) => state.clone(),
-        None => {
-            let mut nominal = initial_state(&system);
-            use_guesses(&mut nominal, &guesses);
-            for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
-                spec.start.load.moment_reference = state.frames[0];
-                spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
-            }
-            nominal
+    // Dead end moments are measured from the rod's nominal (initial) end frame.
+    let dead_moment = system
+        .rods
+        .iter()
+        .any(|r| r.start.load.moment != Vector3::zeros() || r.end.load.moment != Vector3::zeros());
+    let nominal_of = |system: &mut System| {
+        let mut nominal = initial_state(system);
+        use_guesses(&mut nominal, &guesses);
+        for (spec, state) in system.rods.iter_mut().zip(&nominal.rods) {
+            spec.start.load.moment_reference = state.frames[0];
+            spec.end.load.moment_reference = state.frames[state.frames.len() - 1];
         }
+        nominal
+    };
+    // The initial guess does not depend on the loads' moment references: it is the
+    // nominal state (computing it again doubled the build time).
+    let initial = match extras.warm {
+        Some(warm) => {
+            if dead_moment {
+                nominal_of(&mut system);
+            }
+            warm.clone()
+        }
+        None => nominal_of(&mut system),
     };
     let model = Model::try_new(system).map_err(system_error)?;
-    let environment = load_environment(&report, unit, file, environment)?;
-    // The initial guess does not depend on the loads' moment references: it is the
-    // nominal state just computed (computing it again doubled the build time).
-    let initial = nominal;
+    let environment = load_environment(&report, unit, file, environment, extras.moved_meshes)?;
     let mut built = BuiltCase {
         name: name.to_string(),
         origin: origin.to_string(),
@@ -217,9 +233,11 @@ pub(crate) fn build(
         start: Start::Hanging,
         clip_projections: projections,
     };
-    if reused.is_none() {
-        built.start = built.clear_start(&guesses);
-    }
+    built.start = if extras.warm.is_some() {
+        Start::Given
+    } else {
+        built.clear_start(&guesses)
+    };
     Ok(built)
 }
 

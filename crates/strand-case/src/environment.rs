@@ -145,8 +145,27 @@ impl BuiltCase {
 }
 
 /// Validates the case's `environment` entries and loads their meshes (from `cache`
-/// when already built), in file order.
+/// when already built), in file order. The meshes named in `moved` are then moved
+/// rigidly by their map (world, m) without being rebuilt ([`ObstacleMesh::placed`]):
+/// a part riding on a motion is one cached mesh at every pose.
 pub(crate) fn load_environment(
+    report: &Reporter,
+    unit: LengthUnit,
+    file: &CaseFile,
+    cache: &EnvironmentCache,
+    moved: &[(String, Isometry3<f64>)],
+) -> Result<Vec<Arc<ObstacleMesh>>, CaseError> {
+    let mut meshes = load_placed(report, unit, file, cache)?;
+    for mesh in &mut meshes {
+        if let Some((_, map)) = moved.iter().find(|(name, _)| name == mesh.name()) {
+            *mesh = Arc::new(mesh.placed(map));
+        }
+    }
+    Ok(meshes)
+}
+
+/// The meshes where the file places them (from `cache` when already built).
+fn load_placed(
     report: &Reporter,
     unit: LengthUnit,
     file: &CaseFile,

@@ -135,13 +135,24 @@ impl Case {
     /// Validates the case and builds the model; `segments` overrides the number of
     /// segments of every rod (e.g. for convergence studies).
     pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, CaseError> {
+        self.build_file(&self.file, segments, build::BuildExtras::default())
+    }
+
+    /// Builds `file` (this case's file, changed) with the case's name, origin and
+    /// environment cache.
+    pub(crate) fn build_file(
+        &self,
+        file: &CaseFile,
+        segments: Option<usize>,
+        extras: build::BuildExtras<'_>,
+    ) -> Result<BuiltCase, CaseError> {
         build::build(
             &self.name,
             &self.origin,
-            &self.file,
+            file,
             segments,
             &self.environment,
-            None,
+            extras,
         )
     }
 
@@ -169,27 +180,8 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.variant_file(name)?;
-        self.build_changed(&file, name, segments, None)
-    }
-
-    /// Builds `file`, this case with the changes `label` names, reusing `reuse` as
-    /// the initial state where given ([`Case::build_with_changes_reusing`]).
-    fn build_changed(
-        &self,
-        file: &CaseFile,
-        label: &str,
-        segments: Option<usize>,
-        reuse: Option<&SystemState>,
-    ) -> Result<BuiltCase, CaseError> {
-        build::build(
-            &self.name,
-            &self.origin,
-            file,
-            segments,
-            &self.environment,
-            reuse,
-        )
-        .map_err(|e| variant::in_variant(e, label))
+        self.build_file(&file, segments, build::BuildExtras::default())
+            .map_err(|e| variant::in_variant(e, name))
     }
 
     /// The case file with `changes` applied (items and changes as under `variants`;
@@ -218,7 +210,8 @@ impl Case {
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
-        self.build_changed(&file, label, segments, None)
+        self.build_file(&file, segments, build::BuildExtras::default())
+            .map_err(|e| variant::in_variant(e, label))
     }
 
     /// [`Case::build_with_changes`] for one of many nearby builds of a design (the
@@ -226,7 +219,8 @@ impl Case {
     /// and segments, e.g. the base build's), not computed again nor checked against
     /// the environment — computing the hanging guess is most of a build's time. Where
     /// an end carries a moment, whose potential is measured from the guess's end
-    /// frame, the guess is computed as in [`Case::build_with_changes`].
+    /// frame, the guess is still computed for that (as for a warm-started motion
+    /// pose).
     pub fn build_with_changes_reusing(
         &self,
         label: &str,
@@ -234,6 +228,11 @@ impl Case {
         initial: &SystemState,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
-        self.build_changed(&file, label, None, Some(initial))
+        let extras = build::BuildExtras {
+            warm: Some(initial),
+            ..build::BuildExtras::default()
+        };
+        self.build_file(&file, None, extras)
+            .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -100,13 +100,16 @@ pub enum Start {
     /// The hanging shape with gravity turned horizontal: bowed to one side of a part
     /// between the ends.
     Sideways,
+    /// A given state (a warm start from a neighbouring solution, e.g. the previous
+    /// pose of a motion): no guess was made.
+    Given,
 }
 
 impl Start {
     /// What the start is, for the terminal summary (`None` for the hanging guess).
     pub fn describe(self) -> Option<&'static str> {
         match self {
-            Start::Hanging => None,
+            Start::Hanging | Start::Given => None,
             Start::RouteAsDrawn => {
                 Some("the routes as drawn (their smoothed corners pass through an obstacle)")
             }

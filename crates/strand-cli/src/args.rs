@@ -99,6 +99,11 @@ pub enum Command {
         /// Override the number of segments of every rod.
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=crate::limits::MAX_SEGMENTS as i64))]
         segments: Option<u32>,
+        /// Where each step starts: the exact tangent of the path combined with the
+        /// previous pose (second order), the secant of the last two poses, or the last
+        /// pose.
+        #[arg(long, value_enum, default_value_t = PredictorArg::Secant)]
+        predictor: PredictorArg,
     },
     /// Solve a case and differentiate every output (reactions, peak |f| and |m|,
     /// bend radii, clearances, junction poses, contact forces) with respect to design
@@ -280,10 +285,37 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         /// Time the sensitivities of every output with respect to up to ten
         /// parameters of CASE (lengths, masses, connector positions, gravity) against
         /// its solve and its Newton iterations.
-        #[arg(long, conflicts_with_all = ["segments", "grid", "contact"])]
+        #[arg(long, conflicts_with_all = ["segments", "grid", "contact", "motion"])]
         sensitivity: bool,
+        /// Run the engine-roll motion (cases/cooler_hose_engine_roll.ron, -8° to 8° in
+        /// 0.5° steps, from the current folder) with each predictor instead of CASE:
+        /// poses, Newton iterations per pose, and the time of the path following
+        /// (builds, solves, tangents; wall and CPU).
+        #[arg(long, conflicts_with_all = ["case", "segments", "grid", "contact"])]
+        motion: bool,
         /// Number of convergence-map cases to run (with --grid).
         #[arg(long, value_name = "N", requires = "grid", default_value_t = crate::bench::grid::DEFAULT_CASES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000))]
         cases: usize,
     },
+}
+
+/// Where each step of `strand motion` starts ([`strand_case::motion::Predictor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PredictorArg {
+    /// The exact tangent (implicit function theorem) combined with the previous pose.
+    Tangent,
+    /// The secant of the last two poses.
+    Secant,
+    /// The last pose.
+    Last,
+}
+
+impl From<PredictorArg> for strand_case::motion::Predictor {
+    fn from(p: PredictorArg) -> Self {
+        match p {
+            PredictorArg::Tangent => Self::Tangent,
+            PredictorArg::Secant => Self::Secant,
+            PredictorArg::Last => Self::Last,
+        }
+    }
 }

@@ -99,12 +99,14 @@ pub(crate) fn execute(
             range,
             out: dir,
             segments,
+            predictor,
         } => crate::motion::run(
             case,
             motion,
             range,
             dir.as_deref(),
             segments.map(|n| n as usize),
+            (*predictor).into(),
             out,
             err,
         ),
@@ -206,6 +208,11 @@ pub(crate) fn execute(
             );
             Ok(Exit::Success)
         }
+        Command::Bench {
+            motion: true,
+            repeats,
+            ..
+        } => crate::bench::motion::run_and_print(Path::new("cases"), *repeats, out),
         Command::Bench {
             contact: true,
             repeats,

@@ -14,8 +14,12 @@ use std::path::Path;
 use std::time::Instant;
 
 use strand_case::Case;
-use strand_case::motion::{FollowSettings, MotionEvent, MotionRange, MotionStep, follow};
-use strand_report::motion::{MotionRow, envelope_obj, events_csv, motion_csv, motion_svg};
+use strand_case::motion::{
+    FollowSettings, MotionEvent, MotionRange, MotionStep, Predictor, follow,
+};
+use strand_report::motion::{
+    MotionRow, WorstKind, envelope_obj, events_csv, motion_csv, motion_svg, worst_poses,
+};
 use strand_report::{ResultDoc, Timing, write_atomic, write_results_in};
 use strand_study::motion::{SolvedPose as Solved, build_pose, events_of, step_doc};
 
@@ -81,6 +85,7 @@ pub(crate) fn run(
     range: &str,
     dir: Option<&Path>,
     segments: Option<usize>,
+    predictor: Predictor,
     out: &mut dyn Write,
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
@@ -125,7 +130,10 @@ pub(crate) fn run(
         &values,
         range.step,
         segments,
-        &FollowSettings::default(),
+        &FollowSettings {
+            predictor,
+            ..FollowSettings::default()
+        },
         &mut |step: MotionStep| {
             if failure.is_some() {
                 return;
@@ -290,47 +298,24 @@ impl Drop for WriteTime<'_> {
     }
 }
 
-/// The worst pose of each quantity.
+/// The worst pose of each quantity ([`strand_report::motion::worst_poses`]).
 fn worst_lines(out: &mut dyn Write, solved: &[Solved], unit: &str, metres: f64, symbol: &str) {
-    let rods: Vec<String> = solved
+    let poses: Vec<(f64, &ResultDoc)> = solved.iter().map(|s| (s.value, &s.doc)).collect();
+    let worst = worst_poses(&poses);
+    let rods: Vec<&str> = solved
         .first()
-        .map(|s| s.doc.rods.iter().map(|r| r.name.clone()).collect())
+        .map(|s| s.doc.rods.iter().map(|r| r.name.as_str()).collect())
         .unwrap_or_default();
-    let peak = |v: &[[f64; 3]]| v.iter().map(strand_report::magnitude).fold(0.0, f64::max);
-    for rod in &rods {
-        let each = |f: &dyn Fn(&strand_report::RodResult) -> f64| -> Vec<(f64, f64)> {
-            solved
-                .iter()
-                .filter_map(|s| {
-                    s.doc
-                        .rods
-                        .iter()
-                        .find(|r| &r.name == rod)
-                        .map(|r| (s.value, f(r)))
-                })
-                .collect()
-        };
-        let max = |v: Vec<(f64, f64)>| {
-            v.into_iter().fold(
-                (f64::NAN, f64::NEG_INFINITY),
-                |a, b| if b.1 > a.1 { b } else { a },
-            )
-        };
-        let min = |v: Vec<(f64, f64)>| {
-            v.into_iter().fold(
-                (f64::NAN, f64::INFINITY),
-                |a, b| if b.1 < a.1 { b } else { a },
-            )
-        };
-        let (vf, f) = max(each(&|r| peak(&r.force_n)));
-        let (vm, m) = max(each(&|r| peak(&r.moment_nm)));
-        let (vb, b) = min(each(&|r| {
-            1.0 / r
-                .curvature_1pm
-                .iter()
-                .map(|k| k[0].hypot(k[1]))
-                .fold(0.0, f64::max)
-        }));
+    let find = |kind: WorstKind, item: &str| {
+        worst
+            .iter()
+            .find(|w| w.kind == kind && w.item == item)
+            .map_or((f64::NAN, f64::NAN), |w| (w.value, w.at))
+    };
+    for rod in rods {
+        let (f, vf) = find(WorstKind::PeakForce, rod);
+        let (m, vm) = find(WorstKind::PeakMoment, rod);
+        let (b, vb) = find(WorstKind::MinBendRadius, rod);
         let _ = writeln!(
             out,
             "worst {rod}: peak |f| {} N at {} {unit}; peak |m| {} N·m at {} {unit}; min bend radius {} {symbol} at {} {unit}",
@@ -342,25 +327,13 @@ fn worst_lines(out: &mut dyn Write, solved: &[Solved], unit: &str, metres: f64, 
             number(vb)
         );
     }
-    let mut obstacles: Vec<(String, f64, f64)> = Vec::new();
-    for s in solved {
-        for c in &s.doc.clearance {
-            match obstacles.iter_mut().find(|o| o.0 == c.with) {
-                Some(o) if c.distance_m < o.1 => {
-                    o.1 = c.distance_m;
-                    o.2 = s.value;
-                }
-                Some(_) => {}
-                None => obstacles.push((c.with.clone(), c.distance_m, s.value)),
-            }
-        }
-    }
-    for (with, d, v) in obstacles {
+    for w in worst.iter().filter(|w| w.kind == WorstKind::MinClearance) {
         let _ = writeln!(
             out,
-            "worst clearance to {with}: {} {symbol} at {} {unit}",
-            number(d / metres),
-            number(v)
+            "worst clearance to {}: {} {symbol} at {} {unit}",
+            w.item,
+            number(w.value / metres),
+            number(w.at)
         );
     }
 }

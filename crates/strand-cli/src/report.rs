@@ -6,8 +6,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use strand_report::{
-    OptimumDoc, ReportRun, ReportStudies, ResultDoc, SensitivityDoc, check_result,
-    report_html_with_studies, write_atomic,
+    MotionAxis, OptimumDoc, ReportRun, ReportStudies, ResultDoc, SensitivityDoc, check_result,
+    motion_report_html, report_html_with_studies, write_atomic,
 };
 
 use crate::Exit;
@@ -106,6 +106,74 @@ fn labels(dirs: &[PathBuf], docs: &[ResultDoc], given: &[String]) -> Vec<String>
     labels
 }
 
+/// Whether `dir` is a `strand motion` output folder (`motion.csv` and `steps/`).
+fn is_motion(dir: &Path) -> bool {
+    dir.join("motion.csv").is_file() && dir.join("steps").is_dir()
+}
+
+/// The poses of a motion folder, in the order of `motion.csv`.
+struct MotionDir {
+    name: String,
+    unit: String,
+    values: Vec<f64>,
+    dirs: Vec<PathBuf>,
+    docs: Vec<ResultDoc>,
+}
+
+/// Reads `DIR/motion.csv` (its second column is `<motion> [<unit>]`) and the result of
+/// every pose solved (`ok` or `not_converged`; failed poses have no folder).
+fn load_motion(dir: &Path) -> Result<MotionDir, Failure> {
+    let path = dir.join("motion.csv");
+    let bad = |what: String| {
+        invalid(format!(
+            "{}: {what} (write it again with `strand motion`)",
+            path.display()
+        ))
+    };
+    let text = std::fs::read_to_string(&path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let mut lines = text.lines();
+    let header = lines.next().ok_or_else(|| bad("empty file".into()))?;
+    let column = header
+        .split(',')
+        .nth(1)
+        .ok_or_else(|| bad("no parameter column".into()))?;
+    let (name, unit) = column
+        .strip_suffix(']')
+        .and_then(|c| c.split_once(" ["))
+        .ok_or_else(|| {
+            bad(format!(
+                "the second column '{column}' is not '<motion> [<unit>]'"
+            ))
+        })?;
+    let mut motion = MotionDir {
+        name: name.to_string(),
+        unit: unit.to_string(),
+        values: Vec::new(),
+        dirs: Vec::new(),
+        docs: Vec::new(),
+    };
+    for (k, line) in lines.enumerate() {
+        let fields: Vec<&str> = line.split(',').collect();
+        let [id, value, status, ..] = fields[..] else {
+            return Err(bad(format!("line {}: fewer than 3 columns", k + 2)));
+        };
+        if id.is_empty() || status == "failed" {
+            continue;
+        }
+        let value: f64 = value
+            .parse()
+            .map_err(|_| bad(format!("line {}: '{value}' is not a number", k + 2)))?;
+        let step = dir.join("steps").join(id);
+        motion.docs.push(load(&step)?);
+        motion.values.push(value);
+        motion.dirs.push(step);
+    }
+    if motion.docs.is_empty() {
+        return Err(bad("no solved pose".into()));
+    }
+    Ok(motion)
+}
+
 pub(crate) fn run(
     dirs: &[PathBuf],
     file: &Path,
@@ -120,10 +188,38 @@ pub(crate) fn run(
             dirs.len()
         )));
     }
-    let docs = dirs
-        .iter()
-        .map(|d| load(d))
-        .collect::<Result<Vec<_>, _>>()?;
+    let motion = match dirs {
+        [dir] if is_motion(dir) => Some(load_motion(dir)?),
+        _ => {
+            if let Some(dir) = dirs.iter().find(|d| is_motion(d)) {
+                return Err(invalid(format!(
+                    "{}: a motion folder (motion.csv, steps/) is reported on its own\n  hint: run `strand report {}` alone, or give its poses' folders under steps/",
+                    dir.display(),
+                    dir.display()
+                )));
+            }
+            None
+        }
+    };
+    let (dirs, docs, axis) = match motion {
+        Some(m) => (m.dirs, m.docs, Some((m.name, m.unit, m.values))),
+        None => (
+            dirs.to_vec(),
+            dirs.iter()
+                .map(|d| load(d))
+                .collect::<Result<Vec<_>, _>>()?,
+            None,
+        ),
+    };
+    let dirs = dirs.as_slice();
+    if !given_labels.is_empty() && given_labels.len() != dirs.len() {
+        return Err(invalid(format!(
+            "--labels: {} label(s) for {} poses of the motion; give one label per pose, or none",
+            given_labels.len(),
+            dirs.len()
+        )));
+    }
+    // The design studies of each folder (a motion's poses have none).
     let sensitivities = dirs
         .iter()
         .map(|d| load_study::<SensitivityDoc>(d, "sensitivity.json"))
@@ -151,7 +247,12 @@ pub(crate) fn run(
     let title = title
         .map(str::to_string)
         .unwrap_or_else(|| format!("Design review: {}", cases.join(", ")));
-    let html = report_html_with_studies(&title, &runs, &studies);
+    let html = match &axis {
+        Some((name, unit, values)) => {
+            motion_report_html(&title, &runs, &MotionAxis { name, unit, values })
+        }
+        None => report_html_with_studies(&title, &runs, &studies),
+    };
     let not_written = |message: String| Failure {
         exit: Exit::Failure,
         message: format!("{}: report not written: {message}", file.display()),

@@ -1,7 +1,6 @@
 //! One CSV table per rod: one row per vertex, units in the header.
 
-use std::fmt::Write;
-
+use crate::number::push_number;
 use crate::result::RodResult;
 
 /// Header of a rod CSV: column names with their units (`_1pm` is 1/m).
@@ -16,19 +15,34 @@ pub fn rod_csv(rod: &RodResult) -> String {
     out.push_str(CSV_HEADER);
     out.push('\n');
     for j in 0..rod.s_m.len() {
-        let mut row: Vec<f64> = vec![rod.s_m[j]];
-        row.extend(rod.position_m[j]);
-        row.extend(rod.force_n[j]);
-        row.extend(rod.moment_nm[j]);
-        row.extend([
+        let [x, y, z] = rod.position_m[j];
+        let [fx, fy, fz] = rod.force_n[j];
+        let [mx, my, mz] = rod.moment_nm[j];
+        let [tx, ty, tz] = rod.total_moment_nm[j];
+        let [k1, k2, k3] = rod.curvature_1pm[j];
+        let row = [
+            rod.s_m[j],
+            x,
+            y,
+            z,
+            fx,
+            fy,
+            fz,
+            mx,
+            my,
+            mz,
             rod.tangential_force_n[j],
             rod.shear_force_n[j],
             rod.bending_moment_nm[j],
             rod.torsion_nm[j],
-        ]);
-        row.extend(rod.total_moment_nm[j]);
-        row.push(rod.hamiltonian_n[j]);
-        row.extend(rod.curvature_1pm[j]);
+            tx,
+            ty,
+            tz,
+            rod.hamiltonian_n[j],
+            k1,
+            k2,
+            k3,
+        ];
         for (k, value) in row.iter().enumerate() {
             if k > 0 {
                 out.push(',');
@@ -38,19 +52,6 @@ pub fn rod_csv(rod: &RodResult) -> String {
         out.push('\n');
     }
     out
-}
-
-/// Appends `value` in its shortest round-trip form: positional (`0.25`, `-13.5`) for
-/// magnitudes in [1e-5, 1e16), exponent form (`7.16e-19`) otherwise, so that round-off
-/// noise does not print as a long run of zeros.
-pub fn push_number(out: &mut String, value: f64) {
-    let magnitude = value.abs();
-    // Writing to a String cannot fail.
-    let _ = if value != 0.0 && value.is_finite() && !(1e-5..1e16).contains(&magnitude) {
-        write!(out, "{value:e}")
-    } else {
-        write!(out, "{value}")
-    };
 }
 
 #[cfg(test)]

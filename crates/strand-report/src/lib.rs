@@ -59,6 +59,7 @@ mod environment;
 mod findings;
 mod fittings;
 pub mod motion;
+mod number;
 mod optimum;
 mod optimum_plot;
 mod outline;
@@ -82,7 +83,7 @@ mod tests;
 pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
-pub use csv::{CSV_HEADER, push_number, rod_csv};
+pub use csv::{CSV_HEADER, rod_csv};
 pub use digits::significant;
 pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use findings::{
@@ -93,6 +94,7 @@ pub use fittings::{
     CLIP_RADIUS_FACTOR, CLIP_WIDTH_FACTOR, CONNECTOR_LENGTH_FACTOR, CONNECTOR_OVERLAP_FACTOR,
     CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
+pub use number::{push_integer, push_number};
 pub use optimum::{
     OptimumConstraint, OptimumDoc, OptimumIterate, OptimumObjective, OptimumParameter,
 };
@@ -107,7 +109,8 @@ pub use plot::{
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
 pub use report::{
-    ReportInputError, ReportRun, ReportStudies, check_result, report_html, report_html_with_studies,
+    MotionAxis, ReportInputError, ReportRun, ReportStudies, check_result, motion_report_html,
+    report_html, report_html_with_studies,
 };
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,

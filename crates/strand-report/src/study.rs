@@ -4,7 +4,7 @@
 
 use strand_system::{Model, Support};
 
-use crate::csv::push_number;
+use crate::number::push_number;
 use crate::result::{ResultDoc, RodResult};
 
 /// Where the arc length of a rod's curves is measured from in a study.

@@ -18,8 +18,8 @@ use std::fmt::Write;
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 
 use crate::cad::ExportUnit;
-use crate::csv::push_number;
 use crate::fittings::FittingPiece;
+use crate::number::{push_integer, push_number};
 use crate::result::{ResultDoc, RodResult};
 
 /// Vertices around each ring of a tube.
@@ -200,7 +200,12 @@ fn push_object(out: &mut String, name: &str, mesh: &TubeMesh, unit: &ExportUnit,
         out.push('\n');
     }
     for f in &mesh.faces {
-        let _ = writeln!(out, "f {} {} {}", *base + f[0], *base + f[1], *base + f[2]);
+        out.push('f');
+        for i in f {
+            out.push(' ');
+            push_integer(out, *base + i);
+        }
+        out.push('\n');
     }
     *base += mesh.vertices.len();
 }

@@ -15,7 +15,7 @@
 
 use std::fmt::Write;
 
-use crate::csv::push_number;
+use crate::number::{push_integer, push_number};
 use crate::plot::escape;
 use crate::result::{ResultDoc, RodResult};
 use crate::study::magnitude;
@@ -226,7 +226,7 @@ fn push_values(out: &mut String, values: impl IntoIterator<Item = f64>, per_line
 fn push_integers(out: &mut String, values: impl IntoIterator<Item = usize>) {
     for (i, v) in values.into_iter().enumerate() {
         out.push(if i % 16 == 0 { '\n' } else { ' ' });
-        let _ = write!(out, "{v}");
+        push_integer(out, v);
     }
     out.push('\n');
 }

@@ -5,6 +5,7 @@ use super::place::moved;
 use crate::error::{CaseError, Reporter};
 use crate::units::LengthUnit;
 use crate::{BuiltCase, Case, build};
+use strand_system::SystemState;
 
 impl Case {
     /// The names of the case's motions, in file order.
@@ -53,12 +54,37 @@ impl Case {
         value: f64,
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
+        self.build_pose(name, value, segments, None)
+    }
+
+    /// [`Case::build_motion`] for a solve warm-started from `warm` (a state of the
+    /// case's model at a neighbouring pose, e.g. the previous step of the motion): the
+    /// built case's `initial` is `warm`, and no default guess is computed or checked
+    /// against the environment, which makes the build much cheaper. The model is the
+    /// same as [`Case::build_motion`]'s.
+    pub fn build_motion_from(
+        &self,
+        name: &str,
+        value: f64,
+        segments: Option<usize>,
+        warm: &SystemState,
+    ) -> Result<BuiltCase, CaseError> {
+        self.build_pose(name, value, segments, Some(warm))
+    }
+
+    fn build_pose(
+        &self,
+        name: &str,
+        value: f64,
+        segments: Option<usize>,
+        warm: Option<&SystemState>,
+    ) -> Result<BuiltCase, CaseError> {
         let motion = self.motion(name)?;
         let at = format!("{name} = {value} {}", motion.unit);
+        let report = Reporter {
+            origin: &self.origin,
+        };
         let Some(map) = motion.map_at(value) else {
-            let report = Reporter {
-                origin: &self.origin,
-            };
             return Err(report.invalid(
                 format!("motions '{name}'"),
                 format!(
@@ -68,16 +94,15 @@ impl Case {
                 "choose values within the keyframes, or add keyframes that cover them",
             ));
         };
-        let file = moved(&self.file, name, &map);
-        build::build(
-            &self.name,
-            &self.origin,
-            &file,
-            segments,
-            &self.environment,
-            None,
-        )
-        .map_err(|e| at_pose(e, &at))
+        // `self.motion` has checked the length unit.
+        let unit = LengthUnit::parse(&self.file.units.length).unwrap_or(LengthUnit::Metre);
+        let (file, meshes) = moved(&report, unit, &self.file, name, &map)?;
+        let extras = build::BuildExtras {
+            moved_meshes: &meshes,
+            warm,
+        };
+        self.build_file(&file, segments, extras)
+            .map_err(|e| at_pose(e, &at))
     }
 }
 

@@ -1,6 +1,8 @@
 //! Quasi-static path following along a motion: from the case's own pose (parameter 0)
 //! up to the largest and down to the smallest requested value, each step
-//! warm-started from the last equilibrium with a secant predictor, the step halved
+//! warm-started from the last equilibrium with a predictor ([`Predictor`]; the secant
+//! and its blend with the tangent are
+//! [`strand_solve::continuation::predictor::extrapolate`]), the step halved
 //! when a solve fails or the state jumps, and grown again on easy steps.
 //!
 //! A jump that persists down to the smallest step is a snap-through (the equilibrium
@@ -11,9 +13,9 @@
 use strand_solve::{Solution, SolveError, SolverSettings};
 use strand_system::SystemState;
 
-use super::extrapolate;
 use crate::error::CaseError;
 use crate::{BuiltCase, Case};
+use strand_solve::continuation::predictor::extrapolate;
 
 /// Settings of the path following.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,9 +35,31 @@ pub struct FollowSettings {
     /// The first step of each direction, as a fraction of the requested step (default
     /// 1/8): small, so that the rate a jump is measured against is known early.
     pub first_fraction: f64,
-    /// Whether steps start from the secant extrapolation of the last two states
-    /// (default) instead of the last state.
-    pub predictor: bool,
+    /// Whether a step whose last state starts inside a moving mesh is retried with the
+    /// hose near the moving meshes carried along with them (default;
+    /// [`super::carry`]).
+    pub carry: bool,
+    /// Where each step starts (default [`Predictor::Secant`]: on the engine roll the
+    /// tangent saves a quarter of the Newton iterations but costs more than they do).
+    pub predictor: Predictor,
+}
+
+/// Where a step of the path following starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Predictor {
+    /// The last equilibrium.
+    Last,
+    /// The secant extrapolation of the last two equilibria (the last one alone on the
+    /// first step of a direction).
+    Secant,
+    /// The exact tangent of the path at the last equilibrium
+    /// ([`strand_solve::sensitivity`], the motion parameter as the design parameter),
+    /// combined with the previous equilibrium into a second-order prediction (the
+    /// tangent's prediction extrapolated beyond the secant's by the step ratio: the
+    /// errors of the secant, `(Δ² + Δh) x''/2`, and of the tangent, `Δ² x''/2`,
+    /// cancel); the secant where the tangent cannot be computed (an unstable state, an
+    /// active contact about to open).
+    Tangent,
 }
 
 impl Default for FollowSettings {
@@ -46,7 +70,8 @@ impl Default for FollowSettings {
             jump_floor_m: 1e-3,
             easy_iterations: 3,
             first_fraction: 1.0 / 8.0,
-            predictor: true,
+            carry: true,
+            predictor: Predictor::Secant,
         }
     }
 }
@@ -95,6 +120,8 @@ pub struct MotionStep {
     pub solves: usize,
     /// Newton iterations of those solves.
     pub iterations: usize,
+    /// Of those solves, how many started from the tangent prediction.
+    pub tangent_starts: usize,
     /// Events found since the previous requested pose.
     pub events: Vec<MotionEvent>,
 }
@@ -115,6 +142,45 @@ pub struct StepOutcome {
 pub struct FollowEnd {
     /// The directions that ended early (at most one per direction).
     pub failed: Vec<StepOutcome>,
+    /// Where the time went (wall clock, s), over the whole path following.
+    pub times: PhaseTimes,
+}
+
+/// Wall-clock time (s) spent in each phase of the path following.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Building the case at each pose (warm builds: no guesses).
+    pub build_s: f64,
+    /// Solving (predictors included).
+    pub solve_s: f64,
+    /// Computing the path's tangents ([`Predictor::Tangent`]).
+    pub tangent_s: f64,
+}
+
+/// Accumulates [`PhaseTimes`] through shared references.
+#[derive(Default)]
+struct Clock {
+    build: std::cell::Cell<f64>,
+    solve: std::cell::Cell<f64>,
+    tangent: std::cell::Cell<f64>,
+}
+
+impl Clock {
+    /// Runs `f`, adding its wall time to `slot`.
+    fn time<T>(slot: &std::cell::Cell<f64>, f: impl FnOnce() -> T) -> T {
+        let started = std::time::Instant::now();
+        let out = f();
+        slot.set(slot.get() + started.elapsed().as_secs_f64());
+        out
+    }
+
+    fn totals(&self) -> PhaseTimes {
+        PhaseTimes {
+            build_s: self.build.get(),
+            solve_s: self.solve.get(),
+            tangent_s: self.tangent.get(),
+        }
+    }
 }
 
 /// Largest distance between corresponding vertices of two states of one model, m.
@@ -132,6 +198,9 @@ struct Point {
     value: f64,
     state: SystemState,
     stable: bool,
+    /// The path's tangent there (solver chart at `state`, per parameter unit), if
+    /// computed.
+    tangent: Option<Vec<f64>>,
 }
 
 /// Follows motion `motion` of `case` through `values` (the motion's unit, any order):
@@ -149,14 +218,21 @@ pub fn follow(
     settings: &FollowSettings,
     on_step: &mut dyn FnMut(MotionStep),
 ) -> Result<FollowEnd, CaseError> {
+    let clock = Clock::default();
     let mut built: Vec<(f64, BuiltCase)> = Vec::with_capacity(values.len() + 1);
-    let base = case.build_motion(motion, 0.0, segments)?;
+    let base = Clock::time(&clock.build, || case.build_motion(motion, 0.0, segments))?;
+    let unit = case.motion(motion)?.unit;
     for &v in values {
-        built.push((v, case.build_motion(motion, v, segments)?));
+        // Warm builds: the guess is never used (each pose starts from its neighbour).
+        let b = Clock::time(&clock.build, || {
+            case.build_motion_from(motion, v, segments, &base.initial)
+        })?;
+        built.push((v, b));
     }
-    let cold = base
-        .solve_from(base.initial.clone(), &base.settings)
-        .map_err(|e| solve_error(&base, e))?;
+    let cold = Clock::time(&clock.solve, || {
+        base.solve_from(base.initial.clone(), &base.settings)
+    })
+    .map_err(|e| solve_error(&base, e))?;
     let mut end = FollowEnd::default();
     if !cold.report.converged {
         end.failed.push(StepOutcome {
@@ -167,12 +243,20 @@ pub fn follow(
                 cold.report.termination, cold.report.residual.combined_n, cold.report.iterations
             ),
         });
+        end.times = clock.totals();
         return Ok(end);
     }
+    let tangent_at = |value: f64, solution: &Solution| match settings.predictor {
+        Predictor::Tangent => Clock::time(&clock.tangent, || {
+            super::tangent::tangent(case, motion, &unit, value, segments, solution)
+        }),
+        _ => None,
+    };
     let start = Point {
         value: 0.0,
         state: cold.state.clone(),
         stable: cold.report.stable,
+        tangent: tangent_at(0.0, &cold),
     };
     let mut upward: Vec<(f64, BuiltCase)> = Vec::new();
     let mut downward: Vec<(f64, BuiltCase)> = Vec::new();
@@ -185,6 +269,7 @@ pub fn follow(
                 warm: false,
                 solves: 1,
                 iterations: cold.report.iterations,
+                tangent_starts: 0,
                 events: Vec::new(),
             });
         } else if v > 0.0 {
@@ -206,16 +291,20 @@ pub fn follow(
             smallest: step * settings.smallest_fraction,
             previous: None,
             rate_m: None,
+            tangent_at: &tangent_at,
+            clock: &clock,
         };
         let last = Point {
             value: start.value,
             state: start.state.clone(),
             stable: start.stable,
+            tangent: start.tangent.clone(),
         };
         if let Some(failed) = branch.run(last, targets, direction, on_step)? {
             end.failed.push(failed);
         }
     }
+    end.times = clock.totals();
     Ok(end)
 }
 
@@ -240,26 +329,62 @@ struct Branch<'a> {
     previous: Option<Point>,
     /// Largest vertex displacement per parameter unit of the last accepted step, m.
     rate_m: Option<f64>,
+    /// The path's tangent at a converged pose, if the predictor uses it.
+    tangent_at: &'a dyn Fn(f64, &Solution) -> Option<Vec<f64>>,
+    clock: &'a Clock,
+}
+
+/// A solve of one attempted step, and whether it started from the tangent.
+struct Attempt {
+    solution: Solution,
+    from_tangent: bool,
 }
 
 impl Branch<'_> {
-    /// One solve of the case built at `value`, warm-started from `last` (with the
-    /// predictor when there is a previous point). A start inside an obstacle (the
-    /// predictor pushed a resting hose into it, or a moving part moved into the hose)
-    /// is retried from the last state; `Err(reason)` if that starts inside too.
+    /// One solve of the case built at `value`, warm-started from `last` with the
+    /// predictor. A start inside an obstacle (the predictor pushed a resting hose into
+    /// it, or a moving part moved into the hose) is retried from the last state, then
+    /// from the last state with the hose near the moving meshes carried along
+    /// ([`super::carry::carry`]); `Err(reason)` if that starts inside too.
     fn attempt(
         &self,
         built: &BuiltCase,
         last: &Point,
         value: f64,
-    ) -> Result<Result<Solution, String>, CaseError> {
-        let predicted = match (&self.previous, self.settings.predictor) {
-            (Some(p), true) => Some(extrapolate(
-                &p.state,
-                &last.state,
-                (value - last.value) / (last.value - p.value),
-            )),
-            _ => None,
+    ) -> Result<Result<Attempt, String>, CaseError> {
+        let change = value - last.value;
+        let secant = self
+            .previous
+            .as_ref()
+            .filter(|_| self.settings.predictor != Predictor::Last)
+            .map(|p| {
+                (
+                    extrapolate(
+                        &[last.state.clone(), p.state.clone()],
+                        &[last.value, p.value],
+                        value,
+                    ),
+                    p,
+                )
+            });
+        let tangent = last
+            .tangent
+            .as_ref()
+            .filter(|_| self.settings.predictor == Predictor::Tangent)
+            .map(|t| super::tangent::along(&built.model, &last.state, t, change));
+        let (predicted, from_tangent) = match (secant, tangent) {
+            (Some((secant, p)), Some(tangent)) => (
+                // The tangent's prediction one secant ratio beyond the secant's.
+                Some(extrapolate(
+                    &[tangent, secant],
+                    &[1.0, 0.0],
+                    1.0 + change / (last.value - p.value),
+                )),
+                true,
+            ),
+            (None, Some(tangent)) => (Some(tangent), true),
+            (Some((secant, _)), None) => (Some(secant), false),
+            (None, None) => (None, false),
         };
         let settings = SolverSettings {
             nested_iteration: false,
@@ -271,17 +396,47 @@ impl Branch<'_> {
                 .min(built.settings.continuation_step_iterations),
             ..built.settings.clone()
         };
-        let attempt = match predicted.map(|p| built.solve_from(p, &settings)) {
-            Some(Err(SolveError::StartsInside(_))) | None => {
-                built.solve_from(last.state.clone(), &settings)
-            }
-            Some(other) => other,
+        let mut inside = String::new();
+        let carried = || {
+            super::carry::carry(
+                self.case,
+                self.motion,
+                built,
+                &last.state,
+                last.value,
+                value,
+            )
         };
-        match attempt {
-            Ok(solution) => Ok(Ok(solution)),
-            Err(SolveError::StartsInside(inside)) => Ok(Err(inside.to_string())),
-            Err(e) => Err(solve_error(built, e)),
+        let starts = [
+            predicted.map(|p| (p, from_tangent)),
+            Some((last.state.clone(), false)),
+        ];
+        for (k, start) in starts.into_iter().enumerate() {
+            let Some((start, from_tangent)) = start else {
+                continue;
+            };
+            let solve =
+                |start| Clock::time(&self.clock.solve, || built.solve_from(start, &settings));
+            let mut solved = solve(start);
+            if k == 1
+                && self.settings.carry
+                && matches!(solved, Err(SolveError::StartsInside(_)))
+                && let Some(carried) = carried()
+            {
+                solved = solve(carried);
+            }
+            match solved {
+                Ok(solution) => {
+                    return Ok(Ok(Attempt {
+                        solution,
+                        from_tangent,
+                    }));
+                }
+                Err(SolveError::StartsInside(e)) => inside = e.to_string(),
+                Err(e) => return Err(solve_error(built, e)),
+            }
         }
+        Ok(Err(inside))
     }
 
     fn run(
@@ -294,6 +449,7 @@ impl Branch<'_> {
         let mut h = (self.largest * self.settings.first_fraction).max(self.smallest);
         for (target, target_built) in targets {
             let (mut solves, mut iterations, mut events) = (0, 0, Vec::new());
+            let mut tangent_starts = 0;
             loop {
                 let remaining = (target - last.value) * direction;
                 let reaches = h >= remaining * (1.0 - 1e-9);
@@ -305,11 +461,17 @@ impl Branch<'_> {
                 let built = if reaches {
                     target_built.clone()
                 } else {
-                    self.case.build_motion(self.motion, value, self.segments)?
+                    Clock::time(&self.clock.build, || {
+                        self.case
+                            .build_motion_from(self.motion, value, self.segments, &last.state)
+                    })?
                 };
                 let attempt = self.attempt(&built, &last, value)?;
                 let solution = match attempt {
-                    Ok(solution) => solution,
+                    Ok(attempt) => {
+                        tangent_starts += usize::from(attempt.from_tangent);
+                        attempt.solution
+                    }
                     Err(inside) => {
                         solves += 1;
                         let size = (value - last.value).abs();
@@ -336,7 +498,10 @@ impl Branch<'_> {
                 // own continuation, the full iteration budget) to find where the
                 // hoses go.
                 let solution = if !solution.report.converged && at_smallest {
-                    match built.solve_from(last.state.clone(), &built.settings) {
+                    let full = Clock::time(&self.clock.solve, || {
+                        built.solve_from(last.state.clone(), &built.settings)
+                    });
+                    match full {
                         Ok(s) => {
                             solves += 1;
                             iterations += s.report.iterations;
@@ -373,12 +538,20 @@ impl Branch<'_> {
                         // the step; a jump does not.
                         None if !at_smallest => {
                             let half = last.value + 0.5 * (value - last.value);
-                            let built = self.case.build_motion(self.motion, half, self.segments)?;
+                            let built = Clock::time(&self.clock.build, || {
+                                self.case.build_motion_from(
+                                    self.motion,
+                                    half,
+                                    self.segments,
+                                    &last.state,
+                                )
+                            })?;
                             solves += 1;
                             match self.attempt(&built, &last, half)? {
-                                Ok(s) if s.report.converged => {
-                                    iterations += s.report.iterations;
-                                    jump_m(&last.state, &s.state) > 0.75 * moved
+                                Ok(a) if a.solution.report.converged => {
+                                    iterations += a.solution.report.iterations;
+                                    tangent_starts += usize::from(a.from_tangent);
+                                    jump_m(&last.state, &a.solution.state) > 0.75 * moved
                                 }
                                 _ => true,
                             }
@@ -402,6 +575,7 @@ impl Branch<'_> {
                     value,
                     state: solution.state.clone(),
                     stable,
+                    tangent: (self.tangent_at)(value, &solution),
                 };
                 let before = std::mem::replace(&mut last, point);
                 if suspicious {
@@ -430,6 +604,7 @@ impl Branch<'_> {
                         warm: true,
                         solves,
                         iterations,
+                        tangent_starts,
                         events,
                     });
                     break;

@@ -44,22 +44,25 @@
 //! Several moves are driven together by the one parameter, in order: the motion's
 //! map is `M_n(p) ∘ … ∘ M_1(p)`.
 
+pub mod carry;
 mod case;
 mod follow;
 mod place;
 mod pose;
-mod predict;
 mod range;
 pub mod screw;
+pub mod tangent;
 
 use serde::{Deserialize, Serialize};
 
 use crate::environment::AxisAngleDef;
 use crate::schema::Vec3;
 
-pub use follow::{FollowEnd, FollowSettings, MotionEvent, MotionStep, StepOutcome, follow, jump_m};
+pub use follow::{
+    FollowEnd, FollowSettings, MotionEvent, MotionStep, PhaseTimes, Predictor, StepOutcome, follow,
+    jump_m,
+};
 pub use pose::MotionPose;
-pub use predict::extrapolate;
 pub use range::{MotionRange, RangeError, parse_value};
 
 /// Checks every motion of `file` and every part's `moves_with`.

@@ -1,10 +1,10 @@
 //! Placing the parts that ride on a motion: checking every `moves_with` of a case
 //! file, and the file with the parts of one motion moved to a parameter value.
 
-use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::MotionPose;
-use crate::environment::AxisAngleDef;
+use crate::centreline::read_centreline;
 use crate::error::{CaseError, Reporter};
 use crate::schema::{CaseFile, EndDef, OrientationDef, Vec3};
 use crate::units::LengthUnit;
@@ -82,8 +82,21 @@ fn vector(map: &Isometry3<f64>, v: &Vec3) -> Vec3 {
     (map.rotation * Vector3::from(*v)).into()
 }
 
-/// `file` with every part riding on `motion` carried by `map` (case's length unit).
-pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> CaseFile {
+/// Environment meshes by name with the rigid map (world, m) that moves them.
+pub(crate) type MovedMeshes = Vec<(String, Isometry3<f64>)>;
+
+/// `file` with every part riding on `motion` carried by `map` (case's length unit of
+/// `unit`), except the environment meshes: those are returned by name with the map in
+/// metres, to be placed without rebuilding them. A route read from a file
+/// (`route_file`) on a rod held by a moving part becomes an inline `route`, so that
+/// its end can move with the part.
+pub(crate) fn moved(
+    report: &Reporter,
+    unit: LengthUnit,
+    file: &CaseFile,
+    motion: &str,
+    map: &Isometry3<f64>,
+) -> Result<(CaseFile, MovedMeshes), CaseError> {
     let rides = |m: &Option<String>| m.as_deref() == Some(motion);
     let mut file = file.clone();
     // A route (initial guess) starts and ends where its rod is held: its end points
@@ -104,7 +117,13 @@ pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> Case
         .iter()
         .map(|r| [held_by_moving(&r.start), held_by_moving(&r.end)])
         .collect();
-    for (rod, [start, end]) in file.rods.iter_mut().zip(moves) {
+    for (i, (rod, [start, end])) in file.rods.iter_mut().zip(moves).enumerate() {
+        if let (true, None, Some(def)) = (start || end, &rod.route, &rod.route_file) {
+            let item = format!("rods[{i}] '{}'.route_file", rod.name);
+            let points = read_centreline(report, &item, def)?;
+            rod.route = Some(points.iter().map(|p| (p / unit.metres()).into()).collect());
+            rod.route_file = None;
+        }
         if let Some(route) = rod.route.as_mut().filter(|r| !r.is_empty()) {
             if start {
                 route[0] = point(map, &route[0]);
@@ -142,27 +161,15 @@ pub(crate) fn moved(file: &CaseFile, motion: &str, map: &Isometry3<f64>) -> Case
             base.normal = vector(map, &base.normal);
         }
     }
-    for e in &mut file.environment {
-        if rides(&e.moves_with) {
-            let r0 = e.rotation.as_ref().map_or(UnitQuaternion::identity(), |r| {
-                nalgebra::Unit::try_new(Vector3::from(r.axis), 0.0)
-                    .map_or(UnitQuaternion::identity(), |axis| {
-                        UnitQuaternion::from_axis_angle(&axis, r.angle_deg.to_radians())
-                    })
-            });
-            let r = map.rotation * r0;
-            e.position = point(map, &e.position);
-            e.rotation = Some(match r.axis_angle() {
-                Some((axis, angle)) => AxisAngleDef {
-                    axis: axis.into_inner().into(),
-                    angle_deg: angle.to_degrees(),
-                },
-                None => AxisAngleDef {
-                    axis: [0.0, 0.0, 1.0],
-                    angle_deg: 0.0,
-                },
-            });
-        }
-    }
-    file
+    let metres = Isometry3::from_parts(
+        (map.translation.vector * unit.metres()).into(),
+        map.rotation,
+    );
+    let meshes = file
+        .environment
+        .iter()
+        .filter(|e| rides(&e.moves_with))
+        .map(|e| (e.name.clone(), metres))
+        .collect();
+    Ok((file, meshes))
 }

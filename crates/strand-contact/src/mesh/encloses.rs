@@ -35,6 +35,7 @@ impl ObstacleMesh {
         if !self.diagnostics.closed {
             return false;
         }
+        let point = &self.to_local(point);
         let [min, max] = self.bounding_box;
         if (0..3).any(|k| point[k] < min[k] || point[k] > max[k]) {
             return false;
@@ -56,7 +57,7 @@ impl ObstacleMesh {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let [a, b, c] = self.triangle(leaf as usize);
+                let [a, b, c] = self.local_triangle(leaf as usize);
                 match crossing(point, d, &a, &b, &c) {
                     Crossing::Miss => {}
                     Crossing::Hit(sign) => winding += sign,

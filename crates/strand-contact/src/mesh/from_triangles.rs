@@ -92,10 +92,11 @@ pub(crate) fn build(
         })?;
     Ok(ObstacleMesh {
         name,
-        trimesh,
+        trimesh: std::sync::Arc::new(trimesh),
         bounding_box: [min, max],
-        patch: topology.patch,
+        patch: topology.patch.into(),
         diagnostics: topology.diagnostics,
+        placement: None,
     })
 }
 

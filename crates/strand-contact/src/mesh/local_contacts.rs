@@ -46,6 +46,21 @@ impl ObstacleMesh {
         p1: &Point3<f64>,
         max_distance: f64,
     ) -> Vec<LocalContact> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        let mut out = self.local_contacts_here(&l0, &l1, max_distance);
+        for c in &mut out {
+            c.proximity = self.to_world(c.proximity, p0, p1);
+        }
+        out
+    }
+
+    /// [`ObstacleMesh::local_contacts`] of a segment in the mesh's own frame.
+    fn local_contacts_here(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+    ) -> Vec<LocalContact> {
         let [min, max] = self.bounding_box;
         let size = (p1 - p0).norm() + (max - min).norm();
         let tolerance = TIE_TOLERANCE * size;
@@ -89,7 +104,7 @@ impl ObstacleMesh {
                 let at: Vec<_> = members
                     .iter()
                     .map(|n| {
-                        let [a, b, c] = self.triangle(n.triangle);
+                        let [a, b, c] = self.local_triangle(n.triangle);
                         (
                             n.triangle,
                             segment_triangle_candidate(&point, &point, &a, &b, &c),
@@ -131,7 +146,7 @@ impl ObstacleMesh {
             }
             if let Some(leaf) = node.leaf_data() {
                 let triangle = leaf as usize;
-                let [a, b, c] = self.triangle(triangle);
+                let [a, b, c] = self.local_triangle(triangle);
                 let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                 if candidate.squared <= limit * limit {
                     near.push(Near {
@@ -159,12 +174,12 @@ impl ObstacleMesh {
     ) -> bool {
         let (s, [u, v, w]) = best.value;
         let point = p0 + (p1 - p0) * s;
-        let [a, b, c] = self.triangle(triangle);
+        let [a, b, c] = self.local_triangle(triangle);
         let q = Point3::from(a.coords * u + b.coords * v + c.coords * w);
         let distance = best.squared.sqrt();
         let touch = CONTAINS * (1.0 + distance);
         near.iter().filter(|n| n.triangle != triangle).all(|n| {
-            let [a, b, c] = self.triangle(n.triangle);
+            let [a, b, c] = self.local_triangle(n.triangle);
             let low = a.inf(&b).inf(&c);
             let high = a.sup(&b).sup(&c);
             if (0..3).any(|k| q[k] < low[k] - touch || q[k] > high[k] + touch) {

@@ -20,6 +20,7 @@ mod from_triangles;
 mod load_obj;
 mod local_contacts;
 mod obstacle_mesh;
+mod placed;
 mod segment_box;
 mod segment_proximity;
 pub mod stl;

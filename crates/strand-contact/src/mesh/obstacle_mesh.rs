@@ -1,8 +1,9 @@
 //! The environment mesh type.
 
 use std::fmt;
+use std::sync::Arc;
 
-use nalgebra::Point3;
+use nalgebra::{Isometry3, Point3};
 use parry3d_f64::shape::TriMesh;
 
 use super::MeshDiagnostics;
@@ -11,14 +12,22 @@ use super::convert::from_glam;
 /// A rigid environment mesh in world coordinates (m): a parry `TriMesh` with its BVH.
 ///
 /// Immutable once built; share it with `Arc` across iterations, variants and batches.
+/// A mesh moved rigidly ([`ObstacleMesh::placed`], a part riding on a motion) shares
+/// the triangles and the BVH of the mesh it was placed from: its queries move the
+/// query into the mesh's own frame and the answer back, nothing is rebuilt.
 #[derive(Clone)]
 pub struct ObstacleMesh {
     pub(crate) name: String,
-    pub(crate) trimesh: TriMesh,
+    /// The triangles and their BVH, in the mesh's own frame.
+    pub(crate) trimesh: Arc<TriMesh>,
+    /// Bounding box of the kept triangles in the mesh's own frame, m.
     pub(crate) bounding_box: [Point3<f64>; 2],
     /// The smooth patch of every triangle (named by its smallest triangle index).
-    pub(crate) patch: Vec<u32>,
+    pub(crate) patch: Arc<[u32]>,
+    /// Diagnostics, with the bounding box in world coordinates.
     pub(crate) diagnostics: MeshDiagnostics,
+    /// The map from the mesh's own frame to the world (`None`: the identity).
+    pub(crate) placement: Option<Isometry3<f64>>,
 }
 
 impl ObstacleMesh {
@@ -60,13 +69,24 @@ impl ObstacleMesh {
         self.patch[index] as usize
     }
 
-    /// The axis-aligned bounding box `[min, max]` of the kept triangles, m.
+    /// The axis-aligned bounding box `[min, max]` of the kept triangles in world
+    /// coordinates, m.
     pub fn bounding_box(&self) -> [Point3<f64>; 2] {
-        self.bounding_box
+        self.diagnostics.bounding_box_m
     }
 
-    /// The vertices of triangle `index` (`< triangle_count()`), m.
+    /// The vertices of triangle `index` (`< triangle_count()`) in world coordinates, m.
     pub fn triangle(&self, index: usize) -> [Point3<f64>; 3] {
+        let local = self.local_triangle(index);
+        match &self.placement {
+            None => local,
+            Some(pose) => local.map(|p| pose * p),
+        }
+    }
+
+    /// The vertices of triangle `index` in the mesh's own frame, m (what the queries
+    /// work in).
+    pub(crate) fn local_triangle(&self, index: usize) -> [Point3<f64>; 3] {
         let vertices = self.trimesh.vertices();
         self.trimesh.indices()[index].map(|i| from_glam(vertices[i as usize]))
     }
@@ -90,7 +110,8 @@ impl fmt::Debug for ObstacleMesh {
             .field("triangles", &self.triangle_count())
             .field("vertices", &self.vertex_count())
             .field("skipped_degenerate", &self.diagnostics.degenerate_skipped)
-            .field("bounding_box", &self.bounding_box)
+            .field("bounding_box", &self.bounding_box())
+            .field("placement", &self.placement)
             .finish()
     }
 }

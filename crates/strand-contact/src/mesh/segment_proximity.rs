@@ -53,6 +53,18 @@ impl ObstacleMesh {
         p1: &Point3<f64>,
         max_distance: f64,
     ) -> Option<Proximity> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        self.segment_proximity_here(&l0, &l1, max_distance)
+            .map(|p| self.to_world(p, p0, p1))
+    }
+
+    /// [`ObstacleMesh::segment_proximity`] of a segment in the mesh's own frame.
+    fn segment_proximity_here(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+    ) -> Option<Proximity> {
         let [min, max] = self.bounding_box;
         let tolerance = TIE_TOLERANCE * ((p1 - p0).norm() + (max - min).norm());
         let (triangle, best) = self.nearest(p0, p1, max_distance)?;
@@ -94,7 +106,7 @@ impl ObstacleMesh {
             max_distance.next_up(),
             |node: &BvhNode, best| bound.distance(node, best),
             |leaf, _| {
-                let [a, b, c] = self.triangle(leaf as usize);
+                let [a, b, c] = self.local_triangle(leaf as usize);
                 let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                 Some((candidate.squared.sqrt(), candidate))
             },
@@ -111,7 +123,7 @@ impl ObstacleMesh {
         parameters: SegmentTriangleParameters,
         tolerance: f64,
     ) -> Proximity {
-        let [a, b, c] = self.triangle(triangle);
+        let [a, b, c] = self.local_triangle(triangle);
         let closest: SegmentTriangle = segment_triangle_points(p0, p1, &a, &b, &c, parameters);
         let normal = (closest.distance > tolerance)
             .then(|| Unit::new_normalize(closest.point_on_segment - closest.point_on_triangle));
@@ -137,7 +149,7 @@ impl ObstacleMesh {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let [a, b, c] = self.triangle(leaf as usize);
+                let [a, b, c] = self.local_triangle(leaf as usize);
                 let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                 if candidate.squared <= limit * limit {
                     let half = 0.5 * candidate.interval;

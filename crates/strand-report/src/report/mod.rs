@@ -17,6 +17,7 @@
 mod checks;
 mod format;
 mod limits;
+mod motion;
 mod plots;
 mod projection;
 mod provenance;
@@ -24,6 +25,7 @@ mod studies;
 mod tables;
 
 pub(crate) use format::sig;
+pub use motion::MotionAxis;
 #[cfg(test)]
 mod tests;
 mod view3d;
@@ -167,7 +169,7 @@ p.warning { background: #fff4e5; border-left: 4px solid #e69f00; padding: 6px 10
 
 /// The report page for `runs` (the first is the reference) under `title`.
 pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
-    report_html_with_studies(title, runs, &[])
+    report_page(title, runs, None, &[])
 }
 
 /// The design studies of one result folder shown in the report: its
@@ -185,6 +187,21 @@ pub struct ReportStudies<'a> {
 pub fn report_html_with_studies(
     title: &str,
     runs: &[ReportRun],
+    studies: &[ReportStudies],
+) -> String {
+    report_page(title, runs, None, studies)
+}
+
+/// The report page of a motion: `runs` are its poses in order of `axis.values`; the
+/// page adds the worst pose of each quantity and plays the poses in the 3D view.
+pub fn motion_report_html(title: &str, runs: &[ReportRun], axis: &MotionAxis) -> String {
+    report_page(title, runs, Some(axis), &[])
+}
+
+fn report_page(
+    title: &str,
+    runs: &[ReportRun],
+    axis: Option<&MotionAxis>,
     studies: &[ReportStudies],
 ) -> String {
     let mut html = String::with_capacity(64 * 1024);
@@ -209,11 +226,17 @@ pub fn report_html_with_studies(
     html.push_str("<h2 id=\"findings-section\">Findings</h2>\n");
     limits::push_findings(&mut html, runs);
 
+    if let Some(axis) = axis {
+        html.push_str("<h2 id=\"motion-section\">Motion: worst poses</h2>\n");
+        motion::push_worst_poses(&mut html, runs, axis);
+    }
+
     html.push_str("<h2>Summary</h2>\n");
     tables::push_summary(&mut html, runs);
 
     html.push_str("<h2 id=\"view3d-section\">3D view</h2>\n");
-    view3d::push_view3d(&mut html, runs);
+    let poses = axis.map(motion::pose_labels);
+    view3d::push_view3d(&mut html, runs, poses.as_deref());
 
     html.push_str("<h2>Sectional quantities along the arc length</h2>\n");
     html.push_str("<p class=\"note\">Per hose: internal force |f|, tangential force f_t and shear force f_s (top); internal moment |m|, bending moment m_b and torsional moment m_t (bottom). The reference result is solid, the others dashed.</p>\n<div class=\"grid\">\n");

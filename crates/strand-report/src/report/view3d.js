@@ -105,7 +105,13 @@
       return [cx + s * dot(ax.u, q), cy - s * dot(ax.v, q), dot(ax.d, q)];
     }
     var items = [];
-    D.env.forEach(function (mesh) {
+    var run = D.runs[state.run];
+    // A part that moved with the shown result (a motion's pose) is drawn where it is.
+    var env = D.env.map(function (mesh) {
+      var own = (run.env || []).filter(function (m) { return m.name === mesh.name; })[0];
+      return own || mesh;
+    });
+    env.forEach(function (mesh) {
       mesh.poly.forEach(function (poly) {
         var fill = shade(poly, ax.d);
         if (fill === null) { return; }
@@ -127,7 +133,6 @@
           stroke: "#b4b4b4", "stroke-width": "1" }) });
       });
     });
-    var run = D.runs[state.run];
     var q = state.quantity;
     // Every other result whose toggle is on, as thin dashed lines in its own colour
     // behind the shown result's hoses (the reference in black).
@@ -264,6 +269,31 @@
   var result = document.getElementById("v3d-result");
   if (result) {
     result.addEventListener("change", function () { state.run = Number(result.value); draw(); });
+  }
+  // A motion: the slider and the play button step through the poses (results).
+  var pose = document.getElementById("v3d-pose");
+  if (pose && D.poses) {
+    var poseLabel = document.getElementById("v3d-pose-label");
+    var play = document.getElementById("v3d-play");
+    var timer = null;
+    var showPose = function (k) {
+      state.run = k;
+      pose.value = String(k);
+      if (result) { result.value = String(k); }
+      if (poseLabel) { poseLabel.textContent = D.poses[k]; }
+      draw();
+    };
+    pose.addEventListener("input", function () { showPose(Number(pose.value)); });
+    if (result) {
+      result.addEventListener("change", function () { pose.value = result.value; showPose(Number(result.value)); });
+    }
+    if (play) {
+      play.addEventListener("click", function () {
+        if (timer !== null) { clearInterval(timer); timer = null; play.textContent = "play"; return; }
+        play.textContent = "pause";
+        timer = setInterval(function () { showPose((state.run + 1) % D.runs.length); }, 200);
+      });
+    }
   }
   Array.prototype.forEach.call(document.querySelectorAll("button[data-yaw]"), function (b) {
     b.addEventListener("click", function () {

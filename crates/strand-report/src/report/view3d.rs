@@ -236,6 +236,10 @@ struct Run {
     rods: Vec<Rod>,
     contacts: Vec<ContactPoint>,
     parts: Vec<Part>,
+    /// The meshes this result outlines elsewhere than the scene's `env` (a part that
+    /// moved: the poses of a motion), drawn instead of those.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    env: Vec<Mesh>,
 }
 
 #[derive(Serialize)]
@@ -312,6 +316,9 @@ struct Scene {
     part_colours: std::collections::BTreeMap<&'static str, &'static str>,
     #[serde(rename = "surfaceOpacity")]
     surface_opacity: f64,
+    /// For a motion: the label of each result's pose (the slider plays them).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    poses: Vec<String>,
     /// Outline colour of each result when overlaid, cyclic.
     #[serde(rename = "overlayColours")]
     overlay_colours: [&'static str; 7],
@@ -375,31 +382,40 @@ fn scene(runs: &[ReportRun]) -> Scene {
                 })
                 .collect(),
             parts: parts(run.doc),
+            env: Vec::new(),
         })
         .collect();
-    // The environment: each mesh once, from the first result that outlines it.
+    let mesh_of = |outline: &crate::result::EnvironmentOutline| Mesh {
+        name: outline.name.clone(),
+        poly: outline
+            .surface_m
+            .iter()
+            .map(|p| p.iter().map(mm3).collect())
+            .collect(),
+        seg: outline
+            .segments_m
+            .iter()
+            .map(|[a, b]| {
+                let (a, b) = (mm3(a), mm3(b));
+                [a[0], a[1], a[2], b[0], b[1], b[2]]
+            })
+            .collect(),
+    };
+    // The environment: each mesh once, from the first result that outlines it; a
+    // result that outlines it elsewhere (a moved part) keeps its own.
     let mut env: Vec<Mesh> = Vec::new();
-    for run in runs {
+    let mut runs_data = runs_data;
+    for (run, data) in runs.iter().zip(&mut runs_data) {
         for outline in &run.doc.environment {
-            if outline.segments_m.is_empty() || env.iter().any(|m| m.name == outline.name) {
+            if outline.segments_m.is_empty() {
                 continue;
             }
-            env.push(Mesh {
-                name: outline.name.clone(),
-                poly: outline
-                    .surface_m
-                    .iter()
-                    .map(|p| p.iter().map(mm3).collect())
-                    .collect(),
-                seg: outline
-                    .segments_m
-                    .iter()
-                    .map(|[a, b]| {
-                        let (a, b) = (mm3(a), mm3(b));
-                        [a[0], a[1], a[2], b[0], b[1], b[2]]
-                    })
-                    .collect(),
-            });
+            let mesh = mesh_of(outline);
+            match env.iter().find(|m| m.name == outline.name) {
+                None => env.push(mesh),
+                Some(first) if first.seg != mesh.seg => data.env.push(mesh),
+                Some(_) => {}
+            }
         }
     }
     let range = |values: Vec<f64>| {
@@ -479,6 +495,7 @@ fn scene(runs: &[ReportRun]) -> Scene {
         contact_colour: CONTACT_COLOUR,
         part_colours: PART_COLOURS.into_iter().collect(),
         surface_opacity: SURFACE_OPACITY,
+        poses: Vec::new(),
         overlay_colours: OVERLAY_COLOURS,
         clearance_search: mm(crate::clearance_search_m(
             runs.iter()
@@ -670,9 +687,11 @@ fn scene_json(scene: &Scene) -> String {
 }
 
 /// Appends the 3D view section's content: controls, the SVG with the first frame and
-/// legend, the data and the script.
-pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
-    let scene = scene(runs);
+/// legend, the data and the script. With `poses` (a motion: one label per result) a
+/// slider and a play button step through the results.
+pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun], poses: Option<&[String]>) {
+    let mut scene = scene(runs);
+    scene.poses = poses.map(<[String]>::to_vec).unwrap_or_default();
     html.push_str("<div class=\"v3d-controls\">\n<label>colour by <select id=\"v3d-quantity\">");
     for (key, label, unit) in QUANTITIES {
         let _ = write!(
@@ -696,6 +715,14 @@ pub(crate) fn push_view3d(html: &mut String, runs: &[ReportRun]) {
         );
     }
     html.push_str("</select></label>\n");
+    if let Some(poses) = poses.filter(|p| p.len() > 1) {
+        let _ = writeln!(
+            html,
+            "<label>pose <input type=\"range\" id=\"v3d-pose\" min=\"0\" max=\"{}\" step=\"1\" value=\"0\"/></label> <button type=\"button\" id=\"v3d-play\">play</button> <span id=\"v3d-pose-label\" class=\"readout\">{}</span>",
+            poses.len() - 1,
+            escape(&poses[0])
+        );
+    }
     if runs.len() > 1 {
         // One toggle per result: drawn dashed in its colour behind the shown one.
         html.push_str("<span class=\"v3d-toggles\">overlay (dashed):");

@@ -14,7 +14,7 @@ use crate::report::{SolveReport, Termination};
 
 /// Iterations (the current one included) over which the energy must have stayed
 /// within round-off for a failed line search to count as a stall at the floor.
-const STALL_ITERATIONS: usize = 3;
+pub(super) const STALL_ITERATIONS: usize = 3;
 
 /// A stall counts as one at the round-off floor (no continuation is tried after it)
 /// when its residual is at most this (dimensionless) multiple of the estimated floor.

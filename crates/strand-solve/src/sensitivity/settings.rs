@@ -31,6 +31,10 @@ pub struct SensitivitySettings {
     pub refinement_tolerance: f64,
     /// Largest number of refinement steps per parameter.
     pub max_refinements: usize,
+    /// Whether `∂Φ/∂p` is the Richardson extrapolation of central differences of steps
+    /// `h` and `2h` (truncation error `O(h⁴)`, four evaluations; default) or the central
+    /// difference of step `h` alone (`O(h²)`, two evaluations: enough for a predictor).
+    pub richardson: bool,
     /// An active row whose multiplier is below this fraction of the largest one (or
     /// of 1 N) is flagged as about to open.
     pub near_zero_multiplier: f64,
@@ -46,6 +50,7 @@ impl Default for SensitivitySettings {
             output_relative_step: 1e-4,
             refinement_tolerance: 1e-9,
             max_refinements: 8,
+            richardson: true,
             near_zero_multiplier: 1e-6,
             near_zero_gap: 1e-6,
         }
