@@ -26,6 +26,7 @@ mod helix;
 mod junction;
 mod motion;
 mod moulded_clips;
+mod optimize;
 mod predeformed;
 mod report;
 mod sensitivity;

@@ -8,9 +8,10 @@
 use std::collections::BTreeMap;
 
 use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase};
-use strand_report::{OutputValue, design_outputs, sensitivity_doc};
+use strand_report::OutputValue;
 use strand_solve::sensitivity::{Design, Sample, Sensitivities, SensitivitySettings};
 use strand_solve::{Solution, SolverSettings};
+use strand_study::sensitivity::{ENERGY, outputs_at};
 
 use crate::common::cases_dir;
 
@@ -58,23 +59,16 @@ fn solve_from(
 }
 
 /// Named outputs of a design at a solution (peaks read at the base's arg when `pins`
-/// are given).
+/// are given), those of `sensitivity.json` (without the optimiser's energy).
 fn outputs(
     built: &DesignedCase,
     solution: &Solution,
     pins: Option<&[OutputValue]>,
 ) -> BTreeMap<String, Sample> {
-    let b = &built.built;
-    let doc = sensitivity_doc(
-        &b.name,
-        &b.model,
-        solution,
-        built.contact.as_ref(),
-        &b.connector_names,
-    )
-    .unwrap();
-    design_outputs(&doc, pins)
+    outputs_at(built, solution, pins)
+        .unwrap()
         .into_iter()
+        .filter(|o| o.name != ENERGY)
         .map(|o| {
             (
                 o.name,
@@ -291,6 +285,35 @@ fn the_command_writes_the_contract_and_rejects_bad_parameters_without_writing() 
     let csv = std::fs::read_to_string(out.join("sensitivity.csv")).unwrap();
     assert!(csv.starts_with("output,value,d/dhose2.length [per mm],d/dtee.mass [per kg]"));
     assert_eq!(csv.lines().count(), outputs.len() + 1);
+
+    // `strand report` on the folder (it holds the base solve's result.json too) says
+    // what one more millimetre of hose 2 does, with the derivatives of the file.
+    let report = dir.path().join("report.html");
+    let (exit, _, stderr) = crate::common::strand(&[
+        "report",
+        out.to_str().unwrap(),
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(exit, strand_cli::Exit::Success, "{stderr}");
+    let html = std::fs::read_to_string(&report).unwrap();
+    let page = roxmltree::Document::parse(html.strip_prefix("<!DOCTYPE html>\n").unwrap()).unwrap();
+    let sentence: String = page
+        .descendants()
+        .find(|n| n.attribute("data-parameter") == Some("hose2.length"))
+        .expect("a sentence for hose2.length")
+        .descendants()
+        .filter_map(|n| n.text())
+        .collect();
+    let d = peak["d"]["hose2.length"].as_f64().unwrap();
+    assert!(sentence.starts_with("hose2.length +1 mm:"), "{sentence}");
+    let expected = format!("hose2 peak |f| {:.4} N", d).replace('-', "−");
+    assert!(sentence.contains(&expected), "{sentence} lacks {expected}");
+    let rows = page
+        .descendants()
+        .filter(|n| n.has_tag_name("tr") && n.attribute("data-output").is_some())
+        .count();
+    assert_eq!(rows, outputs.len());
 
     let bad = dir.path().join("bad");
     for param in ["hose2.segments", "nothing.length"] {

@@ -38,12 +38,45 @@ pub struct DesignParameter {
 pub struct CaseDesign<'c> {
     case: &'c Case,
     parameters: Vec<DesignParameter>,
+    /// Offsets of the design's zero from the case's values (item units).
+    centre: Vec<f64>,
+    /// The first build's initial state, reused by the later builds (their guesses
+    /// are never used: the steps start from the base equilibrium).
+    initial: std::sync::OnceLock<strand_system::SystemState>,
 }
 
 impl<'c> CaseDesign<'c> {
     /// The design of `case` over `parameters`.
     pub fn new(case: &'c Case, parameters: Vec<DesignParameter>) -> Self {
-        Self { case, parameters }
+        let centre = vec![0.0; parameters.len()];
+        Self {
+            case,
+            parameters,
+            centre,
+            initial: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// The design of `case` over `parameters` whose zero offsets are `centre` (one per
+    /// parameter, item units) from the case's values: the design an optimiser
+    /// differentiates at its current point.
+    pub fn centred_at(case: &'c Case, parameters: Vec<DesignParameter>, centre: Vec<f64>) -> Self {
+        assert_eq!(
+            centre.len(),
+            parameters.len(),
+            "one centre offset per parameter"
+        );
+        Self {
+            case,
+            parameters,
+            centre,
+            initial: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// The case.
+    pub fn case(&self) -> &'c Case {
+        self.case
     }
 
     /// The parameters.
@@ -51,13 +84,14 @@ impl<'c> CaseDesign<'c> {
         &self.parameters
     }
 
-    /// The variant changes that offset every parameter by `offsets` (item units).
+    /// The variant changes that offset every parameter by `offsets` (item units) from
+    /// the design's centre.
     pub fn changes(&self, offsets: &[f64]) -> Vec<VariantChange> {
         self.parameters
             .iter()
-            .zip(offsets)
-            .filter(|(_, x)| **x != 0.0)
-            .map(|(p, &x)| VariantChange {
+            .zip(offsets.iter().zip(&self.centre).map(|(x, c)| x + c))
+            .filter(|(_, x)| *x != 0.0)
+            .map(|(p, x)| VariantChange {
                 item: p.item.clone(),
                 change: Change::Add(match p.component {
                     None => Amount::Number(x),
@@ -109,14 +143,22 @@ impl Design for CaseDesign<'_> {
         self.parameters[parameter].scale
     }
 
+    /// The first build computes the case's initial guess; later builds reuse it
+    /// ([`Case::build_with_changes_reusing`]): a design is built many times at small
+    /// offsets, and its guesses are never solved from.
     fn build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
         let changes = self.changes(offsets);
-        let built = if changes.is_empty() {
-            self.case.build(None)?
-        } else {
-            self.case
-                .build_with_changes("sensitivity", &changes, None)?
+        let built = match self.initial.get() {
+            Some(initial) => {
+                self.case
+                    .build_with_changes_reusing("sensitivity", &changes, initial)?
+            }
+            None if changes.is_empty() => self.case.build(None)?,
+            None => self
+                .case
+                .build_with_changes("sensitivity", &changes, None)?,
         };
+        let _ = self.initial.set(built.initial.clone());
         Ok(DesignedCase::new(built))
     }
 }

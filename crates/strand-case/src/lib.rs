@@ -58,6 +58,8 @@ mod tests;
 
 use std::path::Path;
 
+use strand_system::SystemState;
+
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
 pub use design::{CaseDesign, DesignParameter, DesignedCase};
 pub use ends::{FrameError, frame_from_tangent_normal};
@@ -182,6 +184,20 @@ impl Case {
             .map_err(|e| variant::in_variant(e, name))
     }
 
+    /// The case file with `changes` applied (items and changes as under `variants`;
+    /// not yet validated: [`Case::build_with_changes`] validates and builds it);
+    /// `label` names the changes in messages.
+    pub fn file_with_changes(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+    ) -> Result<CaseFile, CaseError> {
+        let report = error::Reporter {
+            origin: &self.origin,
+        };
+        variant::apply_changes(&report, &self.file, label, changes)
+    }
+
     /// Validates the case with `changes` applied (items and changes as under
     /// `variants`, see [`VARIANT_ITEMS`]) and builds its model, like
     /// [`Case::build_variant`] for an unnamed variant: `label` names the changes in
@@ -193,10 +209,7 @@ impl Case {
         changes: &[schema::VariantChange],
         segments: Option<usize>,
     ) -> Result<BuiltCase, CaseError> {
-        let report = error::Reporter {
-            origin: &self.origin,
-        };
-        let file = variant::apply_changes(&report, &self.file, label, changes)?;
+        let file = self.file_with_changes(label, changes)?;
         self.build_file(&file, segments, build::BuildExtras::default())
             .map_err(|e| variant::in_variant(e, label))
     }
@@ -211,14 +224,33 @@ impl Case {
         label: &str,
         changes: &[schema::VariantChange],
     ) -> Result<Case, CaseError> {
-        let report = error::Reporter {
-            origin: &self.origin,
-        };
         Ok(Case {
             name: self.name.clone(),
             origin: self.origin.clone(),
-            file: variant::apply_changes(&report, &self.file, label, changes)?,
+            file: self.file_with_changes(label, changes)?,
             environment: self.environment.clone(),
         })
+    }
+
+    /// [`Case::build_with_changes`] for one of many nearby builds of a design (the
+    /// steps of a sensitivity): its `initial` is `initial` (a state of the same rods
+    /// and segments, e.g. the base build's), not computed again nor checked against
+    /// the environment — computing the hanging guess is most of a build's time. Where
+    /// an end carries a moment, whose potential is measured from the guess's end
+    /// frame, the guess is still computed for that (as for a warm-started motion
+    /// pose).
+    pub fn build_with_changes_reusing(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+        initial: &SystemState,
+    ) -> Result<BuiltCase, CaseError> {
+        let file = self.file_with_changes(label, changes)?;
+        let extras = build::BuildExtras {
+            warm: Some(initial),
+            ..build::BuildExtras::default()
+        };
+        self.build_file(&file, None, extras)
+            .map_err(|e| variant::in_variant(e, label))
     }
 }

@@ -104,6 +104,33 @@ pub struct CaseFile {
     pub motions: Vec<(String, crate::motion::MotionDef)>,
 }
 
+impl CaseFile {
+    /// The file with every relative path (environment meshes, route and nominal-shape
+    /// files) made relative to `folder` instead (joined to it): for writing the case
+    /// somewhere else, e.g. the optimal design of `strand optimize`, so that it still
+    /// finds its files. `folder` is the folder of the original case file.
+    pub fn rebased(&self, folder: &std::path::Path) -> CaseFile {
+        let rebase = |path: &mut String| {
+            if std::path::Path::new(path.as_str()).is_relative() {
+                *path = folder.join(path.as_str()).display().to_string();
+            }
+        };
+        let mut out = self.clone();
+        for mesh in &mut out.environment {
+            rebase(&mut mesh.obj);
+        }
+        for rod in &mut out.rods {
+            if let Some(route) = &mut rod.route_file {
+                rebase(&mut route.file);
+            }
+            if let Some(file) = rod.nominal.as_mut().and_then(|n| n.file.as_mut()) {
+                rebase(file);
+            }
+        }
+        out
+    }
+}
+
 /// The units of a case file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

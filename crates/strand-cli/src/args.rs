@@ -118,6 +118,38 @@ pub enum Command {
         /// Output directory.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Length unit of the base solve's rods.vtp, tubes.obj and tubes.stl
+        /// [default: the case's `length_unit`].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
+    },
+    /// Find the best design within bounds with exact gradients (trust-region SQP):
+    /// DIR/optimum.json, DIR/history.csv, DIR/history.svg and DIR/<case>_optimum.ron.
+    Optimize {
+        /// The case file (RON).
+        case: PathBuf,
+        /// A design variable with bounds, named as in `batch --vary`:
+        /// hose2.length=150mm..300mm (values) or oil_cooler.position.z=-20mm..+20mm
+        /// (offsets from the case).
+        #[arg(long = "vary", value_name = "NAME=LO..HI", required = true)]
+        vary: Vec<String>,
+        /// What to minimise: peak_force (the largest peak |f| of all rods),
+        /// peak_force:<rod>, max_reaction, energy, or an output name of
+        /// sensitivity.json.
+        #[arg(long, value_name = "OBJECTIVE", default_value = "peak_force")]
+        minimize: String,
+        /// A constraint: "clearance>=10mm", "clearance:<rod>>=10mm",
+        /// "bend_radius>=min" (each section's min_bend_radius), "bend_radius>=60mm",
+        /// or an output: "oil_cooler.force_N.z<=20N".
+        #[arg(long = "subject-to", value_name = "CONSTRAINT")]
+        subject_to: Vec<String>,
+        /// Output directory.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Length unit of the optimum's rods.vtp, tubes.obj and tubes.stl
+        /// [default: the case's `length_unit`].
+        #[arg(long, value_enum, value_name = "UNIT")]
+        export_unit: Option<ExportUnitArg>,
     },
     /// Solve variants of a case and compare them: DIR/study.svg (|f| and |m| against
     /// arc length), DIR/study.csv (peaks per rod per variant) and DIR/<variant>/result.json.
@@ -250,6 +282,11 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         /// CASE, each at its own discretisation: iterations, active rows, median time.
         #[arg(long, conflicts_with_all = ["case", "segments", "grid"])]
         contact: bool,
+        /// Time the sensitivities of every output with respect to up to ten
+        /// parameters of CASE (lengths, masses, connector positions, gravity) against
+        /// its solve and its Newton iterations.
+        #[arg(long, conflicts_with_all = ["segments", "grid", "contact", "motion"])]
+        sensitivity: bool,
         /// Run the engine-roll motion (cases/cooler_hose_engine_roll.ron, -8° to 8° in
         /// 0.5° steps, from the current folder) with each predictor instead of CASE:
         /// poses, Newton iterations per pose, and the time of the path following

@@ -5,11 +5,13 @@
 //! [`grid`] is the convergence map of issue 9 (`strand bench --grid`): its cases, the
 //! system of each, and the table of iterations and times per case; [`contact`] the
 //! bundled contact cases (`strand bench --contact`); [`motion`] the engine-roll motion
-//! (`strand bench --motion`).
+//! (`strand bench --motion`); [`sensitivity`] the cost of the sensitivities against the
+//! solve (`strand bench --sensitivity`).
 
 pub mod contact;
 pub mod grid;
 pub mod motion;
+pub mod sensitivity;
 
 use std::path::Path;
 use std::time::Instant;

@@ -30,14 +30,20 @@ impl From<CaseError> for Failure {
     }
 }
 
+impl From<ErrorKind> for Exit {
+    fn from(kind: ErrorKind) -> Self {
+        match kind {
+            ErrorKind::Input => Exit::InvalidInput,
+            ErrorKind::Io => Exit::Failure,
+            ErrorKind::NotConverged => Exit::NotConverged,
+        }
+    }
+}
+
 impl From<StudyError> for Failure {
     fn from(e: StudyError) -> Self {
         Failure {
-            exit: match e.kind() {
-                ErrorKind::Input => Exit::InvalidInput,
-                ErrorKind::Io => Exit::Failure,
-                ErrorKind::NotConverged => Exit::NotConverged,
-            },
+            exit: e.kind().into(),
             message: e.to_string(),
         }
     }
@@ -108,7 +114,26 @@ pub(crate) fn execute(
             case,
             params,
             out: dir,
-        } => crate::sensitivity::run(case, params, dir, out),
+            export_unit: unit,
+        } => crate::sensitivity::run(case, params, dir, unit.map(ExportUnitArg::unit), out),
+        Command::Optimize {
+            case,
+            vary,
+            minimize,
+            subject_to,
+            out: dir,
+            export_unit: unit,
+        } => crate::optimize::run(
+            &crate::optimize::Options {
+                case,
+                vary,
+                minimize,
+                subject_to,
+                dir,
+                export_unit: unit.map(ExportUnitArg::unit),
+            },
+            out,
+        ),
         Command::Study {
             case,
             variants,
@@ -164,6 +189,25 @@ pub(crate) fn execute(
         Command::Bench {
             grid: true, cases, ..
         } => Ok(bench_grid(*cases, out)),
+        Command::Bench {
+            sensitivity: true,
+            case,
+            repeats,
+            ..
+        } => {
+            use crate::bench::sensitivity::{format as format_bench, run as run_bench};
+            let bench = run_bench(case, *repeats).map_err(|e| Failure {
+                exit: Exit::InvalidInput,
+                message: format!("{}: {e}", case.display()),
+            })?;
+            let _ = write!(
+                out,
+                "{}: sensitivities, median of {repeats} runs\n{}",
+                case.display(),
+                format_bench(&bench)
+            );
+            Ok(Exit::Success)
+        }
         Command::Bench {
             motion: true,
             repeats,

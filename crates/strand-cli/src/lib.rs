@@ -21,6 +21,11 @@
 //!              [--keep all|results|summary] [--yes] [--force-jobs] [--retry-failed]
 //!                                                every combination, parallel, warm-started,
 //!                                                resumable; DIR/summary.csv, DIR/summary.svg
+//! strand optimize CASE --vary ITEM=LO..HI [--vary …] [--minimize peak_force]
+//!              [--subject-to "clearance>=10mm" …] --out DIR
+//!                                                best design within bounds (exact gradients);
+//!                                                DIR/optimum.json, history.csv, history.svg,
+//!                                                DIR/<case>_optimum.ron
 //! strand merge DIR… [--out DIR]                  combine the shards of a batch
 //! strand report RESULT_DIR… [--out report.html] [--labels a,b] [--title T]
 //!                                                HTML design review of results (first = reference)
@@ -45,6 +50,7 @@ mod batch;
 pub mod bench;
 mod commands;
 mod motion;
+mod optimize;
 mod progress;
 mod report;
 mod sensitivity;

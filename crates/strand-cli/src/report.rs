@@ -6,7 +6,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use strand_report::{
-    MotionAxis, ReportRun, ResultDoc, check_result, motion_report_html, report_html, write_atomic,
+    MotionAxis, OptimumDoc, ReportRun, ReportStudies, ResultDoc, SensitivityDoc, check_result,
+    motion_report_html, report_html_with_studies, write_atomic,
 };
 
 use crate::Exit;
@@ -47,6 +48,33 @@ fn load(dir: &Path) -> Result<ResultDoc, Failure> {
     })?;
     check_result(&doc).map_err(|e| invalid(format!("{}: {e}", path.display())))?;
     Ok(doc)
+}
+
+/// A study document `name` of result folder `dir`, if the folder holds one.
+fn load_study<T: serde::de::DeserializeOwned>(
+    dir: &Path,
+    name: &str,
+) -> Result<Option<T>, Failure> {
+    if dir.is_file() {
+        return Ok(None);
+    }
+    let path = dir.join(name);
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return Ok(None);
+    };
+    serde_json::from_str(&text).map(Some).map_err(|e| {
+        invalid(format!(
+            "{}:{}:{}: not a strand {name}: {e} (write it again with `strand {}`)",
+            path.display(),
+            e.line(),
+            e.column(),
+            if name.starts_with("optimum") {
+                "optimize"
+            } else {
+                "sensitivity"
+            }
+        ))
+    })
 }
 
 /// Labels: the given ones, else each result's variant or its directory's name; made
@@ -191,6 +219,23 @@ pub(crate) fn run(
             dirs.len()
         )));
     }
+    // The design studies of each folder (a motion's poses have none).
+    let sensitivities = dirs
+        .iter()
+        .map(|d| load_study::<SensitivityDoc>(d, "sensitivity.json"))
+        .collect::<Result<Vec<_>, _>>()?;
+    let optima = dirs
+        .iter()
+        .map(|d| load_study::<OptimumDoc>(d, "optimum.json"))
+        .collect::<Result<Vec<_>, _>>()?;
+    let studies: Vec<ReportStudies> = sensitivities
+        .iter()
+        .zip(&optima)
+        .map(|(s, o)| ReportStudies {
+            sensitivity: s.as_ref(),
+            optimum: o.as_ref(),
+        })
+        .collect();
     let labels = labels(dirs, &docs, given_labels);
     let runs: Vec<ReportRun> = labels
         .iter()
@@ -206,7 +251,7 @@ pub(crate) fn run(
         Some((name, unit, values)) => {
             motion_report_html(&title, &runs, &MotionAxis { name, unit, values })
         }
-        None => report_html(&title, &runs),
+        None => report_html_with_studies(&title, &runs, &studies),
     };
     let not_written = |message: String| Failure {
         exit: Exit::Failure,
@@ -224,6 +269,23 @@ pub(crate) fn run(
         labels.join(", "),
         labels.first().map_or("none", String::as_str)
     );
+    let shown: Vec<String> = labels
+        .iter()
+        .zip(&studies)
+        .filter_map(|(l, s)| {
+            let parts: Vec<&str> = [
+                s.sensitivity.map(|_| "sensitivities"),
+                s.optimum.map(|_| "optimisation"),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            (!parts.is_empty()).then(|| format!("{l}: {}", parts.join(" and ")))
+        })
+        .collect();
+    if !shown.is_empty() {
+        let _ = writeln!(out, "studies     {}", shown.join("; "));
+    }
     let unconverged: Vec<&str> = runs
         .iter()
         .filter(|r| !r.doc.converged)

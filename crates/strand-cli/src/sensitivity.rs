@@ -1,14 +1,16 @@
 //! `strand sensitivity CASE --param NAME … --out DIR`: the derivative of every output
 //! of the case's equilibrium with respect to each parameter
 //! ([`strand_study::sensitivity`]), written to `DIR/sensitivity.json` and
-//! `DIR/sensitivity.csv`; the terminal shows the largest ones.
+//! `DIR/sensitivity.csv`, with the base solve's results (`result.json`, per-rod CSV,
+//! geometry) so that the folder is an input of `strand report`; the terminal shows
+//! the largest ones.
 
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
 use strand_case::Case;
-use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter};
+use strand_report::{ExportUnit, SensitivityDoc, SensitivityOutput, SensitivityParameter, Timing};
 use strand_study::sensitivity::{parameters, sensitivities, write_sensitivities};
 
 use crate::Exit;
@@ -23,6 +25,7 @@ pub(crate) fn run(
     path: &Path,
     names: &[String],
     dir: &Path,
+    export_unit: Option<ExportUnit>,
     out: &mut dyn Write,
 ) -> Result<Exit, Failure> {
     let started = Instant::now();
@@ -34,6 +37,8 @@ pub(crate) fn run(
     let solve_s = started.elapsed().as_secs_f64();
     let doc = sensitivities(&case, names, &solution)?;
     write_sensitivities(dir, &doc)?;
+    let result = strand_study::solve::result_doc(&built, &solution, Timing::default(), None, None)?;
+    strand_study::solve::write_result(dir, &result, &built, export_unit.as_ref())?;
     let _ = write!(
         out,
         "{}",
@@ -94,9 +99,10 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
         ));
     }
     s.push_str(&format!(
-        "written: {}, {}\n",
+        "written: {}, {} (and the base solve's result.json: `strand report {}` shows the table)\n",
         dir.join("sensitivity.json").display(),
-        dir.join("sensitivity.csv").display()
+        dir.join("sensitivity.csv").display(),
+        dir.display()
     ));
     s
 }

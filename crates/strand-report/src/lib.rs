@@ -54,11 +54,14 @@ mod cad;
 mod clips;
 mod contacts;
 mod csv;
+mod digits;
 mod environment;
 mod findings;
 mod fittings;
 pub mod motion;
 mod number;
+mod optimum;
+mod optimum_plot;
 mod outline;
 pub mod plot;
 mod provenance;
@@ -81,6 +84,7 @@ pub use cad::{ExportUnit, tube_triangles, tubes_stl};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
 pub use csv::{CSV_HEADER, rod_csv};
+pub use digits::significant;
 pub use environment::{MeshDiagnosticsResult, collect_environment};
 pub use findings::{
     Finding, FindingKind, FindingValue, bend_radii, find, findings_text, limits_stated,
@@ -91,6 +95,10 @@ pub use fittings::{
     CONNECTOR_RADIUS_FACTOR, Fitting, FittingKind, FittingPiece, fittings,
 };
 pub use number::{push_integer, push_number};
+pub use optimum::{
+    OptimumConstraint, OptimumDoc, OptimumIterate, OptimumObjective, OptimumParameter,
+};
+pub use optimum_plot::optimum_svg;
 pub use outline::{
     Aabb, FEATURE_ANGLE_RAD, MAX_OUTLINE_SEGMENTS, OUTLINE_MARGIN_M, collect_outlines,
     mesh_outline, region_around,
@@ -101,7 +109,8 @@ pub use plot::{
 };
 pub use provenance::{Provenance, fnv1a64, mixed_cases, utc};
 pub use report::{
-    MotionAxis, ReportInputError, ReportRun, check_result, motion_report_html, report_html,
+    MotionAxis, ReportInputError, ReportRun, ReportStudies, check_result, motion_report_html,
+    report_html, report_html_with_studies,
 };
 pub use result::{
     BodyResult, ClearanceResult, ContactResult, EnvironmentOutline, ReactionResult, ResultDoc,

@@ -215,6 +215,21 @@ pub struct SettingsError {
     pub requirement: &'static str,
 }
 
+impl SettingsError {
+    /// `Ok` when `value` is finite and > 0, else the error of setting `field`.
+    pub fn require_positive(field: &'static str, value: f64) -> Result<(), SettingsError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            Err(SettingsError {
+                field,
+                value,
+                requirement: "must be > 0",
+            })
+        }
+    }
+}
+
 impl SolverSettings {
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), SettingsError> {

@@ -4,6 +4,7 @@
 
 use strand_case::CaseError;
 use strand_solve::SolveError;
+use strand_solve::sensitivity::SensitivityError;
 
 use crate::batch::estimate::LimitError;
 use crate::batch::lock::LockError;
@@ -49,6 +50,15 @@ pub enum StudyError {
         origin: String,
         /// Why the solver could not start.
         source: Box<SolveError>,
+    },
+    /// The sensitivities of an equilibrium could not be computed (`origin` names the
+    /// case).
+    #[error("{origin}: sensitivities: {source}")]
+    Sensitivity {
+        /// The case file, as messages name it.
+        origin: String,
+        /// Why the derivatives failed.
+        source: Box<SensitivityError>,
     },
     /// A merge that found variants in none of the directories (nothing written).
     #[error(
@@ -101,8 +111,17 @@ impl StudyError {
             },
             StudyError::Lock(LockError::Io { .. })
             | StudyError::Io(_)
+            | StudyError::Sensitivity { .. }
             | StudyError::MergeIncomplete { .. } => ErrorKind::Io,
             StudyError::NotConverged(_) => ErrorKind::NotConverged,
+        }
+    }
+
+    /// The error of the sensitivities of a solution of `origin`.
+    pub fn sensitivity(origin: &str, source: SensitivityError) -> Self {
+        StudyError::Sensitivity {
+            origin: origin.to_string(),
+            source: Box::new(source),
         }
     }
 

@@ -3,7 +3,7 @@
 //! Strand as a library beyond a single solve: cases solved cold or warm-started,
 //! variants, studies that compare them, batches over a grid of varied parameters
 //! (parallel, warm-started along a continuation tree, resumable, shardable, merged,
-//! summarised) and sensitivities — the engine of the `strand` command line, which is
+//! summarised), sensitivities and design optimisation with exact gradients — the engine of the `strand` command line, which is
 //! a thin front end over this crate (argument parsing, progress bar, printing, exit
 //! codes).
 //!
@@ -54,7 +54,7 @@
 //! ```
 //!
 //! A small batch into a temporary folder and its results: see [`batch`]; a study of
-//! named variants: see [`study`].
+//! named variants: see [`study`]; the best design within bounds: see [`optimize`].
 
 pub mod batch;
 pub mod change;
@@ -63,6 +63,7 @@ pub mod findings;
 pub mod format;
 pub mod limits;
 pub mod motion;
+pub mod optimize;
 pub mod sensitivity;
 pub mod solve;
 pub mod study;

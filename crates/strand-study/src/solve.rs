@@ -168,3 +168,19 @@ pub fn write_result(
     write_results_in(dir, doc, &export_unit(built, unit))
         .map_err(|e| StudyError::Io(format!("{}: results not written: {e}", built.origin)))
 }
+
+/// Creates `dir` and writes each `(name, content)` into it atomically (a temporary
+/// file renamed: never a half-written file).
+pub fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        StudyError::Io(format!(
+            "{}: cannot create the output directory: {e}",
+            dir.display()
+        ))
+    })?;
+    for (name, content) in files {
+        strand_report::write_atomic(&dir.join(name), content)
+            .map_err(|e| StudyError::Io(format!("{}: {e}", dir.display())))?;
+    }
+    Ok(())
+}

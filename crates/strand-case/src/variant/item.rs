@@ -366,6 +366,19 @@ impl VariantItem {
             _ => None,
         }
     }
+
+    /// The case's own value of component `component` (0, 1, 2 for x, y, z) of gravity
+    /// (m/s²) or of a connector's position (m); `None` for other items.
+    pub fn case_component(self, file: &CaseFile, component: usize) -> Option<f64> {
+        match self {
+            Self::Gravity => file.gravity.get(component).copied(),
+            Self::ConnectorPosition(c) => {
+                let metres = LengthUnit::parse(&file.units.length)?.metres();
+                Some(file.connectors.get(c)?.1.position.get(component)? * metres)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// Resolves `<name>.<field>` (the item without its `junctions.`/`connectors.` prefix)

@@ -21,6 +21,7 @@ mod motion;
 mod plots;
 mod projection;
 mod provenance;
+mod studies;
 mod tables;
 
 pub(crate) use format::sig;
@@ -168,16 +169,41 @@ p.warning { background: #fff4e5; border-left: 4px solid #e69f00; padding: 6px 10
 
 /// The report page for `runs` (the first is the reference) under `title`.
 pub fn report_html(title: &str, runs: &[ReportRun]) -> String {
-    report_page(title, runs, None)
+    report_page(title, runs, None, &[])
+}
+
+/// The design studies of one result folder shown in the report: its
+/// `sensitivity.json` and `optimum.json`, if any.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ReportStudies<'a> {
+    /// The folder's sensitivities.
+    pub sensitivity: Option<&'a crate::SensitivityDoc>,
+    /// The folder's optimisation.
+    pub optimum: Option<&'a crate::OptimumDoc>,
+}
+
+/// [`report_html`] with a "Design studies" section: per run (the same order as
+/// `runs`; missing entries have none) its sensitivity table and optimisation history.
+pub fn report_html_with_studies(
+    title: &str,
+    runs: &[ReportRun],
+    studies: &[ReportStudies],
+) -> String {
+    report_page(title, runs, None, studies)
 }
 
 /// The report page of a motion: `runs` are its poses in order of `axis.values`; the
 /// page adds the worst pose of each quantity and plays the poses in the 3D view.
 pub fn motion_report_html(title: &str, runs: &[ReportRun], axis: &MotionAxis) -> String {
-    report_page(title, runs, Some(axis))
+    report_page(title, runs, Some(axis), &[])
 }
 
-fn report_page(title: &str, runs: &[ReportRun], axis: Option<&MotionAxis>) -> String {
+fn report_page(
+    title: &str,
+    runs: &[ReportRun],
+    axis: Option<&MotionAxis>,
+    studies: &[ReportStudies],
+) -> String {
     let mut html = String::with_capacity(64 * 1024);
     html.push_str("<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n");
     html.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"/>\n");
@@ -255,6 +281,20 @@ fn report_page(title: &str, runs: &[ReportRun], axis: Option<&MotionAxis>) -> St
     projection::push_projections(&mut html, runs);
     html.push_str("</div>\n");
 
+    if studies
+        .iter()
+        .any(|s| s.sensitivity.is_some() || s.optimum.is_some())
+    {
+        html.push_str("<h2 id=\"studies-section\">Design studies</h2>\n");
+        for (run, s) in runs.iter().zip(studies) {
+            if let Some(doc) = s.optimum {
+                studies::push_optimum(&mut html, run.label, doc);
+            }
+            if let Some(doc) = s.sensitivity {
+                studies::push_sensitivity(&mut html, run.label, doc);
+            }
+        }
+    }
     html.push_str("<h2>Peak values</h2>\n");
     tables::push_peaks(&mut html, runs);
     html.push_str("<h2>Differences against the reference</h2>\n");

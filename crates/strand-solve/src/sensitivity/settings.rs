@@ -60,17 +60,7 @@ impl Default for SensitivitySettings {
 impl SensitivitySettings {
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), SettingsError> {
-        let positive = |field, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(SettingsError {
-                    field,
-                    value,
-                    requirement: "must be > 0",
-                })
-            }
-        };
+        let positive = SettingsError::require_positive;
         positive("relative_step", self.relative_step)?;
         positive("output_relative_step", self.output_relative_step)?;
         positive("refinement_tolerance", self.refinement_tolerance)?;

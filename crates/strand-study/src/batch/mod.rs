@@ -15,6 +15,7 @@
 //! batch or after [`merge()`] — `summary.csv` ([`summary_csv`]) and `summary.svg`.
 //!
 //! - [`spec`]: parsing `--vary` (items, ranges, units, offsets vs values);
+//! - [`bounds`]: parsing the `--vary ITEM=LO..HI` bounds of `strand optimize`;
 //! - [`plan`]: grid, ids, warm-start tree, shards;
 //! - `run`: parallel execution, progress, resume;
 //! - [`merge()`]: combining shard directories.
@@ -51,6 +52,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bounds;
 mod checksum;
 mod cleanup;
 pub mod estimate;

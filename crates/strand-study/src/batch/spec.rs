@@ -26,7 +26,7 @@ pub const MAX_VALUES: usize = 10_000;
 
 /// Accepted unit suffixes of `quantity` with their size in the base unit (m, kg, N,
 /// m/s², 1), longest first so that `mm` is not read as `m`.
-fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
+pub(super) fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
     match quantity {
         Quantity::Length => &[("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)],
         Quantity::Mass => &[("kg", 1.0), ("g", 1e-3)],
@@ -71,7 +71,7 @@ pub struct SpecError {
     pub hint: String,
 }
 
-fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
+pub(super) fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> SpecError {
     SpecError {
         text: text.to_string(),
         message: message.into(),
@@ -81,13 +81,15 @@ fn fail(text: &str, message: impl Into<String>, hint: impl Into<String>) -> Spec
 
 /// A written number: its value in the base unit (m, kg, …; the case unit when no
 /// unit is given), whether it has a sign, and the unit written (if any).
-struct Number {
-    base_value: f64,
-    signed: bool,
-    unit: Option<&'static str>,
+pub(super) struct Number {
+    pub(super) base_value: f64,
+    pub(super) signed: bool,
+    pub(super) unit: Option<&'static str>,
 }
 
-fn parse_number(
+/// Parses `written` (a number of `quantity` with an optional unit; `default_size`:
+/// the size of the unit assumed when none is written) for option `text`.
+pub(super) fn parse_number(
     text: &str,
     written: &str,
     quantity: Quantity,
