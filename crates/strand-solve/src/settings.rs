@@ -117,6 +117,14 @@ pub struct SolverSettings {
     /// multiple of the system's load (weight plus dead end forces, N), so that the
     /// softened rods stretch by at most about its inverse.
     pub stiffness_load_ratio: f64,
+    /// Stiffness continuation: when the load floor
+    /// ([`SolverSettings::stiffness_load_ratio`]) rather than the bending sets the cap
+    /// (a limp cable under a load), first solve the system softened to
+    /// [`SolverSettings::stiffness_soft_ratio`] with every load scaled down to where
+    /// the floor meets that cap (the stretch bound is kept, and a limp cable's shape
+    /// does not depend on the size of its load), and start the softened start from it
+    /// (see `strand_solve::stiffness`). Default on.
+    pub stiffness_limp_start: bool,
     /// Stiffness continuation: the first growth factor of the cap.
     pub stiffness_first_growth: f64,
     /// Stiffness continuation: the largest growth factor of the cap per step (the
@@ -189,6 +197,7 @@ impl Default for SolverSettings {
             stiffness_threshold: 1e3,
             stiffness_soft_ratio: 3.0,
             stiffness_load_ratio: 30.0,
+            stiffness_limp_start: true,
             stiffness_first_growth: 1e3,
             stiffness_max_growth: 1e4,
             stiffness_min_growth: 1.5,

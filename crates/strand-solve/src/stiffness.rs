@@ -118,6 +118,25 @@ pub(crate) fn stiffen(
         ..step_settings.clone()
     };
     let mut state = initial;
+    if settings.stiffness_limp_start {
+        let limp = limp_start(
+            model,
+            constraints,
+            &state,
+            &SolverSettings {
+                tolerance_n: settings.tolerance_n,
+                ..start_settings.clone()
+            },
+            bending_scale,
+        )?;
+        if let Some(limp) = limp {
+            steps += 1;
+            iterations += limp.report.iterations;
+            if limp.report.converged {
+                state = limp.state;
+            }
+        }
+    }
     let mut ratio = settings.stiffness_soft_ratio;
     let mut growth = settings.stiffness_first_growth;
     let mut first = true;
@@ -203,6 +222,122 @@ pub(crate) fn stiffen(
     })
 }
 
+/// The factor `s ∈ [0, 1)` on the dead end loads at which the load floor of
+/// [`softened`] meets the bending cap of every rod: `stiffness_load_ratio · (weight +
+/// s · dead) = stiffness_soft_ratio · EI_min / h_min²` (the [`load_scale`] split into
+/// the rods' weight and the dead end forces). `None` when the dead loads do not raise
+/// the floor above that cap, or the weight alone does (the initial guess hangs the
+/// cable under its weight, not under dead loads, so a softened start set by the weight
+/// starts near its shape).
+pub fn limp_load_factor(system: &System, soft_ratio: f64, load_ratio: f64) -> Option<f64> {
+    let g = system.gravity.norm();
+    let (weight, dead) = system.rods.iter().fold((0.0, 0.0), |(weight, dead), spec| {
+        (
+            weight + spec.rod.section().mass_per_length * g * spec.rod.length(),
+            dead + spec.start.load.force.norm() + spec.end.load.force.norm(),
+        )
+    });
+    let softest_cap = system
+        .rods
+        .iter()
+        .map(|spec| {
+            let h = spec.rod.shortest_edge();
+            soft_ratio * spec.rod.section().curvature_stiffness().min() / (h * h)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let limp = load_ratio * weight <= softest_cap && softest_cap < load_ratio * (weight + dead);
+    let factor = (softest_cap / load_ratio - weight) / dead;
+    (limp && factor.is_finite()).then_some(factor.clamp(0.0, 1.0))
+}
+
+/// `system` with every dead end load (force and moment) scaled by `factor`; gravity
+/// as it is.
+fn scaled_dead_loads(system: &System, factor: f64) -> System {
+    let mut scaled = system.clone();
+    for spec in &mut scaled.rods {
+        for end in [&mut spec.start, &mut spec.end] {
+            end.load.force *= factor;
+            end.load.moment *= factor;
+        }
+    }
+    scaled
+}
+
+/// Phase "limp start" of stiffness continuation. A cable whose load dwarfs its
+/// bending stiffness at the scale of its edges (a limp cable under a dead load) gets
+/// its softened strain stiffness from the load floor ([`softened`]: at least
+/// `stiffness_load_ratio` × the load, so that it stretches by at most the inverse),
+/// not from its bending: its softened start is itself far stiffer in stretch than in
+/// bending, and a large change of shape of a part that the load does not tension (the
+/// slack part between a pin and a clip, which must turn its bow over) crawls along the
+/// narrow valley, `√(8 EI/(C h²))` rad per step. The same system with its dead end
+/// loads scaled by [`limp_load_factor`] has its cap at the bending scale with the same
+/// bound on the stretch, and the shape of a limp cable does not depend on the size of
+/// its load: solved first, it starts the softened start near its shape. Only dead
+/// loads are scaled: the initial guess already hangs a cable under its weight (and
+/// measured, a limp start at scaled gravity costs more than it saves).
+///
+/// Measured on grid case #110 (pin–free, `EI` = 1e-6 N·m², `EA/EI` = 1e12, 10 edges,
+/// tip load of 1 N, hinge clip): the softened start at `C h²/EI` = 4.5e5 took 147
+/// iterations turning the slack part's bow over (150 in all); with a limp start of 6
+/// iterations at the load factor 6.7e-6 the softened start takes 30 (39 in all). At
+/// that factor the tail's bending length `√(EI/F)` is 0.4 m, not yet limp (in a
+/// trial at factors 1e-4 and 1e-3, a stiffer cap, 15 and 18 iterations of limp start
+/// left 9 and 7 for the rest).
+///
+/// `start_settings` are those of the softened start with the caller's `tolerance_n`.
+/// `None` when the load floor does not set the cap (no limp start needed).
+fn limp_start(
+    model: &Model,
+    constraints: Option<&dyn Constraints>,
+    initial: &SystemState,
+    start_settings: &SolverSettings,
+    bending_scale: f64,
+) -> Result<Option<crate::Solution>, SolveError> {
+    let system = model.system();
+    let Some(factor) = limp_load_factor(
+        system,
+        start_settings.stiffness_soft_ratio,
+        start_settings.stiffness_load_ratio,
+    ) else {
+        return Ok(None);
+    };
+    let scaled = scaled_dead_loads(system, factor);
+    let Some(soft) = softened(
+        &scaled,
+        start_settings.stiffness_soft_ratio,
+        start_settings.stiffness_load_ratio,
+    ) else {
+        return Ok(None);
+    };
+    let soft_model = Model::try_new(soft).map_err(crate::InitialStateError::from)?;
+    // An intermediate step at its own force scale: the scaled load and the bending.
+    let tolerance = start_settings
+        .tolerance_n
+        .max(start_settings.stiffness_step_tolerance * (load_scale(&scaled) + bending_scale));
+    let floor_tolerance = start_settings.stiffness_step_floor_multiple
+        * crate::iteration::residual_floor(&soft_model);
+    let settings = SolverSettings {
+        tolerance_n: tolerance.max(floor_tolerance),
+        ..start_settings.clone()
+    };
+    let solution = solve_at(&soft_model, constraints, initial.clone(), &settings)?;
+    if std::env::var_os("STRAND_TRACE").is_some() {
+        eprintln!(
+            "strand-solve: limp start at load factor {factor:.2e}: {} ({:?}) in {} iterations, residual {:.2e} N",
+            if solution.report.converged {
+                "converged"
+            } else {
+                "failed"
+            },
+            solution.report.termination,
+            solution.report.iterations,
+            solution.report.residual.combined_n,
+        );
+    }
+    Ok(Some(solution))
+}
+
 /// One step of the ramp from `state`: the first Newton step takes its Hessian's stress
 /// terms from `stresses`, the edge forces of the last step (mixed Newton): the start's
 /// strains times the raised stiffness would be a force many times too large, and its
@@ -278,6 +413,85 @@ mod tests {
         let soft = softened(&system, 3.0, 100.0).unwrap();
         let ea = soft.rods[0].rod.section().axial_stiffness;
         assert!((ea - 490.5).abs() < 1e-9, "{ea}");
+    }
+
+    #[test]
+    fn a_limp_start_scales_only_dead_loads_and_only_when_they_set_the_cap() {
+        // EI = 1e-6 N·m², h = 0.1 m: the bending cap at ratio 3 is 3e-4 N.
+        let mut weightless = cantilever(1e6, 1e-6, 10, 0.0);
+        assert_eq!(limp_load_factor(&weightless, 3.0, 30.0), None, "no load");
+        weightless.rods[0].end = End::free().with_force(Vector3::new(0.0, 0.0, -2.0));
+        let factor = limp_load_factor(&weightless, 3.0, 30.0).unwrap();
+        assert!((30.0 * 2.0 * factor - 3e-4).abs() < 1e-15, "{factor}");
+        // The weight alone sets the floor: the guess already hangs the cable.
+        let heavy = cantilever(1e6, 1e-6, 10, 9.81);
+        assert_eq!(limp_load_factor(&heavy, 3.0, 30.0), None);
+        // A stiff rod: the bending cap (3e4 N) is above the floor (60 N).
+        let mut stiff = cantilever(1e10, 100.0, 10, 0.0);
+        stiff.rods[0].end = End::free().with_force(Vector3::new(0.0, 0.0, -2.0));
+        assert_eq!(limp_load_factor(&stiff, 3.0, 30.0), None);
+    }
+
+    #[test]
+    fn a_limp_start_turns_a_slack_part_over_in_fewer_iterations_to_the_same_equilibrium() {
+        // Convergence-map case #110 (here GJ = EI): a limp weightless cable (EI =
+        // 1e-6 N·m², EA = 1e6 N, 10 edges) pinned at the origin, through a hinge clip
+        // (about y) at its middle vertex, a dead force of 1 N at its free end. The
+        // slack pin–clip part starts bowed down and ends bowed up (the hinge turns
+        // about 1 rad towards the load): measured 168 iterations without the limp
+        // start, 31 with it.
+        use strand_system::{ClipSpec, Joint, Pose, RodHandle};
+        let along_x =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        let mut system = cantilever(1e6, 1e-6, 10, 0.0);
+        system.rods[0].start = End::pinned(Vector3::zeros());
+        system.rods[0].end = End::free().with_force(Vector3::new(0.3, 0.4, -0.866));
+        system.clips.push(ClipSpec {
+            name: "clip".into(),
+            body: None,
+            parent: None,
+            base: Pose {
+                position: Vector3::new(0.45, 0.0, -0.6 * 0.0475f64.sqrt()),
+                orientation: along_x,
+            },
+            joint: Joint::Revolute { axis: Vector3::y() },
+            offset: Pose {
+                position: Vector3::zeros(),
+                orientation: UnitQuaternion::identity(),
+            },
+            rod: RodHandle(0),
+            vertex: 5,
+            limits: None,
+        });
+        let model = Model::try_new(system).unwrap();
+        let start = initial_state(model.system());
+        let solve = |stiffness_limp_start| {
+            let settings = SolverSettings {
+                stiffness_limp_start,
+                ..SolverSettings::default()
+            };
+            crate::solve(&model, start.clone(), &settings).unwrap()
+        };
+        let (limp, plain) = (solve(true), solve(false));
+        println!(
+            "limp start {} vs without {} iterations",
+            limp.report.iterations, plain.report.iterations
+        );
+        assert!(limp.report.converged && plain.report.converged);
+        assert!(limp.report.stable && plain.report.stable);
+        assert!(
+            2 * limp.report.iterations < plain.report.iterations,
+            "limp start {} vs without {} iterations",
+            limp.report.iterations,
+            plain.report.iterations
+        );
+        for (a, b) in limp.state.rods[0]
+            .positions
+            .iter()
+            .zip(&plain.state.rods[0].positions)
+        {
+            assert!((a - b).norm() < 1e-8, "{a} vs {b}");
+        }
     }
 
     #[test]
