@@ -3,6 +3,8 @@
 //! ([`strand_case::motion::follow`]), and the events along a followed motion — the
 //! engine of `strand motion`, whose front end writes and prints each pose.
 
+pub mod run;
+
 use std::path::Path;
 
 use strand_case::motion::{MotionEvent, MotionStep, parse_value};
@@ -12,6 +14,8 @@ use strand_report::{ResultDoc, Timing, collect, name_connectors};
 
 use crate::error::{Result, StudyError};
 use crate::solve::add_contacts;
+
+pub use run::{MotionRun, follow_motion, step_id};
 
 fn invalid(message: String) -> StudyError {
     StudyError::Input(message)
