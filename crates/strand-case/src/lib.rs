@@ -88,6 +88,9 @@ pub struct Case {
     /// Environment meshes built so far, shared by clones of the case, its variants
     /// and batch runs (see [`EnvironmentCache`]).
     pub environment: EnvironmentCache,
+    /// Environment meshes (by name) that a motion pose moved ([`Case::at_pose`]), with
+    /// their rigid map (world, m): every build places them there.
+    placed: Vec<(String, nalgebra::Isometry3<f64>)>,
 }
 
 impl Case {
@@ -129,6 +132,7 @@ impl Case {
             origin: origin.to_string(),
             file,
             environment: EnvironmentCache::default(),
+            placed: Vec::new(),
         })
     }
 
@@ -140,12 +144,15 @@ impl Case {
 
     /// Builds `file` (this case's file, changed) with the case's name, origin and
     /// environment cache.
-    pub(crate) fn build_file(
-        &self,
+    pub(crate) fn build_file<'a>(
+        &'a self,
         file: &CaseFile,
         segments: Option<usize>,
-        extras: build::BuildExtras<'_>,
+        mut extras: build::BuildExtras<'a>,
     ) -> Result<BuiltCase, CaseError> {
+        if extras.moved_meshes.is_empty() {
+            extras.moved_meshes = &self.placed;
+        }
         build::build(
             &self.name,
             &self.origin,
@@ -229,6 +236,7 @@ impl Case {
             origin: self.origin.clone(),
             file: self.file_with_changes(label, changes)?,
             environment: self.environment.clone(),
+            placed: self.placed.clone(),
         })
     }
 

@@ -215,6 +215,10 @@ pub enum Command {
         /// solved in this run, like --keep.
         #[arg(long, value_enum, value_name = "UNIT")]
         export_unit: Option<ExportUnitArg>,
+        /// Solve every variant with the parts of a motion moved to a pose, as
+        /// `strand solve --motion` does: `--motion engine_roll=4deg`.
+        #[arg(long, value_name = "NAME=VALUE")]
+        motion: Option<String>,
     },
     /// Combine the directories of a sharded batch and write summary.csv and summary.svg.
     Merge {

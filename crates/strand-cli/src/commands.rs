@@ -161,6 +161,7 @@ pub(crate) fn execute(
             segments,
             retry_failed,
             export_unit: unit,
+            motion,
         } => crate::batch::run(
             strand_study::batch::BatchSpec {
                 case: case.clone(),
@@ -174,6 +175,7 @@ pub(crate) fn execute(
                 segments: segments.map(|n| n as usize),
                 retry_failed: *retry_failed,
                 export_unit: unit.map(ExportUnitArg::unit),
+                motion: motion.clone(),
             },
             out,
             err,

@@ -83,6 +83,87 @@ fn hinge_motion_writes_every_output() {
     }
 }
 
+/// The largest distance (m) between the vertices of the rods of two result documents.
+fn largest_vertex_distance_m(a: &serde_json::Value, b: &serde_json::Value) -> f64 {
+    let rods = a["rods"].as_array().unwrap();
+    assert_eq!(rods.len(), b["rods"].as_array().unwrap().len());
+    let mut largest: f64 = 0.0;
+    for r in 0..rods.len() {
+        let pa = a["rods"][r]["position_m"].as_array().unwrap();
+        let pb = b["rods"][r]["position_m"].as_array().unwrap();
+        assert_eq!(pa.len(), pb.len());
+        for (x, y) in pa.iter().zip(pb) {
+            let d: f64 = (0..3)
+                .map(|i| (x[i].as_f64().unwrap() - y[i].as_f64().unwrap()).powi(2))
+                .sum();
+            largest = largest.max(d.sqrt());
+        }
+    }
+    largest
+}
+
+#[test]
+fn a_batch_at_a_motion_pose_solves_every_variant_there() {
+    // `strand batch --motion engine_roll=4deg`: the `+0mm` variant is the case at
+    // that pose, so it must agree with `strand solve --motion engine_roll=4deg` (the
+    // moved engine mesh included: the contacts differ from the unposed case), and
+    // differ from the case at its own pose.
+    let tmp = tempfile::tempdir().unwrap();
+    let engine = case("cooler_hose_engine_roll.ron");
+    let batch = tmp.path().join("batch");
+    let (code, out, err) = strand(&[
+        "batch",
+        &engine,
+        "--vary",
+        "hose2.length=+0mm,+10mm",
+        "--motion",
+        "engine_roll=4deg",
+        "--keep",
+        "results",
+        "--out",
+        batch.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    let solve = |extra: &[&str], dir: &Path| {
+        let mut args = vec!["solve", engine.as_str(), "--out", dir.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let (code, out, err) = strand(&args);
+        assert_eq!(code, Some(0), "{out}{err}");
+        read(&dir.join("result.json"))
+    };
+    let posed = solve(&["--motion", "engine_roll=4deg"], &tmp.path().join("posed"));
+    let unposed = solve(&[], &tmp.path().join("unposed"));
+    let variant = read(&batch.join("variants/hose2.length_p0mm/result.json"));
+    assert_eq!(variant["converged"], true);
+    assert!(largest_vertex_distance_m(&variant, &posed) < 1e-7);
+    assert_eq!(
+        variant["contacts"].as_array().unwrap().len(),
+        posed["contacts"].as_array().unwrap().len()
+    );
+    assert!(
+        (variant["energy_J"].as_f64().unwrap() - posed["energy_J"].as_f64().unwrap()).abs() < 1e-9
+    );
+    assert!(largest_vertex_distance_m(&variant, &unposed) > 1e-4);
+    // A pose the case has no motion for is a clear error, with nothing written.
+    let bad = tmp.path().join("bad");
+    let (code, _, err) = strand(&[
+        "batch",
+        &engine,
+        "--vary",
+        "hose2.length=+0mm,+10mm",
+        "--motion",
+        "door=4deg",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("door") && err.contains("engine_roll"), "{err}");
+    assert!(!bad.exists());
+}
+
 #[test]
 fn bad_motion_input_is_a_clear_error_with_nothing_written() {
     let tmp = tempfile::tempdir().unwrap();

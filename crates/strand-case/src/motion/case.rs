@@ -72,13 +72,39 @@ impl Case {
         self.build_pose(name, value, segments, Some(warm))
     }
 
-    fn build_pose(
+    /// The case with the parts riding on motion `name` moved to parameter `value` (the
+    /// motion's unit), as one fixed pose: its file has the moved connectors, junctions,
+    /// clip bases and routes, and every build of it (its variants and batches too)
+    /// places the moving meshes there. Errors as for [`Case::build_motion`]; a case
+    /// already at a pose cannot be moved again.
+    pub fn at_pose(&self, name: &str, value: f64) -> Result<Case, CaseError> {
+        if !self.placed.is_empty() {
+            let report = Reporter {
+                origin: &self.origin,
+            };
+            return Err(report.invalid(
+                format!("motions '{name}'"),
+                "the case is already at a motion pose".to_string(),
+                "give one --motion pose",
+            ));
+        }
+        let (file, meshes, _) = self.moved_at(name, value)?;
+        Ok(Case {
+            name: self.name.clone(),
+            origin: self.origin.clone(),
+            file,
+            environment: self.environment.clone(),
+            placed: meshes,
+        })
+    }
+
+    /// The case file at pose `value` of motion `name`, the moved meshes and the pose's
+    /// label for messages.
+    fn moved_at(
         &self,
         name: &str,
         value: f64,
-        segments: Option<usize>,
-        warm: Option<&SystemState>,
-    ) -> Result<BuiltCase, CaseError> {
+    ) -> Result<(crate::schema::CaseFile, super::place::MovedMeshes, String), CaseError> {
         let motion = self.motion(name)?;
         let at = format!("{name} = {value} {}", motion.unit);
         let report = Reporter {
@@ -97,6 +123,17 @@ impl Case {
         // `self.motion` has checked the length unit.
         let unit = LengthUnit::parse(&self.file.units.length).unwrap_or(LengthUnit::Metre);
         let (file, meshes) = moved(&report, unit, &self.file, name, &map)?;
+        Ok((file, meshes, at))
+    }
+
+    fn build_pose(
+        &self,
+        name: &str,
+        value: f64,
+        segments: Option<usize>,
+        warm: Option<&SystemState>,
+    ) -> Result<BuiltCase, CaseError> {
+        let (file, meshes, at) = self.moved_at(name, value)?;
         let extras = build::BuildExtras {
             moved_meshes: &meshes,
             warm,

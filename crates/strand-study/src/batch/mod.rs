@@ -143,6 +143,10 @@ pub struct BatchSpec {
     /// Length unit of each variant's exported geometry (with [`Keep::All`]; default:
     /// the case's), for the variants solved in this run.
     pub export_unit: Option<strand_report::ExportUnit>,
+    /// `NAME=VALUE`: solve every variant with the parts of motion `NAME` moved to
+    /// pose `VALUE` (the motion's unit), as `strand solve --motion` does; none: the
+    /// case's own pose.
+    pub motion: Option<String>,
 }
 
 impl BatchSpec {
@@ -160,6 +164,7 @@ impl BatchSpec {
             segments: None,
             retry_failed: false,
             export_unit: None,
+            motion: None,
         }
     }
 }
@@ -302,6 +307,13 @@ impl Batch {
     /// [`Case::with_changes`], or read from a string. `batch.json` records
     /// `case.origin` and the fingerprint of the changed file.
     pub fn plan_case(case: Case, spec: BatchSpec) -> Result<Self> {
+        let case = match spec.motion.as_deref() {
+            Some(pose) => {
+                let (name, value, _) = crate::motion::parse_pose(&case, pose)?;
+                case.at_pose(&name, value)?
+            }
+            None => case,
+        };
         if spec.vary.is_empty() {
             return Err(StudyError::Input(
                 "strand batch needs at least one --vary, e.g. --vary hose2.length=+0mm..+100mm:10mm"
