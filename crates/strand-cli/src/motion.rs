@@ -165,7 +165,7 @@ pub(crate) fn run(
             }
         );
     }
-    worst_lines(out, solved, &unit, metres, symbol);
+    worst_lines(out, solved, unit, metres, symbol);
     for env in &envelopes {
         let _ = writeln!(
             out,
