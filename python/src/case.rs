@@ -16,15 +16,60 @@ use strand_report::Timing;
 use strand_study::StudyError;
 use strand_study::change::parse_change;
 use strand_study::limits::check_case;
+use strand_study::motion::parse_pose;
 use strand_study::solve::{check_start, cold_start_warning, result_doc, solve_cold, solve_warm};
 
 use crate::errors::{Stage, case_error, to_py};
 use crate::solved::{Outcome, Solved};
 
-/// How a case is written down: enough to make it again anywhere (pickling).
-pub type CaseState = (String, String, String, Option<String>, Vec<String>);
+/// How a case is written down: enough to make it again anywhere (pickling). The
+/// steps are `("change", "ITEM=VALUE")` or `("pose", "NAME=VALUE")`, in order.
+pub type CaseState = (
+    String,
+    String,
+    String,
+    Option<String>,
+    Vec<(String, String)>,
+);
+
+/// One thing applied to the case after its named variant.
+#[derive(Clone)]
+enum Step {
+    /// A change as written (`hose2.length=+30mm`) and parsed.
+    Change(String, VariantChange),
+    /// A pose of a motion: the motion, its parameter value (the motion's unit) and
+    /// the pose as `strand solve --motion` labels it (`engine_roll=4deg`).
+    Pose {
+        motion: String,
+        value: f64,
+        label: String,
+    },
+}
+
+impl Step {
+    fn label(&self) -> &str {
+        match self {
+            Step::Change(text, _) => text,
+            Step::Pose { label, .. } => label,
+        }
+    }
+}
+
+/// The label of `steps` (changes only) and their changes.
+fn changes_of(steps: &[Step]) -> (String, Vec<VariantChange>) {
+    let label: Vec<&str> = steps.iter().map(Step::label).collect();
+    let changes = steps
+        .iter()
+        .filter_map(|s| match s {
+            Step::Change(_, c) => Some(c.clone()),
+            Step::Pose { .. } => None,
+        })
+        .collect();
+    (label.join(", "), changes)
+}
 
 /// A case and what was applied to it.
+#[derive(Clone)]
 pub struct CaseSpec {
     /// The RON text as read.
     text: String,
@@ -34,10 +79,10 @@ pub struct CaseSpec {
     variant: Option<String>,
     /// The case with the variant applied (`base` when none).
     start: Case,
-    /// The changes applied on top, as written (`hose2.length=+30mm`) and parsed.
-    changes: Vec<(String, VariantChange)>,
-    /// The case with everything applied: what a batch varies and what changes are
-    /// parsed against.
+    /// The changes and the motion pose (at most one) applied on top, in order.
+    steps: Vec<Step>,
+    /// The case with everything applied: what a batch varies, what changes are
+    /// parsed against and what a motion follows.
     pub current: Case,
 }
 
@@ -53,103 +98,158 @@ impl CaseSpec {
             current: base.clone(),
             base,
             variant: None,
-            changes: Vec::new(),
+            steps: Vec::new(),
         })
     }
 
-    /// The label of the changes alone (`a=1, b=2`).
-    fn changes_label(&self) -> String {
-        let texts: Vec<&str> = self.changes.iter().map(|(t, _)| t.as_str()).collect();
-        texts.join(", ")
+    /// The case of RON `text`, named in messages `origin` (mesh paths relative to its
+    /// folder), its name `name` (default: the file stem of `origin`).
+    pub fn from_text(text: String, origin: &str, name: Option<String>) -> Result<Self, StudyError> {
+        let case = Case::from_str(&text, origin)?;
+        Self::new(text, case, name)
     }
 
-    /// What `result.json` calls this case's variant: the named variant and the
-    /// changes, or `None` for the case as read.
+    /// What `result.json` calls this case's variant: the named variant, the changes
+    /// and the pose, or `None` for the case as read.
     pub fn label(&self) -> Option<String> {
-        let mut parts: Vec<String> = self.variant.iter().cloned().collect();
-        if !self.changes.is_empty() {
-            parts.push(self.changes_label());
-        }
+        let mut parts: Vec<&str> = self.variant.iter().map(String::as_str).collect();
+        parts.extend(self.steps.iter().map(Step::label));
         (!parts.is_empty()).then(|| parts.join(", "))
     }
 
+    /// This case with `step` applied on top (the case so applied: `current`).
+    fn with_step(&self, step: Step, current: Case) -> Self {
+        let mut spec = self.clone();
+        spec.steps.push(step);
+        spec.current = current;
+        spec
+    }
+
     fn with_variant(&self, name: &str) -> Result<Self, StudyError> {
-        if self.variant.is_some() || !self.changes.is_empty() {
+        if self.variant.is_some() || !self.steps.is_empty() {
             return Err(StudyError::Input(format!(
-                "{}: variant '{name}': apply a named variant to the case as read, before any other variant or change",
+                "{}: variant '{name}': apply a named variant to the case as read, before any other variant, change or motion pose",
                 self.base.origin
             )));
         }
-        let file = self.base.variant_file(name)?;
-        let start = Case {
-            file,
-            ..self.base.clone()
-        };
+        let start = self.base.with_variant(name)?;
         Ok(Self {
             text: self.text.clone(),
             base: self.base.clone(),
             variant: Some(name.to_string()),
             current: start.clone(),
             start,
-            changes: Vec::new(),
+            steps: Vec::new(),
         })
     }
 
     /// Parses every change against the case as changed so far (so that a second
     /// change of one item starts from the first) and applies it.
     fn with_changes(&self, texts: &[String]) -> Result<Self, StudyError> {
-        let mut changes = self.changes.clone();
-        let mut current = self.current.clone();
+        let mut spec = self.clone();
         for text in texts {
-            let change = parse_change(&current, text)?;
-            current = current.with_changes(text, std::slice::from_ref(&change))?;
-            changes.push((text.clone(), change));
+            let change = parse_change(&spec.current, text)?;
+            let current = spec
+                .current
+                .with_changes(text, std::slice::from_ref(&change))?;
+            spec = spec.with_step(Step::Change(text.clone(), change), current);
         }
-        Ok(Self {
-            text: self.text.clone(),
-            base: self.base.clone(),
-            variant: self.variant.clone(),
-            start: self.start.clone(),
-            changes,
-            current,
-        })
+        Ok(spec)
     }
 
-    /// Validates and builds the model, as `strand solve` (`--variant`) and `strand
-    /// batch` do: errors name the variant or the changes.
+    /// The case at pose `NAME=VALUE` of one of its motions, as `strand solve
+    /// --motion` and `strand batch --motion` take it (`engine_roll=4deg`; the value in
+    /// the motion's unit, the unit optional): the moving parts moved, for this case's
+    /// solves, batches and later changes. Errors as the command line's.
+    pub fn with_pose(&self, pose: &str) -> Result<Self, StudyError> {
+        let (motion, value, unit) = parse_pose(&self.current, pose)?;
+        let current = self.current.at_pose(&motion, value)?;
+        let label = format!("{motion}={value}{unit}");
+        Ok(self.with_step(
+            Step::Pose {
+                motion,
+                value,
+                label,
+            },
+            current,
+        ))
+    }
+
+    /// Whether a motion pose is applied.
+    pub fn posed(&self) -> bool {
+        self.steps.iter().any(|s| matches!(s, Step::Pose { .. }))
+    }
+
+    /// Validates and builds the model, as `strand solve` (`--variant`, `--motion`)
+    /// and `strand batch` do: errors name the variant, the changes or the pose.
     pub fn build(&self, segments: Option<usize>) -> Result<BuiltCase, StudyError> {
-        Ok(match (&self.variant, self.changes.is_empty()) {
-            (None, true) => self.base.build(segments)?,
-            (Some(name), true) => self.base.build_variant(name, segments)?,
-            (_, false) => {
-                let all: Vec<VariantChange> = self.changes.iter().map(|(_, c)| c.clone()).collect();
-                self.start
-                    .build_with_changes(&self.changes_label(), &all, segments)?
+        let pose = self
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Pose { .. }));
+        Ok(match (pose, &self.variant, self.steps.is_empty()) {
+            (_, None, true) => self.base.build(segments)?,
+            (_, Some(name), true) => self.base.build_variant(name, segments)?,
+            (None, _, false) => {
+                let (label, changes) = changes_of(&self.steps);
+                self.start.build_with_changes(&label, &changes, segments)?
+            }
+            (Some(k), _, false) => {
+                let Step::Pose { motion, value, .. } = &self.steps[k] else {
+                    unreachable!("a pose step")
+                };
+                let (before, after) = (&self.steps[..k], &self.steps[k + 1..]);
+                let unposed = if before.is_empty() {
+                    self.start.clone()
+                } else {
+                    let (label, changes) = changes_of(before);
+                    self.start.with_changes(&label, &changes)?
+                };
+                if after.is_empty() {
+                    // `strand solve --motion`'s build.
+                    unposed.build_motion(motion, *value, segments)?
+                } else {
+                    let (label, changes) = changes_of(after);
+                    unposed
+                        .at_pose(motion, *value)?
+                        .build_with_changes(&label, &changes, segments)?
+                }
             }
         })
     }
 
     /// The case written down.
     pub fn state(&self) -> CaseState {
+        let steps = self
+            .steps
+            .iter()
+            .map(|s| match s {
+                Step::Change(text, _) => ("change".to_string(), text.clone()),
+                Step::Pose { label, .. } => ("pose".to_string(), label.clone()),
+            })
+            .collect();
         (
             self.text.clone(),
             self.base.origin.clone(),
             self.base.name.clone(),
             self.variant.clone(),
-            self.changes.iter().map(|(t, _)| t.clone()).collect(),
+            steps,
         )
     }
 
     /// The case of `state`, read and changed again.
     pub fn from_state(state: &CaseState) -> Result<Self, StudyError> {
-        let (text, origin, name, variant, changes) = state;
+        let (text, origin, name, variant, steps) = state;
         let base = Case::from_str(text, origin)?;
         let mut spec = Self::new(text.clone(), base, Some(name.clone()))?;
         if let Some(variant) = variant {
             spec = spec.with_variant(variant)?;
         }
-        if !changes.is_empty() {
-            spec = spec.with_changes(changes)?;
+        for (kind, text) in steps {
+            spec = match kind.as_str() {
+                "pose" => spec.with_pose(text)?,
+                _ => spec.with_changes(std::slice::from_ref(text))?,
+            };
         }
         Ok(spec)
     }
@@ -229,6 +329,7 @@ fn solve_error(f: StudyError) -> PyErr {
     to_py(f, Stage::Solve)
 }
 
+/// `spec` as a Python case, or its error as the exception.
 fn wrap(spec: Result<CaseSpec, StudyError>) -> PyResult<PyCase> {
     Ok(PyCase {
         spec: Arc::new(spec.map_err(solve_error)?),
@@ -336,6 +437,40 @@ impl PyCase {
             .detach(|| strand_study::sensitivity::solve_and_differentiate(case, &params))
             .map_err(solve_error)?;
         serde_json::to_string(&doc).map_err(|e| crate::errors::raise("StrandError", e.to_string()))
+    }
+
+    /// The case at pose `NAME=VALUE` of one of its motions (`strand solve --motion`).
+    fn at_pose(&self, pose: &str) -> PyResult<PyCase> {
+        wrap(self.spec.with_pose(pose))
+    }
+
+    /// `strand motion` over `range` of motion `motion` (GIL released): see
+    /// [`crate::motion::FollowedMotion`].
+    #[pyo3(signature = (motion, range, segments=None, predictor="secant"))]
+    fn motion(
+        &self,
+        py: Python<'_>,
+        motion: &str,
+        range: &str,
+        segments: Option<usize>,
+        predictor: &str,
+    ) -> PyResult<crate::motion::FollowedMotion> {
+        let spec = &self.spec;
+        py.detach(|| crate::motion::follow(spec, motion, range, segments, predictor))
+            .map_err(solve_error)
+    }
+
+    /// `strand optimize` (GIL released): see [`crate::optimize::OptimizeOutput`].
+    fn optimize(
+        &self,
+        py: Python<'_>,
+        vary: Vec<String>,
+        minimize: &str,
+        subject_to: Vec<String>,
+    ) -> PyResult<crate::optimize::OptimizeOutput> {
+        let spec = &self.spec;
+        py.detach(|| crate::optimize::optimize(spec, &vary, minimize, &subject_to))
+            .map_err(solve_error)
     }
 
     /// The case written down (for pickling).

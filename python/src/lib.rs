@@ -1,12 +1,15 @@
 //! `strand._strand`: the compiled core of the Python package `strand` (see
 //! `python/strand/__init__.py` for the public API). It binds the library crates the
 //! `strand` binary is a front end of, `strand-study` (solves, result documents,
-//! changes, batches, sensitivities) and `strand-case`: the same code paths, result
-//! documents and messages as the `strand` binary. Every solve releases the GIL.
+//! changes, batches, sensitivities, optimisation, motions) and `strand-case`: the
+//! same code paths, result documents and messages as the `strand` binary. Every
+//! solve releases the GIL.
 
 mod batch;
 mod case;
 mod errors;
+mod motion;
+mod optimize;
 mod solved;
 mod state;
 

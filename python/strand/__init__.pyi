@@ -77,6 +77,64 @@ class Result:
     def check(self) -> "Result":
         """Self, or NotConvergedError."""
 
+class Pose:
+    """One solved pose of a followed motion."""
+
+    id: str
+    """Its folder under ``steps/`` in ``strand motion``'s output (``000``, …)."""
+    value: float
+    """The motion's parameter, in the motion's unit (deg, or the case's length unit)."""
+    solves: int
+    iterations: int
+    result: Result
+    """``steps/<id>/result.json`` (SI units)."""
+
+class Motion:
+    """A case followed over a range of one of its motions (``strand motion``)."""
+
+    motion: str
+    unit: str
+    """The motion parameter's unit (``deg``, ``mm``)."""
+    poses: List[Pose]
+    """Solved poses in order of the value."""
+    events: List[Dict[str, Any]]
+    """``events.csv``: ``kind``, ``what``, ``between`` [from, to], ``at`` (motion's unit), ``detail``."""
+    failed: List[Dict[str, Any]]
+    """Directions that ended early: ``value``, ``reached`` (motion's unit), ``reason``."""
+    complete: bool
+    following_s: float
+    """Wall time of the path following, s."""
+    csv: str
+    """``motion.csv`` (lengths in the case's unit)."""
+    @property
+    def values(self) -> List[float]: ...
+    @property
+    def results(self) -> List[Result]: ...
+    def rows(self) -> List[Dict[str, Any]]:
+        """``motion.csv``'s rows as dicts."""
+
+class Optimum:
+    """The best design of ``strand optimize``."""
+
+    case_file: str
+    """``<case>_optimum.ron``."""
+    case_text: str
+    """The optimal case file's text (paths absolute)."""
+    case: "Case"
+    result: Result
+    """The optimum's ``result.json`` (variant ``optimum``)."""
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def values(self) -> Dict[str, float]:
+        """Optimal value per variable, in its unit (mm, kg, N, m/s²)."""
+    @property
+    def objective(self) -> float:
+        """The objective at the optimum (N, N·m, J, m as named)."""
+    def to_dict(self) -> Dict[str, Any]:
+        """``optimum.json`` as a dict."""
+    def to_json(self) -> str: ...
+
 class Case:
     """A case file, possibly with a named variant and changes applied (immutable)."""
 
@@ -99,6 +157,25 @@ class Case:
     def solve(self, warm_start: Optional[Result] = None, segments: Optional[int] = None) -> Result: ...
     def sensitivity(self, params: Sequence[str]) -> Dict[str, Any]:
         """``sensitivity.json``: derivatives per unit of each parameter."""
+    def at_pose(self, motion: str, value: Value) -> "Case":
+        """The case at a pose of a motion (``strand solve --motion engine_roll=4deg``);
+        ``value`` as ``"4deg"`` or a number in the motion's unit."""
+    def motion(
+        self,
+        motion: str,
+        range: str,
+        predictor: Literal["secant", "tangent", "last"] = ...,
+        segments: Optional[int] = ...,
+    ) -> Motion:
+        """``strand motion --motion NAME --range FROM..TO:STEP`` (motion's unit)."""
+    def optimize(
+        self,
+        vary: Mapping[str, str],
+        minimize: str = ...,
+        subject_to: Sequence[str] = ...,
+    ) -> Optimum:
+        """``strand optimize``: ``vary={"hose2.length": "150mm..300mm"}``,
+        ``minimize="peak_force"`` (N), ``subject_to=["bend_radius:hose2>=60mm"]``."""
 
 def batch(
     case: Case,
@@ -113,3 +190,4 @@ def batch(
     ``as_frame`` is not False), else a list of dicts (one per variant)."""
 
 def parse_summary(text: str) -> List[Dict[str, Any]]: ...
+def parse_motion_csv(text: str) -> List[Dict[str, Any]]: ...

@@ -9,6 +9,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 from . import _strand
 from ._errors import StrandWarning
+from ._motion import Motion
+from ._optimize import Optimum
 from ._result import Result
 from ._values import Value, item_texts, value_text
 
@@ -111,6 +113,61 @@ class Case:
         if isinstance(params, str):
             params = [params]
         return json.loads(self._case.sensitivity(list(params)))
+
+    def at_pose(self, motion: str, value: Value) -> "Case":
+        """The case with the parts riding on motion ``motion`` moved to its parameter
+        ``value`` (``"4deg"``, or a number in the motion's unit: deg or the case's
+        length unit), as ``strand solve --motion motion=value`` solves it and
+        ``strand batch --motion`` varies it: every later solve, change, batch,
+        sensitivity and optimisation of the returned case is at that pose. Its label
+        is ``engine_roll=4deg``. Raises :class:`strand.InputError` with the command
+        line's message (an unknown motion lists the defined ones; a value outside the
+        keyframes or out of a held end's reach names the pose)."""
+        return Case(self._case.at_pose(f"{motion}={value_text(value)}"))
+
+    def motion(
+        self,
+        motion: str,
+        range: str,
+        predictor: str = "secant",
+        segments: Optional[int] = None,
+    ) -> Motion:
+        """Follows the case over ``range`` (``"-8deg..8deg:2deg"``: FROM..TO:STEP in
+        the motion's unit, the grammar of ``strand motion --range``) of its motion
+        ``motion`` from its own pose in both directions, warm-started pose to pose, as
+        ``strand motion`` does (GIL released). ``predictor``: where each step starts,
+        ``"secant"`` (of the last two poses, the default), ``"tangent"`` (the exact
+        path tangent, second order) or ``"last"`` (the last pose). ``segments``
+        overrides every rod's number of segments. Returns a :class:`strand.Motion`:
+        the poses' results (each the ``result.json`` of ``steps/<id>/``), the events,
+        ``motion.csv``. A direction that cannot be followed ends there (``failed``;
+        ``complete`` False) rather than raising; a bad motion name or range raises
+        :class:`strand.InputError` with the command line's message."""
+        return Motion(self._case.motion(motion, range, segments, predictor))
+
+    def optimize(
+        self,
+        vary: Mapping[str, str],
+        minimize: str = "peak_force",
+        subject_to: Sequence[str] = (),
+    ) -> Optimum:
+        """Finds the best design within bounds with exact gradients, as ``strand
+        optimize`` does (GIL released). ``vary``: design variables and their bounds in
+        the grammar of ``--vary NAME=LO..HI``, ``{"hose2.length": "150mm..300mm"}``
+        (values; signed bounds such as ``"-60mm..+20mm"`` are offsets from the case).
+        ``minimize``: ``"peak_force"`` (the largest peak |f| over all rods, N),
+        ``"peak_force:<rod>"``, ``"max_reaction"`` (N), ``"energy"`` (J) or an output
+        name of ``sensitivity.json``. ``subject_to``: constraints such as
+        ``"bend_radius:hose2>=60mm"``, ``"clearance>=10mm"``, ``"bend_radius>=min"``.
+        Returns a :class:`strand.Optimum` (``to_dict()`` is ``optimum.json``; a run
+        that did not converge has ``converged`` False). Bad options raise
+        :class:`strand.InputError` with the command line's message (naming
+        ``--vary``, ``--minimize`` or ``--subject-to``); a starting design without an
+        equilibrium :class:`strand.NotConvergedError`."""
+        if isinstance(subject_to, str):
+            subject_to = [subject_to]
+        texts = item_texts(vary, value_text)
+        return Optimum(self._case.optimize(texts, minimize, list(subject_to)))
 
     def __reduce__(self):
         return (_from_state, (self._case.state(),))

@@ -178,6 +178,20 @@ impl Case {
         variant::apply(&report, &self.file, name)
     }
 
+    /// The case with its named variant `name` applied to its file (see
+    /// [`Case::variant_file`]), not yet validated: same name, origin, environment
+    /// cache and motion pose. [`Case::build_variant`] builds it with the build's
+    /// errors naming the variant.
+    pub fn with_variant(&self, name: &str) -> Result<Case, CaseError> {
+        Ok(Case {
+            name: self.name.clone(),
+            origin: self.origin.clone(),
+            file: self.variant_file(name)?,
+            environment: self.environment.clone(),
+            placed: self.placed.clone(),
+        })
+    }
+
     /// Validates variant `name` of the case and builds its model, like [`Case::build`]
     /// (`segments` overrides every rod's number of segments, the variant's included).
     /// Errors in the changed file name the variant.

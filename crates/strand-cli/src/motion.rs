@@ -14,31 +14,19 @@ use std::path::Path;
 use std::time::Instant;
 
 use strand_case::Case;
-use strand_case::motion::{
-    FollowSettings, MotionEvent, MotionRange, MotionStep, Predictor, follow,
-};
-use strand_report::motion::{
-    MotionRow, WorstKind, envelope_obj, events_csv, motion_csv, motion_svg, worst_poses,
-};
+use strand_case::motion::{MotionStep, Predictor};
+use strand_report::motion::{WorstKind, envelope_obj, events_csv, motion_svg, worst_poses};
 use strand_report::{ResultDoc, Timing, write_atomic, write_results_in};
-use strand_study::motion::{SolvedPose as Solved, build_pose, events_of, step_doc};
+use strand_study::StudyError;
+use strand_study::motion::{SolvedPose as Solved, build_pose, follow_motion};
 
 use crate::Exit;
 use crate::commands::Failure;
 use crate::summary::number;
 
-fn invalid(message: String) -> Failure {
-    Failure {
-        exit: Exit::InvalidInput,
-        message,
-    }
-}
-
-fn write_failure(origin: &str, e: impl std::fmt::Display) -> Failure {
-    Failure {
-        exit: Exit::Failure,
-        message: format!("{origin}: results not written: {e}"),
-    }
+/// The I/O error of writing results of `origin` (exit 1).
+fn write_failure(origin: &str, e: impl std::fmt::Display) -> StudyError {
+    StudyError::Io(format!("{origin}: results not written: {e}"))
 }
 
 /// `strand solve CASE --motion NAME=VALUE`: the case at one pose, solved cold.
@@ -72,12 +60,6 @@ pub(crate) fn solve_pose(
     crate::commands::write_solved(&solved, dir, out, err)
 }
 
-/// The folder name of pose `k` of `count`.
-fn step_id(k: usize, count: usize) -> String {
-    let width = count.saturating_sub(1).to_string().len().max(3);
-    format!("{k:0width$}")
-}
-
 /// `strand motion`.
 pub(crate) fn run(
     path: &Path,
@@ -92,116 +74,45 @@ pub(crate) fn run(
     let started = Instant::now();
     let case = Case::from_path(path)?;
     strand_study::limits::check_case(&case)?;
-    let pose = case.motion(motion)?;
-    let range = MotionRange::parse(range, motion, &pose.unit)
-        .map_err(|e| invalid(format!("{}: --range: {e}", case.origin)))?;
-    let values = range.values();
-    for v in [range.from, range.to] {
-        if !pose.contains(v) {
-            return Err(invalid(format!(
-                "{}: --range: {v} {} is outside motion '{motion}''s keyframes ({}..{} {})\n  hint: choose a range within the keyframes, or add keyframes that cover it",
-                case.origin, pose.unit, pose.domain.0, pose.domain.1, pose.unit
-            )));
-        }
-    }
     let dir = dir
         .map(Path::to_path_buf)
         .unwrap_or_else(|| Path::new("out").join(format!("{}-{motion}", case.name)));
-    let ids: Vec<(f64, String)> = values
-        .iter()
-        .enumerate()
-        .map(|(k, v)| (*v, step_id(k, values.len())))
-        .collect();
-    let id_of = |v: f64| {
-        ids.iter()
-            .find(|(x, _)| *x == v)
-            .map(|(_, id)| id.clone())
-            .unwrap_or_default()
-    };
-    let label = |v: f64| format!("{motion}={v}{}", pose.unit);
-    let mut solved: Vec<Solved> = Vec::new();
-    let mut path_events: Vec<(f64, MotionEvent)> = Vec::new();
-    let mut failure: Option<Failure> = None;
+    let parameter_unit = case.motion(motion)?.unit;
     let mut writing_s = 0.0;
-    let following = Instant::now();
-    let end = follow(
+    let run = follow_motion(
         &case,
         motion,
-        &values,
-        range.step,
+        range,
         segments,
-        &FollowSettings {
-            predictor,
-            ..FollowSettings::default()
-        },
-        &mut |step: MotionStep| {
-            if failure.is_some() {
-                return;
-            }
-            let id = id_of(step.value);
+        predictor,
+        &mut |step: &MotionStep, pose: &Solved| {
             let writing = Instant::now();
             let _count = WriteTime(&mut writing_s, writing);
-            match step_doc(&step, &label(step.value)) {
-                Ok(doc) => {
-                    let unit = strand_study::solve::export_unit(&step.built, None);
-                    if let Err(e) = write_results_in(&dir.join("steps").join(&id), &doc, &unit) {
-                        failure = Some(write_failure(&step.built.origin, e));
-                        return;
-                    }
-                    let _ = writeln!(
-                        out,
-                        "{:>10} {}  {}  {} iteration(s) in {} solve(s){}",
-                        number(step.value),
-                        pose.unit,
-                        if doc.converged { "ok" } else { "not converged" },
-                        step.iterations,
-                        step.solves,
-                        if doc.stable { "" } else { "  UNSTABLE" }
-                    );
-                    path_events.extend(step.events.iter().map(|e| (step.value, e.clone())));
-                    solved.push(Solved {
-                        id,
-                        value: step.value,
-                        doc,
-                        solves: step.solves,
-                        iterations: step.iterations,
-                    });
-                }
-                Err(f) => failure = Some(f.into()),
-            }
+            let unit = strand_study::solve::export_unit(&step.built, None);
+            write_results_in(&dir.join("steps").join(&pose.id), &pose.doc, &unit)
+                .map_err(|e| write_failure(&step.built.origin, e))?;
+            let _ = writeln!(
+                out,
+                "{:>10} {}  {}  {} iteration(s) in {} solve(s){}",
+                number(step.value),
+                parameter_unit,
+                if pose.doc.converged {
+                    "ok"
+                } else {
+                    "not converged"
+                },
+                step.iterations,
+                step.solves,
+                if pose.doc.stable { "" } else { "  UNSTABLE" }
+            );
+            Ok(())
         },
     )?;
-    if let Some(f) = failure {
-        return Err(f);
-    }
-    let following_s = following.elapsed().as_secs_f64() - writing_s;
-    let unit_case = case.build_motion(motion, 0.0, segments)?.length_unit;
-    let (metres, symbol) = (unit_case.metres(), unit_case.symbol());
-    let mut events = events_of(&solved, &path_events);
-    events.sort_by(|a, b| a.at.total_cmp(&b.at));
-    solved.sort_by(|a, b| a.value.total_cmp(&b.value));
-    let mut rows: Vec<MotionRow> = solved
-        .iter()
-        .map(|s| MotionRow {
-            id: s.id.clone(),
-            value: s.value,
-            doc: Some(&s.doc),
-            solves: s.solves,
-            iterations: s.iterations,
-        })
-        .collect();
-    for f in &end.failed {
-        rows.push(MotionRow {
-            id: String::new(),
-            value: f.value,
-            doc: None,
-            solves: 0,
-            iterations: 0,
-        });
-    }
-    rows.sort_by(|a, b| a.value.total_cmp(&b.value));
-    let parameter = motion;
-    let csv = motion_csv(parameter, &pose.unit, &rows, metres, symbol);
+    let following_s = run.following_s - writing_s;
+    let (metres, symbol) = (run.length_unit.metres(), run.length_unit.symbol());
+    let (solved, events, unit) = (&run.solved, &run.events, &run.unit);
+    let rows = run.rows();
+    let csv = run.csv();
     let docs: Vec<&ResultDoc> = solved.iter().map(|s| &s.doc).collect();
     let radii: Vec<(String, f64)> = docs
         .first()
@@ -214,17 +125,16 @@ pub(crate) fn run(
         .unwrap_or_default();
     let (obj, envelopes) = envelope_obj(&docs, &radii, metres, symbol);
     let title = format!("{}: motion '{motion}'", case.name);
-    let svg = motion_svg(
-        &title, parameter, &pose.unit, &rows, &events, metres, symbol,
-    );
-    std::fs::create_dir_all(&dir).map_err(|e| write_failure(&case.origin, e))?;
+    let svg = motion_svg(&title, motion, unit, &rows, events, metres, symbol);
+    let io = |e: &dyn std::fmt::Display| Failure::from(write_failure(&case.origin, e));
+    std::fs::create_dir_all(&dir).map_err(|e| io(&e))?;
     for (name, content) in [
         ("motion.csv", csv.as_bytes()),
-        ("events.csv", events_csv(&events, &pose.unit).as_bytes()),
+        ("events.csv", events_csv(events, unit).as_bytes()),
         ("motion.svg", svg.as_bytes()),
         ("envelope.obj", obj.as_bytes()),
     ] {
-        write_atomic(&dir.join(name), content).map_err(|e| write_failure(&case.origin, e))?;
+        write_atomic(&dir.join(name), content).map_err(|e| io(&e))?;
     }
     let total_iterations: usize = solved.iter().map(|s| s.iterations).sum();
     let warm: Vec<&Solved> = solved.iter().filter(|s| s.doc.warm_start).collect();
@@ -238,14 +148,14 @@ pub(crate) fn run(
         per_step.get(per_step.len() / 2).copied().unwrap_or(0),
         per_step.last().copied().unwrap_or(0)
     );
-    for e in &events {
+    for e in events {
         let _ = writeln!(
             out,
             "event {} {} at {} {} (between {} and {}){}",
             e.kind,
             e.what,
             number(e.at),
-            pose.unit,
+            unit,
             number(e.between[0]),
             number(e.between[1]),
             if e.detail.is_empty() {
@@ -255,7 +165,7 @@ pub(crate) fn run(
             }
         );
     }
-    worst_lines(out, &solved, &pose.unit, metres, symbol);
+    worst_lines(out, solved, unit, metres, symbol);
     for env in &envelopes {
         let _ = writeln!(
             out,
@@ -270,18 +180,18 @@ pub(crate) fn run(
         "written: {}/motion.csv, events.csv, motion.svg, envelope.obj, steps/",
         dir.display()
     );
-    if end.failed.is_empty() && solved.iter().all(|s| s.doc.converged) {
+    if run.complete() {
         Ok(Exit::Success)
     } else {
-        for f in &end.failed {
+        for f in &run.failed {
             let _ = writeln!(
                 err,
                 "error: {}: motion '{motion}' ended at {} {} (last solved: {} {}): {}",
                 case.origin,
                 number(f.value),
-                pose.unit,
+                unit,
                 number(f.reached),
-                pose.unit,
+                unit,
                 f.reason
             );
         }

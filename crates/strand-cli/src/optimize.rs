@@ -7,26 +7,16 @@
 
 use std::io::Write;
 use std::path::Path;
-use std::time::Instant;
 
 use strand_case::Case;
 use strand_report::{ExportUnit, OptimumDoc};
 use strand_study::optimize::{
-    OptimizeError, OptimizeSettings, OptimumIterate, Problem, optimize, write_optimum,
+    OptimizeProgress, OptimumIterate, Problem, optimize_case, write_optimum,
 };
 
 use crate::Exit;
 use crate::commands::Failure;
 use crate::summary::significant;
-
-impl From<OptimizeError> for Failure {
-    fn from(e: OptimizeError) -> Self {
-        Failure {
-            exit: e.kind().into(),
-            message: e.to_string(),
-        }
-    }
-}
 
 /// The options of `strand optimize`.
 pub(crate) struct Options<'a> {
@@ -65,16 +55,10 @@ fn progress_line(problem: &Problem, unit: &str, it: &OptimumIterate) -> String {
     )
 }
 
-/// `strand optimize`.
-pub(crate) fn run(options: &Options, out: &mut dyn Write) -> Result<Exit, Failure> {
-    let started = Instant::now();
-    let case = Case::from_path(options.case)?;
-    strand_study::limits::check_case(&case)?;
-    let problem = Problem::from_options(&case, options.vary, options.minimize, options.subject_to)?;
-    let unit = problem.objective.unit();
-    let _ = writeln!(
-        out,
-        "optimize    {} ({}): minimise {} over {}",
+/// The line that states the problem.
+fn problem_line(case: &Case, problem: &Problem) -> String {
+    format!(
+        "optimize    {} ({}): minimise {} over {}\n",
         case.name,
         case.origin,
         problem.objective.name(),
@@ -90,26 +74,33 @@ pub(crate) fn run(options: &Options, out: &mut dyn Write) -> Result<Exit, Failur
             ))
             .collect::<Vec<_>>()
             .join(", ")
-    );
-    let optimum = {
+    )
+}
+
+/// `strand optimize`: [`optimize_case`], printed and written.
+pub(crate) fn run(options: &Options, out: &mut dyn Write) -> Result<Exit, Failure> {
+    let case = Case::from_path(options.case)?;
+    let run = {
         let _progress = crate::progress::Progress::start(&case.origin);
-        optimize(&case, &problem, &OptimizeSettings::default(), &mut |it| {
-            let _ = write!(out, "{}", progress_line(&problem, unit, it));
-        })
-    }
-    .map_err(|e| Failure {
-        message: format!("{}: {e}", case.origin),
-        ..e.into()
-    })?;
-    let doc = write_optimum(
-        options.dir,
-        &case,
-        &problem,
-        &optimum,
-        started.elapsed().as_secs_f64(),
-        options.export_unit.as_ref(),
-    )?;
-    let _ = write!(out, "{}", summary(&doc, options.dir));
+        optimize_case(
+            &case,
+            options.vary,
+            options.minimize,
+            options.subject_to,
+            &mut |progress| {
+                let line = match progress {
+                    OptimizeProgress::Start(problem) => problem_line(&case, problem),
+                    OptimizeProgress::Iterate(problem, it) => {
+                        progress_line(problem, problem.objective.unit(), it)
+                    }
+                };
+                let _ = write!(out, "{line}");
+            },
+        )?
+    };
+    write_optimum(options.dir, &run.outputs, options.export_unit.as_ref())?;
+    let doc = &run.outputs.doc;
+    let _ = write!(out, "{}", summary(doc, options.dir));
     Ok(if doc.converged {
         Exit::Success
     } else {

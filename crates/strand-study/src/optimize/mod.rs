@@ -26,6 +26,7 @@
 //! and SVG).
 
 pub mod evaluate;
+pub mod of_case;
 pub mod optimum;
 pub mod options;
 pub mod pieces;
@@ -43,11 +44,12 @@ use strand_solve::SettingsError;
 
 use crate::error::{ErrorKind, StudyError};
 
+pub use of_case::{OptimizeProgress, OptimizeRun, optimize_case};
 pub use optimum::document;
 pub use problem::{Bound, Bounded, Limit, Objective, Problem, Variable};
 pub use run::optimize;
 pub use settings::OptimizeSettings;
-pub use write::{optimal_case, write_optimum};
+pub use write::{OptimumOutputs, optimal_case, optimum_outputs, write_optimum};
 
 /// Why an optimisation could not run.
 #[derive(Debug, thiserror::Error)]

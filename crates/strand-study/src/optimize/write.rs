@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use strand_case::Case;
-use strand_report::{ExportUnit, OptimumDoc, Timing, optimum_svg, significant};
+use strand_case::{BuiltCase, Case};
+use strand_report::{ExportUnit, OptimumDoc, ResultDoc, Timing, optimum_svg, significant};
 
 use super::{Optimum, Problem, document};
 use crate::error::{Result, StudyError};
@@ -52,24 +52,33 @@ pub fn optimal_case(case: &Case, optimum: &Optimum, doc: &OptimumDoc) -> Result<
     Ok(text)
 }
 
-/// Writes the files of `optimum` (a run of `problem` on `case` that took `time_s`)
-/// into `dir`, each atomically: `history.csv`, `history.svg`, `<case>_optimum.ron`,
-/// the optimum's results (geometry in `unit`, default the case's length unit), and
-/// `optimum.json` last, so that its presence means the run's files are complete.
-/// Returns the document written as `optimum.json`.
-pub fn write_optimum(
-    dir: &Path,
+/// What a run of `strand optimize` writes, before it is written: `optimum.json`'s
+/// document, the optimal case (file name and text, [`optimal_case`]), and the
+/// optimum's built case and result document (`result.json`).
+pub struct OptimumOutputs {
+    /// `optimum.json`.
+    pub doc: OptimumDoc,
+    /// The optimal case's file name (`<case>_optimum.ron`).
+    pub case_file: String,
+    /// The optimal case's text.
+    pub case_text: String,
+    /// The optimal case built (its variant label `optimum`).
+    pub built: BuiltCase,
+    /// The optimum's result (its variant label `optimum`).
+    pub result: ResultDoc,
+}
+
+/// The outputs of `optimum`, a run of `problem` on `case` that took `time_s` (s,
+/// `optimum.json`'s `time_s`).
+pub fn optimum_outputs(
     case: &Case,
     problem: &Problem,
     optimum: &Optimum,
     time_s: f64,
-    unit: Option<&ExportUnit>,
-) -> Result<OptimumDoc> {
+) -> Result<OptimumOutputs> {
     let case_file = format!("{}_optimum.ron", case.name);
     let doc = document(&case.name, problem, optimum, &case_file, time_s);
-    let ron_text = optimal_case(case, optimum, &doc)?;
-    let json = serde_json::to_string_pretty(&doc)
-        .map_err(|e| StudyError::Io(format!("{}: {e}", dir.display())))?;
+    let case_text = optimal_case(case, optimum, &doc)?;
     let built = case.build_with_changes("optimum", &optimum.changes, None)?;
     let result = result_doc(
         &built,
@@ -78,15 +87,37 @@ pub fn write_optimum(
         Some("optimum"),
         None,
     )?;
+    Ok(OptimumOutputs {
+        doc,
+        case_file,
+        case_text,
+        built,
+        result,
+    })
+}
+
+/// Writes the files of a run of `strand optimize` (its `outputs`, see
+/// [`optimum_outputs`]) into `dir`, each atomically: `history.csv`, `history.svg`,
+/// `<case>_optimum.ron`, the optimum's results (geometry in `unit`, default the
+/// case's length unit), and `optimum.json` last (a folder with `optimum.json` is
+/// complete).
+pub fn write_optimum(
+    dir: &Path,
+    outputs: &OptimumOutputs,
+    unit: Option<&ExportUnit>,
+) -> Result<()> {
+    let doc = &outputs.doc;
+    let json = serde_json::to_string_pretty(doc)
+        .map_err(|e| StudyError::Io(format!("{}: {e}", dir.display())))?;
     write_files(
         dir,
         &[
             ("history.csv", doc.history_csv().as_bytes()),
-            ("history.svg", optimum_svg(&doc).as_bytes()),
-            (&case_file, ron_text.as_bytes()),
+            ("history.svg", optimum_svg(doc).as_bytes()),
+            (&outputs.case_file, outputs.case_text.as_bytes()),
         ],
     )?;
-    write_result(dir, &result, &built, unit)?;
+    write_result(dir, &outputs.result, &outputs.built, unit)?;
     write_files(dir, &[("optimum.json", json.as_bytes())])?;
-    Ok(doc)
+    Ok(())
 }

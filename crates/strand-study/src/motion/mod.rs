@@ -3,15 +3,19 @@
 //! ([`strand_case::motion::follow`]), and the events along a followed motion — the
 //! engine of `strand motion`, whose front end writes and prints each pose.
 
+pub mod run;
+
 use std::path::Path;
 
-use strand_case::motion::{MotionEvent, MotionStep, parse_value};
+use strand_case::motion::{MotionEvent, MotionStep, Predictor, parse_value};
 use strand_case::{BuiltCase, Case};
 use strand_report::motion::{MotionEventRecord, doc_events};
 use strand_report::{ResultDoc, Timing, collect, name_connectors};
 
 use crate::error::{Result, StudyError};
 use crate::solve::add_contacts;
+
+pub use run::{MotionRun, follow_motion, step_id};
 
 fn invalid(message: String) -> StudyError {
     StudyError::Input(message)
@@ -30,6 +34,19 @@ pub fn parse_pose(case: &Case, text: &str) -> Result<(String, f64, String)> {
     let value = parse_value(value, &motion.name, &motion.unit)
         .map_err(|e| invalid(format!("{}: --motion: {e}", case.origin)))?;
     Ok((motion.name, value, motion.unit))
+}
+
+/// The predictor named `text` (`tangent`, `secant` or `last`, as `strand motion
+/// --predictor` takes them).
+pub fn parse_predictor(text: &str) -> Result<Predictor> {
+    match text.trim() {
+        "tangent" => Ok(Predictor::Tangent),
+        "secant" => Ok(Predictor::Secant),
+        "last" => Ok(Predictor::Last),
+        other => Err(invalid(format!(
+            "--predictor '{other}': not a predictor (hint: use tangent, secant or last)"
+        ))),
+    }
 }
 
 /// The motions of `case`, for messages.
