@@ -116,6 +116,18 @@ fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usiz
 
 /// [`check`] of a parsed case.
 fn check_case(case: &Case, params: &[Param], must: &[&str], min_active: usize) -> usize {
+    check_held(case, params, must, min_active, false)
+}
+
+/// [`check_case`]; `held_by_rows`: whether the energy Hessian alone must be indefinite
+/// at the base (the active rows holding the equilibrium).
+fn check_held(
+    case: &Case,
+    params: &[Param],
+    must: &[&str],
+    min_active: usize,
+    held_by_rows: bool,
+) -> usize {
     let design = CaseDesign::new(
         case,
         params
@@ -151,6 +163,7 @@ fn check_case(case: &Case, params: &[Param], must: &[&str], min_active: usize) -
         "{} active rows, expected at least {min_active}",
         s.active.len()
     );
+    assert_eq!(s.held_by_active_rows, held_by_rows);
     let mut compared = 0;
     for (j, p) in params.iter().enumerate() {
         let exact = s
@@ -399,6 +412,52 @@ fn harness_outputs_follow_clip_stations_clip_base_poses_and_directions() {
         1, // the hinge on its +0.02 rad stop
     );
     assert!(n > 300);
+}
+
+#[test]
+fn a_hose_held_in_its_groove_by_contact_alone_is_differentiated() {
+    // The 1060 mm hose between connectors 1000 mm apart lies in the V-groove under
+    // axial compression: its energy Hessian alone is indefinite, the flanks' contact
+    // rows hold it (the solve reports it stable). Sensitivities used to stop there
+    // with `NotPositiveDefinite`.
+    let case = Case::from_path(cases_dir().join("hose_in_groove.ron")).unwrap();
+    let n = check_held(
+        &case,
+        &[
+            Param("gravity", Some(2), 10.0, 0.01),
+            Param("connectors.a.position", Some(2), 1000.0, 0.05),
+            Param("rods.hose.length", None, 1000.0, 0.05),
+            Param("environment.groove.position", Some(2), 1000.0, 0.01),
+        ],
+        &["hose.contact_force_N.groove.", "a.force_N.z"],
+        4,
+        true,
+    );
+    assert!(n > 100);
+}
+
+#[test]
+fn a_round_cable_pinned_at_both_ends_is_differentiated_with_its_twist_held() {
+    // Pinned at both ends, the round cable may turn freely about its own axis: a
+    // neutral direction of the Hessian that no output depends on, held as the solve
+    // holds it (its gauge).
+    let case = Case::from_path(cases_dir().join("pinned_cable.ron")).unwrap();
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    assert!(solution.report.gauge_freedoms >= 1, "{:?}", solution.report);
+    let n = check_case(
+        &case,
+        &[
+            Param("gravity", Some(2), 10.0, 0.01),
+            Param("connectors.stud_right.position", Some(0), 1000.0, 0.05),
+            Param("rods.cable.length", None, 1000.0, 0.05),
+        ],
+        &["stud_left.force_N.z", "cable.peak_moment_Nm"],
+        0,
+    );
+    assert!(n > 20);
 }
 
 #[test]
