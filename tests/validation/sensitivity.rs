@@ -1,9 +1,10 @@
 //! Design sensitivities (`strand_solve::sensitivity`) against central differences of
 //! full solves of the bundled cases: every output derivative (reactions, peaks, bend
 //! radii, clearances, junction pose, contact forces) with respect to lengths,
-//! connector positions, end positions and the T's mass, warm-started solves at
-//! `p ± fd` and `p ± 2fd` extrapolated (Richardson), to 1e-5 relative or 1e-9
-//! absolute.
+//! connector positions and directions, junction port directions, end positions, the
+//! T's mass, clip stations and base poses, and section stiffnesses, warm-started
+//! solves at `p ± fd` and `p ± 2fd` extrapolated (Richardson), to 1e-5 relative or
+//! 1e-9 absolute.
 
 use std::collections::BTreeMap;
 
@@ -85,14 +86,50 @@ fn outputs(
 /// reference solves (item units).
 struct Param(&'static str, Option<usize>, f64, f64);
 
+/// The unit a parameter's derivatives are judged in, in the parameter's unit: a
+/// Young's modulus per MPa (per Pa, 1e-9 absolute would pass any derivative of a
+/// hose, whose outputs change by micro-units per pascal), every other per its unit.
+fn judged_per(item: &str) -> f64 {
+    if item.ends_with(".youngs_modulus") {
+        1e6
+    } else {
+        1.0
+    }
+}
+
+/// Ten radians in degrees: the scale of a `direction` parameter (turns in deg), as
+/// `strand sensitivity`'s.
+const TEN_RADIANS_DEG: f64 = 1800.0 / std::f64::consts::PI;
+
 /// Checks every output's derivative for every parameter of `case` against the
 /// differences of full solves; returns the number of derivatives compared. Outputs
 /// starting with a name listed in `must` must be among them, and at least
 /// `min_active` rows (contacts, joint stops) must be active.
 fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usize {
-    let case = Case::from_path(cases_dir().join(case)).unwrap();
+    check_case(
+        &Case::from_path(cases_dir().join(case)).unwrap(),
+        params,
+        must,
+        min_active,
+    )
+}
+
+/// [`check`] of a parsed case.
+fn check_case(case: &Case, params: &[Param], must: &[&str], min_active: usize) -> usize {
+    check_held(case, params, must, min_active, false)
+}
+
+/// [`check_case`]; `held_by_rows`: whether the energy Hessian alone must be indefinite
+/// at the base (the active rows holding the equilibrium).
+fn check_held(
+    case: &Case,
+    params: &[Param],
+    must: &[&str],
+    min_active: usize,
+    held_by_rows: bool,
+) -> usize {
     let design = CaseDesign::new(
-        &case,
+        case,
         params
             .iter()
             .map(|p| DesignParameter {
@@ -126,6 +163,7 @@ fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usiz
         "{} active rows, expected at least {min_active}",
         s.active.len()
     );
+    assert_eq!(s.held_by_active_rows, held_by_rows);
     let mut compared = 0;
     for (j, p) in params.iter().enumerate() {
         let exact = s
@@ -156,6 +194,7 @@ fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usiz
         let fd = p.3;
         let (up, down, up2, down2) = (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
         let mut failures = Vec::new();
+        let (mut worst_absolute, mut worst_relative) = (0.0f64, 0.0f64);
         for (k, name) in names.iter().enumerate() {
             let e = exact[k];
             let get = |m: &BTreeMap<String, Sample>| m.get(name).copied();
@@ -169,16 +208,28 @@ fn check(case: &str, params: &[Param], must: &[&str], min_active: usize) -> usiz
             let _ = (a.arg, b.arg, a2.arg, b2.arg, e.one_sided);
             let fine = (a.value - b.value) / (2.0 * fd);
             let coarse = (a2.value - b2.value) / (4.0 * fd);
-            let reference = (4.0 * fine - coarse) / 3.0;
-            let error = (e.derivative - reference).abs();
+            let per = judged_per(p.0);
+            let reference = per * (4.0 * fine - coarse) / 3.0;
+            let derivative = per * e.derivative;
+            let error = (derivative - reference).abs();
             compared += 1;
+            if reference.abs() > 1e-9 {
+                worst_relative = worst_relative.max(error / reference.abs());
+            }
+            worst_absolute = worst_absolute.max(error);
             if error > 1e-5 * reference.abs() && error > 1e-9 {
                 failures.push(format!(
-                    "d {name} / d {}: sensitivity {:.9e}, solves {reference:.9e} (error {error:.2e})",
-                    p.0, e.derivative
+                    "d {name} / d {} (per {per} of its unit): sensitivity {derivative:.9e}, solves {reference:.9e} (error {error:.2e})",
+                    p.0
                 ));
             }
         }
+        println!(
+            "{}{}: {} outputs, largest error {worst_absolute:.2e}, largest relative error {worst_relative:.2e} (of derivatives above 1e-9)",
+            p.0,
+            p.1.map_or(String::new(), |c| format!(".{}", ["x", "y", "z"][c])),
+            names.len()
+        );
         assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
     compared
@@ -247,6 +298,164 @@ fn contact_forces_and_clearances_follow_the_connectors_and_the_bracket() {
         ],
         &["hose3.min_clearance_m", "hose3.contact_force_N."],
         1,
+    );
+    assert!(n > 20);
+}
+
+#[test]
+fn cooler_hose_outputs_follow_connector_and_port_directions_and_the_tube_modulus() {
+    let n = check(
+        "cooler_hose.ron",
+        &[
+            Param(
+                "connectors.oil_cooler.direction",
+                Some(0),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param(
+                "connectors.radiator_outlet.direction",
+                Some(2),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param(
+                "junctions.tee.ports.hose2.direction",
+                Some(2),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param("junctions.tee.ports.hose3.position", Some(1), 1000.0, 0.05),
+            // Scales as `strand sensitivity`'s (100 times the value).
+            Param("sections.hose_small.youngs_modulus", None, 5e8, 5e4),
+            Param("sections.hose_large.youngs_modulus", None, 5e8, 5e4),
+        ],
+        &[
+            "tee.position_m.z",
+            "tee.rotation_vector_rad.x",
+            "hose2.peak_moment_Nm",
+            "oil_cooler.moment_Nm.x",
+        ],
+        0,
+    );
+    assert!(n > 200);
+}
+
+#[test]
+fn helix_outputs_follow_every_stiffness_of_an_explicit_section() {
+    // Fig. 4's helix with GJ = 0.8 EI: with GJ = EI it is free of forces, where the
+    // peak |f| (a norm at zero) has no derivative; here it carries forces and moments.
+    let path = cases_dir().join("helix_fig4.ron");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let changed = text.replace("ei: 1, gj: 1,", "ei: 1, gj: 0.8,");
+    assert_ne!(changed, text);
+    let case = Case::from_str(&changed, path.to_str().unwrap()).unwrap();
+    let n = check_case(
+        &case,
+        &[
+            // Scales as `strand sensitivity`'s (100 times the value); reference steps
+            // of 2 % (the reference's noise, 1e-11 N over 4e-2, stays below 1e-9 N
+            // per unit; the truncation is O(fd⁴)).
+            Param("sections.paper.ei", None, 100.0, 0.02),
+            Param("sections.paper.gj", None, 80.0, 0.016),
+            Param("sections.paper.ea", None, 30e5, 600.0),
+            Param("sections.paper.ga", None, 10e5, 200.0),
+        ],
+        &["helix.start.moment_Nm.x", "helix.peak_moment_Nm"],
+        0,
+    );
+    assert!(n > 40);
+}
+
+#[test]
+fn harness_outputs_follow_clip_stations_clip_base_poses_and_directions() {
+    let n = check(
+        "harness_clips.ron",
+        &[
+            // A clip moved along its rod compresses the piece ahead of it (136 N/mm
+            // at the grommet): the moments respond strongly nonlinearly, so the
+            // reference steps are small.
+            Param("clips.grommet.at", None, 1000.0, 0.02),
+            Param("clips.ball.at", None, 1000.0, 0.02),
+            Param("clips.ball.base.position", Some(2), 1000.0, 0.1),
+            Param("clips.rail.base.position", Some(1), 1000.0, 0.04),
+            Param(
+                "clips.bracket.base.direction",
+                Some(1),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param(
+                "clips.twin_left.base.direction",
+                Some(2),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param(
+                "connectors.lamp_left.direction",
+                Some(2),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+            Param(
+                "junctions.breakout.ports.left.direction",
+                Some(1),
+                TEN_RADIANS_DEG,
+                0.05,
+            ),
+        ],
+        &[
+            "hinge.joint_value",
+            "bracket.force_N.z",
+            "breakout.position_m.z",
+        ],
+        1, // the hinge on its +0.02 rad stop
+    );
+    assert!(n > 300);
+}
+
+#[test]
+fn a_hose_held_in_its_groove_by_contact_alone_is_differentiated() {
+    // The 1060 mm hose between connectors 1000 mm apart lies in the V-groove under
+    // axial compression: its energy Hessian alone is indefinite, the flanks' contact
+    // rows hold it (the solve reports it stable). Sensitivities used to stop there
+    // with `NotPositiveDefinite`.
+    let case = Case::from_path(cases_dir().join("hose_in_groove.ron")).unwrap();
+    let n = check_held(
+        &case,
+        &[
+            Param("gravity", Some(2), 10.0, 0.01),
+            Param("connectors.a.position", Some(2), 1000.0, 0.05),
+            Param("rods.hose.length", None, 1000.0, 0.05),
+            Param("environment.groove.position", Some(2), 1000.0, 0.01),
+        ],
+        &["hose.contact_force_N.groove.", "a.force_N.z"],
+        4,
+        true,
+    );
+    assert!(n > 100);
+}
+
+#[test]
+fn a_round_cable_pinned_at_both_ends_is_differentiated_with_its_twist_held() {
+    // Pinned at both ends, the round cable may turn freely about its own axis: a
+    // neutral direction of the Hessian that no output depends on, held as the solve
+    // holds it (its gauge).
+    let case = Case::from_path(cases_dir().join("pinned_cable.ron")).unwrap();
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    assert!(solution.report.gauge_freedoms >= 1, "{:?}", solution.report);
+    let n = check_case(
+        &case,
+        &[
+            Param("gravity", Some(2), 10.0, 0.01),
+            Param("connectors.stud_right.position", Some(0), 1000.0, 0.05),
+            Param("rods.cable.length", None, 1000.0, 0.05),
+        ],
+        &["stud_left.force_N.z", "cable.peak_moment_Nm"],
+        0,
     );
     assert!(n > 20);
 }

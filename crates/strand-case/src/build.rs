@@ -77,6 +77,9 @@ pub(crate) struct BuildExtras<'a> {
     /// default guess is computed or checked against the environment (the guess is
     /// only computed where an end's dead moment is measured from it).
     pub warm: Option<&'a SystemState>,
+    /// The rod vertex of every clip (in clip order) to keep where the clips stay in
+    /// order (a base build's: see [`crate::clips::place_clips`]).
+    pub clip_vertices: Option<&'a [usize]>,
 }
 
 /// Builds the model; `segments` overrides every rod's number of segments. Environment
@@ -151,6 +154,7 @@ pub(crate) fn build(
             rod,
             nominal.as_ref(),
             &mut clips,
+            extras.clip_vertices,
         )?;
         rods.push(rod);
         guesses.push(guess);

@@ -466,6 +466,26 @@ pub(crate) fn station_targets(stations: &[f64], total: f64, segments: usize) -> 
     Some(targets)
 }
 
+/// The edges of each piece between the clips `on_rod` (sorted along the rod) when
+/// every clip keeps its `pinned` vertex: `None` without pins or when the pinned
+/// vertices are not strictly increasing inside the rod's `segments` edges.
+fn pinned_counts(
+    pinned: Option<&[usize]>,
+    on_rod: &[usize],
+    segments: usize,
+) -> Option<Vec<usize>> {
+    let pinned = pinned?;
+    let mut vertices = vec![0];
+    for &c in on_rod {
+        vertices.push(*pinned.get(c)?);
+    }
+    vertices.push(segments);
+    vertices
+        .windows(2)
+        .map(|w| (w[1] > w[0]).then(|| w[1] - w[0]))
+        .collect()
+}
+
 /// Splits `segments` edges between pieces of the given lengths in proportion to them,
 /// at least one each (`segments ≥ pieces.len()`).
 pub(crate) fn allocate(pieces: &[f64], segments: usize) -> Vec<usize> {
@@ -528,7 +548,12 @@ pub(crate) fn edge_lengths(stations: &[f64], counts: &[usize]) -> Vec<f64> {
 }
 
 /// Rebuilds rod `index` (`spec`, from `def`) so that a vertex lies at every clip on it
-/// and records those vertices; rods without clips are returned unchanged.
+/// and records those vertices; rods without clips are returned unchanged. With
+/// `pinned` (a vertex per clip, in clip order: a base build's) a straight rod keeps
+/// those vertices while they stay in the clips' order, so that a design that moves
+/// a clip along its rod keeps its mesh (the edges between two clips stretch) instead
+/// of handing an edge from one piece to the next where the allocation ties.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn place_clips(
     report: &Reporter,
     item: &str,
@@ -538,6 +563,7 @@ pub(crate) fn place_clips(
     mut spec: RodSpec,
     nominal: Option<&NominalRod>,
     clips: &mut [PendingClip],
+    pinned: Option<&[usize]>,
 ) -> Result<RodSpec, CaseError> {
     let mut on_rod: Vec<usize> = (0..clips.len())
         .filter(|&c| clips[c].spec.rod.0 == index)
@@ -602,7 +628,10 @@ pub(crate) fn place_clips(
     stations.extend(on_rod.iter().map(|&c| clips[c].at_m));
     stations.push(length);
     let pieces: Vec<f64> = stations.windows(2).map(|w| w[1] - w[0]).collect();
-    let counts = allocate(&pieces, segments);
+    let counts = match pinned_counts(pinned, &on_rod, segments) {
+        Some(counts) if nominal.is_none() => counts,
+        _ => allocate(&pieces, segments),
+    };
     let mut vertex = 0;
     for (&c, &n) in on_rod.iter().zip(&counts) {
         vertex += n;

@@ -40,9 +40,11 @@ pub struct CaseDesign<'c> {
     parameters: Vec<DesignParameter>,
     /// Offsets of the design's zero from the case's values (item units).
     centre: Vec<f64>,
-    /// The first build's initial state, reused by the later builds (their guesses
-    /// are never used: the steps start from the base equilibrium).
-    initial: std::sync::OnceLock<strand_system::SystemState>,
+    /// The first build's initial state and clip vertices, reused by the later builds
+    /// (their guesses are never used: the steps start from the base equilibrium; the
+    /// clips stay on the base's vertices, so a clip moved along its rod keeps the
+    /// mesh).
+    initial: std::sync::OnceLock<(strand_system::SystemState, Vec<usize>)>,
 }
 
 impl<'c> CaseDesign<'c> {
@@ -143,22 +145,35 @@ impl Design for CaseDesign<'_> {
         self.parameters[parameter].scale
     }
 
-    /// The first build computes the case's initial guess; later builds reuse it
-    /// ([`Case::build_with_changes_reusing`]): a design is built many times at small
-    /// offsets, and its guesses are never solved from.
+    /// The first build computes the case's initial guess; later builds reuse it and
+    /// keep its clip vertices ([`Case::build_with_changes_reusing`]): a design is
+    /// built many times at small offsets, its guesses are never solved from, and its
+    /// mesh must not change with a clip's station (an edge handed from one piece to
+    /// the next where the allocation ties would make the model jump).
     fn build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
         let changes = self.changes(offsets);
         let built = match self.initial.get() {
-            Some(initial) => {
-                self.case
-                    .build_with_changes_reusing("sensitivity", &changes, initial)?
-            }
+            Some((initial, clip_vertices)) => self.case.build_with_changes_reusing(
+                "sensitivity",
+                &changes,
+                initial,
+                Some(clip_vertices),
+            )?,
             None if changes.is_empty() => self.case.build(None)?,
             None => self
                 .case
                 .build_with_changes("sensitivity", &changes, None)?,
         };
-        let _ = self.initial.set(built.initial.clone());
+        let _ = self.initial.get_or_init(|| {
+            let vertices = built
+                .model
+                .system()
+                .clips
+                .iter()
+                .map(|c| c.vertex)
+                .collect();
+            (built.initial.clone(), vertices)
+        });
         Ok(DesignedCase::new(built))
     }
 }

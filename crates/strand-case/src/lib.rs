@@ -260,16 +260,21 @@ impl Case {
     /// the environment — computing the hanging guess is most of a build's time. Where
     /// an end carries a moment, whose potential is measured from the guess's end
     /// frame, the guess is still computed for that (as for a warm-started motion
-    /// pose).
+    /// pose). With `clip_vertices` (the rod vertex of every clip, in clip order, e.g.
+    /// the base build's), each clip on a straight rod keeps its vertex while the clips
+    /// stay in order: moving a clip along its rod then stretches the edges on either
+    /// side instead of changing the mesh.
     pub fn build_with_changes_reusing(
         &self,
         label: &str,
         changes: &[schema::VariantChange],
         initial: &SystemState,
+        clip_vertices: Option<&[usize]>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
         let extras = build::BuildExtras {
             warm: Some(initial),
+            clip_vertices,
             ..build::BuildExtras::default()
         };
         self.build_file(&file, None, extras)

@@ -112,7 +112,10 @@ pub enum Command {
         /// The case file (RON).
         case: PathBuf,
         /// A parameter, named as in `batch --vary` without values: hose2.length,
-        /// oil_cooler.position.z, tee.mass, gravity.z, hose1.end.force.x.
+        /// oil_cooler.position.z, oil_cooler.direction.x (a turn about x, deg),
+        /// tee.ports.hose2.direction.z, clips.grommet.at, tee.mass,
+        /// hose_small.youngs_modulus (Pa), sections.paper.ei (N·m²), gravity.z,
+        /// hose1.end.force.x.
         #[arg(long = "param", value_name = "NAME", required = true)]
         params: Vec<String>,
         /// Output directory.
@@ -179,7 +182,9 @@ pub enum Command {
         case: PathBuf,
         /// A varied parameter, ITEM=A..B:STEP or ITEM=A,B,C; a sign makes the values
         /// offsets from the case (hose2.length=+0mm..+100mm:10mm), none sets them
-        /// (tee.mass=0.5kg,1kg). Repeat for a grid.
+        /// (tee.mass=0.5kg,1kg); a direction turns by offsets in deg or rad
+        /// (oil_cooler.direction.y=-10deg..+10deg:5deg), a stiffness takes N, N·m² or
+        /// Pa (hose_small.youngs_modulus=4MPa,6MPa). Repeat for a grid.
         #[arg(long, value_name = "ITEM=VALUES", required = true)]
         vary: Vec<String>,
         /// Output directory (re-running with the same options resumes it).

@@ -137,6 +137,7 @@ impl Case {
         let extras = build::BuildExtras {
             moved_meshes: &meshes,
             warm,
+            clip_vertices: None,
         };
         self.build_file(&file, segments, extras)
             .map_err(|e| at_pose(e, &at))

@@ -4,10 +4,14 @@
 //!
 //! Full form: `gravity`, `rods.<rod>.length`, `rods.<rod>.segments`,
 //! `rods.<rod>.{start,end}.{position,force}`, `junctions.<junction>.mass`,
-//! `connectors.<connector>.position`, `clips.<clip>.at`, `clips.<clip>.base.position`,
-//! `environment.<mesh>.position` (see [`VARIANT_ITEMS`]). Short form ([`expand_short`]):
-//! the same without the `rods.`, `junctions.`, `connectors.`, `clips.` or
-//! `environment.` prefix (`hose2.length`, `tee.mass`).
+//! `junctions.<junction>.ports.<port>.{position,direction}`,
+//! `connectors.<connector>.{position,direction}`, `clips.<clip>.at`,
+//! `clips.<clip>.base.{position,direction}`, `environment.<mesh>.position`,
+//! `sections.<section>.{ea,ga,ei,gj,youngs_modulus}` (see [`VARIANT_ITEMS`]). A
+//! `direction` item turns a frame by a rotation vector in degrees (Add only). Short
+//! form ([`expand_short`]): the same without the `rods.`, `junctions.`, `connectors.`,
+//! `clips.`, `environment.` or `sections.` prefix (`hose2.length`, `tee.mass`,
+//! `oil_cooler.direction`, `hose_small.youngs_modulus`).
 //!
 //! ```
 //! use strand_case::{Case, ItemQuantity, RodEnd, VariantItem};
@@ -61,6 +65,74 @@ pub enum ItemQuantity {
     Acceleration,
     /// A whole number (segments).
     Count,
+    /// A turn of a frame, degrees (a rotation vector: about the world axes for a
+    /// connector, about the junction's body axes for a port, about the parent frame's
+    /// axes for a clip base).
+    Angle,
+    /// A bending or torsional stiffness (`ei`, `gj`), N·m².
+    BendingStiffness,
+    /// Young's modulus of a tube section, Pa.
+    Modulus,
+}
+
+/// A stiffness of a section that a variant can change, as the case file names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SectionStiffness {
+    /// `ea` of an `Explicit` section: axial stiffness, N.
+    Ea,
+    /// `ga` of an `Explicit` section: shear stiffness, N.
+    Ga,
+    /// `ei` of an `Explicit` section: bending stiffness, N·m².
+    Ei,
+    /// `gj` of an `Explicit` section: torsional stiffness, N·m².
+    Gj,
+    /// `youngs_modulus` of a `Tube` section, Pa (scales all four stiffnesses).
+    YoungsModulus,
+}
+
+impl SectionStiffness {
+    /// Every stiffness, in the order of [`SectionStiffness::field`] names.
+    pub const ALL: [SectionStiffness; 5] = [
+        SectionStiffness::Ea,
+        SectionStiffness::Ga,
+        SectionStiffness::Ei,
+        SectionStiffness::Gj,
+        SectionStiffness::YoungsModulus,
+    ];
+
+    /// The field's name in the case file (`ei`, `youngs_modulus`).
+    pub fn field(self) -> &'static str {
+        match self {
+            SectionStiffness::Ea => "ea",
+            SectionStiffness::Ga => "ga",
+            SectionStiffness::Ei => "ei",
+            SectionStiffness::Gj => "gj",
+            SectionStiffness::YoungsModulus => "youngs_modulus",
+        }
+    }
+
+    /// Whether the field belongs to a `Tube` section (else to an `Explicit` one).
+    pub fn of_tube(self) -> bool {
+        self == SectionStiffness::YoungsModulus
+    }
+
+    /// The field's unit: `N`, `N·m²` or `Pa`.
+    pub fn unit(self) -> &'static str {
+        match self.quantity() {
+            ItemQuantity::Force => "N",
+            ItemQuantity::BendingStiffness => "N·m²",
+            _ => "Pa",
+        }
+    }
+
+    /// The kind of number the field is.
+    pub fn quantity(self) -> ItemQuantity {
+        match self {
+            SectionStiffness::Ea | SectionStiffness::Ga => ItemQuantity::Force,
+            SectionStiffness::Ei | SectionStiffness::Gj => ItemQuantity::BendingStiffness,
+            SectionStiffness::YoungsModulus => ItemQuantity::Modulus,
+        }
+    }
 }
 
 /// A variant item resolved against a case file: the thing a change addresses, by its
@@ -92,10 +164,42 @@ pub enum VariantItem {
     JunctionMass(usize),
     /// `connectors.<connector>.position` (a vector, case length unit).
     ConnectorPosition(usize),
+    /// `connectors.<connector>.direction` (a rotation vector in degrees about the
+    /// world x, y, z axes, Add only): turns the nozzle's frame (its `direction` and
+    /// `normal`) about its position.
+    ConnectorDirection(usize),
+    /// `junctions.<junction>.ports.<port>.position` (a vector in the junction's body
+    /// frame, case length unit).
+    PortPosition {
+        /// The junction's index.
+        junction: usize,
+        /// The port's index within the junction.
+        port: usize,
+    },
+    /// `junctions.<junction>.ports.<port>.direction` (a rotation vector in degrees
+    /// about the junction's body axes, Add only): turns the port's frame.
+    PortDirection {
+        /// The junction's index.
+        junction: usize,
+        /// The port's index within the junction.
+        port: usize,
+    },
     /// `clips.<clip>.at` (a number, case length unit; clips placed by `at`).
     ClipAt(usize),
     /// `clips.<clip>.base.position` (a vector, case length unit; clips with a `base`).
     ClipBasePosition(usize),
+    /// `clips.<clip>.base.direction` (a rotation vector in degrees about the axes of
+    /// the frame the base is written in, Add only; clips with a `base`): turns the
+    /// clip's base frame, and its joint axes with it.
+    ClipBaseDirection(usize),
+    /// `sections.<section>.<ea|ga|ei|gj|youngs_modulus>` (a number in N, N·m² or
+    /// Pa): a stiffness of a section, for every rod of that section.
+    Section {
+        /// The section's index.
+        section: usize,
+        /// Which stiffness.
+        stiffness: SectionStiffness,
+    },
     /// `environment.<mesh>.position` (a vector, case length unit).
     EnvironmentPosition(usize),
 }
@@ -144,12 +248,13 @@ const ROD_FIELDS: [&str; 6] = [
 ];
 
 /// The prefixes of full-form items.
-const PREFIXES: [&str; 5] = [
+const PREFIXES: [&str; 6] = [
     "rods.",
     "junctions.",
     "connectors.",
     "clips.",
     "environment.",
+    "sections.",
 ];
 
 /// `names` joined by `, `, or `none`.
@@ -175,7 +280,8 @@ pub(crate) fn rod_names(file: &CaseFile) -> String {
 /// The full form of a short-form `item` (`hose2.length` → `rods.hose2.length`,
 /// `tee.mass` → `junctions.tee.mass`); a full-form item (or `gravity`) is returned as
 /// it is. The first name must be that of exactly one rod, junction, connector, clip or
-/// environment mesh.
+/// environment mesh, or of a section when the rest is one of its stiffnesses
+/// (`hose_small.youngs_modulus`).
 pub fn expand_short(file: &CaseFile, item: &str) -> Result<String, ShortFormError> {
     if item == "gravity" || PREFIXES.iter().any(|p| item.starts_with(p)) {
         return Ok(item.to_string());
@@ -206,6 +312,20 @@ pub fn expand_short(file: &CaseFile, item: &str) -> Result<String, ShortFormErro
             file.environment.iter().map(|e| e.name.as_str()).collect(),
             "environment.",
         ),
+        // A section shares its name with a rod more often than not (`trunk`): only
+        // its stiffness fields make a short form a section's.
+        prefixed(
+            file.sections
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .filter(|n| {
+                    SectionStiffness::ALL.iter().any(|f| {
+                        item.len() == n.len() + 1 + f.field().len() && item.ends_with(f.field())
+                    })
+                })
+                .collect(),
+            "sections.",
+        ),
     ]
     .into_iter()
     .flatten()
@@ -234,15 +354,29 @@ impl VariantItem {
             return Ok(Self::Gravity);
         }
         if let Some(rest) = item.strip_prefix("junctions.") {
-            return named(item, rest, "junction", &file.junctions, "mass").map(Self::JunctionMass);
+            return junction_item(file, item, rest);
         }
         if let Some(rest) = item.strip_prefix("connectors.") {
-            return named(item, rest, "connector", &file.connectors, "position")
-                .map(Self::ConnectorPosition);
+            return named(
+                item,
+                rest,
+                "connector",
+                &file.connectors,
+                &["position", "direction"],
+            )
+            .map(|(index, field)| match field {
+                "direction" => Self::ConnectorDirection(index),
+                _ => Self::ConnectorPosition(index),
+            });
+        }
+        if let Some(rest) = item.strip_prefix("sections.") {
+            return section_item(file, rest);
         }
         if let Some(rest) = item.strip_prefix("clips.") {
             let (field, target): (&str, fn(usize) -> Self) = if rest.ends_with(".base.position") {
                 ("base.position", Self::ClipBasePosition)
+            } else if rest.ends_with(".base.direction") {
+                ("base.direction", Self::ClipBaseDirection)
             } else {
                 ("at", Self::ClipAt)
             };
@@ -256,7 +390,7 @@ impl VariantItem {
                 None => Err(item_error(
                     format!("there is no clip named '{name}' with a field `{field}`"),
                     format!(
-                        "write clips.<clip>.at or clips.<clip>.base.position; clips: {}",
+                        "write clips.<clip>.at, clips.<clip>.base.position or clips.<clip>.base.direction; clips: {}",
                         listed(&defined)
                     ),
                 )),
@@ -279,7 +413,8 @@ impl VariantItem {
         let Some(rest) = item.strip_prefix("rods.") else {
             return Err(unknown(
                 "unknown item: an item is `gravity` or starts with `rods.<rod name>.`, \
-                 `junctions.<junction name>.` or `connectors.<connector name>.`"
+                 `junctions.<junction name>.`, `connectors.<connector name>.`, \
+                 `clips.<clip name>.`, `sections.<section name>.` or `environment.<mesh name>.`"
                     .to_string(),
             ));
         };
@@ -337,7 +472,12 @@ impl VariantItem {
             Self::RodSegments(_) => ItemQuantity::Count,
             Self::EndForce { .. } => ItemQuantity::Force,
             Self::JunctionMass(_) => ItemQuantity::Mass,
-            Self::RodLength(_)
+            Self::ConnectorDirection(_)
+            | Self::PortDirection { .. }
+            | Self::ClipBaseDirection(_) => ItemQuantity::Angle,
+            Self::Section { stiffness, .. } => stiffness.quantity(),
+            Self::PortPosition { .. }
+            | Self::RodLength(_)
             | Self::EndPosition { .. }
             | Self::ConnectorPosition(_)
             | Self::ClipAt(_)
@@ -350,19 +490,26 @@ impl VariantItem {
     pub fn is_vector(self) -> bool {
         !matches!(
             self,
-            Self::RodLength(_) | Self::RodSegments(_) | Self::JunctionMass(_) | Self::ClipAt(_)
+            Self::RodLength(_)
+                | Self::RodSegments(_)
+                | Self::JunctionMass(_)
+                | Self::ClipAt(_)
+                | Self::Section { .. }
         )
     }
 
-    /// The case's own value of a rod's length (m), a rod's segments (a count) or a
-    /// junction's mass (kg); `None` for other items and for a rod without a `length`
-    /// (its nominal shape gives it).
+    /// The case's own value of a rod's length (m), a rod's segments (a count), a
+    /// junction's mass (kg) or a section's stiffness (N, N·m², Pa); `None` for other
+    /// items and for a rod without a `length` (its nominal shape gives it).
     pub fn case_value(self, file: &CaseFile) -> Option<f64> {
         let metres = || LengthUnit::parse(&file.units.length).map(|u| u.metres());
         match self {
             Self::RodLength(r) => Some(file.rods.get(r)?.length? * metres()?),
             Self::RodSegments(r) => Some(file.rods.get(r)?.segments as f64),
             Self::JunctionMass(j) => Some(file.junctions.get(j)?.1.mass),
+            Self::Section { section, stiffness } => {
+                crate::variant::section::stiffness_of(&file.sections.get(section)?.1, stiffness)
+            }
             _ => None,
         }
     }
@@ -382,14 +529,15 @@ impl VariantItem {
 }
 
 /// Resolves `<name>.<field>` (the item without its `junctions.`/`connectors.` prefix)
-/// against the named entries of one kind; `field` is the only changeable field.
-fn named<T>(
+/// against the named entries of one kind; `fields` are the changeable fields. Returns
+/// the entry's index and the field.
+fn named<'f, T>(
     item: &str,
     rest: &str,
     kind: &str,
     entries: &[(String, T)],
-    field: &str,
-) -> Result<usize, ItemError> {
+    fields: &[&'f str],
+) -> Result<(usize, &'f str), ItemError> {
     let defined: Vec<&str> = entries.iter().map(|(n, _)| n.as_str()).collect();
     let hint = format!(
         "valid items: {VARIANT_ITEMS}; {kind}s: {}",
@@ -402,19 +550,90 @@ fn named<T>(
             hint,
         ));
     };
-    if wanted != field {
-        return Err(item_error(
+    match fields.iter().find(|f| **f == wanted) {
+        Some(field) => Ok((index, field)),
+        None => Err(item_error(
             format!(
-                "'{wanted}' is not a field of {kind} '{name}' that a variant can change (only `{field}`)"
+                "'{wanted}' is not a field of {kind} '{name}' that a variant can change (only {})",
+                fields
+                    .iter()
+                    .map(|f| format!("`{f}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             format!(
                 "write e.g. \"{}\"",
                 item.strip_suffix(wanted)
-                    .map_or_else(|| item.to_string(), |p| format!("{p}{field}"))
+                    .map_or_else(|| item.to_string(), |p| format!("{p}{}", fields[0]))
+            ),
+        )),
+    }
+}
+
+/// Resolves `junctions.<junction>.mass` or `junctions.<junction>.ports.<port>.
+/// {position,direction}` (`rest`: the item without `junctions.`).
+fn junction_item(file: &CaseFile, item: &str, rest: &str) -> Result<VariantItem, ItemError> {
+    let Some((name, tail)) = rest.split_once(".ports.") else {
+        return named(item, rest, "junction", &file.junctions, &["mass"])
+            .map(|(index, _)| VariantItem::JunctionMass(index));
+    };
+    let (junction, _) = named(
+        item,
+        &format!("{name}.mass"),
+        "junction",
+        &file.junctions,
+        &["mass"],
+    )?;
+    let ports = &file.junctions[junction].1.ports;
+    let (port, field) = named(item, tail, "port", ports, &["position", "direction"])?;
+    Ok(match field {
+        "direction" => VariantItem::PortDirection { junction, port },
+        _ => VariantItem::PortPosition { junction, port },
+    })
+}
+
+/// Resolves `sections.<section>.<stiffness>` (`rest`: the item without `sections.`):
+/// `ea`, `ga`, `ei`, `gj` of an `Explicit` section, `youngs_modulus` of a `Tube`.
+fn section_item(file: &CaseFile, rest: &str) -> Result<VariantItem, ItemError> {
+    let defined: Vec<&str> = file.sections.iter().map(|(n, _)| n.as_str()).collect();
+    // Section names may contain '.': the field is the last part.
+    let (name, field) = rest.rsplit_once('.').unwrap_or((rest, ""));
+    let Some(section) = file.sections.iter().position(|(n, _)| n == name) else {
+        return Err(item_error(
+            format!("there is no section named '{name}'"),
+            format!(
+                "write sections.<section>.<ea|ga|ei|gj|youngs_modulus>; sections: {}",
+                listed(&defined)
             ),
         ));
+    };
+    let tube = matches!(
+        file.sections[section].1,
+        crate::schema::SectionDef::Tube { .. }
+    );
+    let fields: Vec<&str> = SectionStiffness::ALL
+        .iter()
+        .filter(|f| f.of_tube() == tube)
+        .map(|f| f.field())
+        .collect();
+    match SectionStiffness::ALL
+        .iter()
+        .find(|f| f.field() == field && f.of_tube() == tube)
+    {
+        Some(&stiffness) => Ok(VariantItem::Section { section, stiffness }),
+        None if tube => Err(item_error(
+            format!(
+                "'{field}' is not a stiffness of section '{name}': it is a Tube, whose stiffnesses follow from `youngs_modulus` (Pa), `poisson_ratio` and its radii"
+            ),
+            format!(
+                "write sections.{name}.youngs_modulus, or write the section as Explicit(ea, ga, ei, gj, ...) to change one stiffness alone"
+            ),
+        )),
+        None => Err(item_error(
+            format!("'{field}' is not a stiffness of the Explicit section '{name}'"),
+            format!("write sections.{name}.<{}>", fields.join("|")),
+        )),
     }
-    Ok(index)
 }
 
 #[cfg(test)]

@@ -14,8 +14,12 @@
 //! ```
 
 mod item;
+pub(crate) mod section;
+mod turn;
 
-pub use item::{ItemError, ItemQuantity, RodEnd, ShortFormError, VariantItem, expand_short};
+pub use item::{
+    ItemError, ItemQuantity, RodEnd, SectionStiffness, ShortFormError, VariantItem, expand_short,
+};
 
 use crate::error::{CaseError, Reporter};
 use crate::schema::{Amount, CaseFile, Change, EndDef, VariantChange, Vec3};
@@ -26,10 +30,16 @@ rods.<rod>.segments (Set a whole number), \
 rods.<rod>.start.position, rods.<rod>.end.position (Add/Set a vector; held ends only), \
 rods.<rod>.start.force, rods.<rod>.end.force (Add/Set a vector in N), \
 junctions.<junction>.mass (Add/Set a number in kg), \
+junctions.<junction>.ports.<port>.position (Add/Set a vector, body frame), \
+junctions.<junction>.ports.<port>.direction (Add a rotation vector in deg about the body axes), \
 connectors.<connector>.position (Add/Set a vector), \
+connectors.<connector>.direction (Add a rotation vector in deg about the world axes), \
 clips.<clip>.at (Add/Set a number; clips placed by `at`), \
 clips.<clip>.base.position (Add/Set a vector; clips with a `base`), \
+clips.<clip>.base.direction (Add a rotation vector in deg about the base's parent axes), \
 environment.<mesh>.position (Add/Set a vector), \
+sections.<section>.ea, .ga (N), .ei, .gj (N·m²) of an Explicit section, \
+sections.<section>.youngs_modulus (Pa) of a Tube (Add/Set a number), \
 gravity (Add/Set a vector in m/s²)";
 
 /// The name `strand study` uses for the unchanged case; no variant may take it.
@@ -338,6 +348,45 @@ pub(crate) fn apply_changes(
                 };
                 base.position = changed3(&base.position, change, &v);
             }
+            VariantItem::ConnectorDirection(c) => {
+                let turn = turn::rotation(report, &at, item, change)?;
+                let connector = &mut out.connectors[c].1;
+                turn::frame(&turn, &mut connector.direction, &mut connector.normal);
+            }
+            VariantItem::PortPosition { junction, port } => {
+                let v = vector(report, &at, item, amount, &unit)?;
+                let port = &mut out.junctions[junction].1.ports[port].1;
+                port.position = changed3(&port.position, change, &v);
+            }
+            VariantItem::PortDirection { junction, port } => {
+                let turn = turn::rotation(report, &at, item, change)?;
+                let port = &mut out.junctions[junction].1.ports[port].1;
+                turn::frame(&turn, &mut port.direction, &mut port.normal);
+            }
+            VariantItem::ClipBaseDirection(c) => {
+                let turn = turn::rotation(report, &at, item, change)?;
+                let (name, clip) = &mut out.clips[c];
+                let Some(base) = clip.base.as_mut() else {
+                    return Err(report.invalid(
+                        &at,
+                        format!("clip '{name}' has no `base` of its own"),
+                        "turn the base of a clip with a `base`",
+                    ));
+                };
+                turn::frame(&turn, &mut base.direction, &mut base.normal);
+            }
+            VariantItem::Section { section, stiffness } => {
+                let x = number(
+                    report,
+                    &at,
+                    item,
+                    amount,
+                    &format!(" in {}", stiffness.unit()),
+                )?;
+                section::change(&mut out.sections[section].1, stiffness, |v| {
+                    changed(v, change, x)
+                });
+            }
             VariantItem::EnvironmentPosition(e) => {
                 let v = vector(report, &at, item, amount, &unit)?;
                 let mesh = &mut out.environment[e];
@@ -485,6 +534,205 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(unknown.contains("meshes: radiator"), "{unknown}");
+    }
+
+    #[test]
+    fn directions_turn_frames_and_stiffnesses_change_their_section() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+        let add = |item: &str, amount: Amount| crate::schema::VariantChange {
+            item: item.into(),
+            change: Change::Add(amount),
+        };
+        let report = crate::error::Reporter { origin: "test" };
+        let cooler = Case::from_path(dir.join("cooler_hose.ron")).unwrap();
+        let changed = super::apply_changes(
+            &report,
+            &cooler.file,
+            "t",
+            &[
+                // A quarter turn about z: (1, 1, -1) → (-1, 1, -1), the normal z stays.
+                add(
+                    "connectors.oil_cooler.direction",
+                    Amount::Vector([0.0, 0.0, 90.0]),
+                ),
+                // Port hose2 of the T, (0, -1, 0) turned by 90° about the body's x.
+                add(
+                    "junctions.tee.ports.hose2.direction",
+                    Amount::Vector([90.0, 0.0, 0.0]),
+                ),
+                add(
+                    "junctions.tee.ports.hose3.position",
+                    Amount::Vector([0.0, 5.0, 0.0]),
+                ),
+                add("sections.hose_small.youngs_modulus", Amount::Number(1e6)),
+            ],
+        )
+        .unwrap();
+        let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12);
+        let cooler_out = &changed.connectors[1].1;
+        assert!(
+            near(cooler_out.direction, [-1.0, 1.0, -1.0]),
+            "{cooler_out:?}"
+        );
+        assert!(near(cooler_out.normal, [0.0, 0.0, 1.0]), "{cooler_out:?}");
+        let tee = &changed.junctions[0].1;
+        assert!(near(tee.ports[1].1.direction, [0.0, 0.0, -1.0]), "{tee:?}");
+        assert!(near(tee.ports[1].1.normal, [0.0, -1.0, 0.0]), "{tee:?}");
+        assert!(near(tee.ports[2].1.position, [35.0, 5.0, 0.0]), "{tee:?}");
+        let crate::schema::SectionDef::Tube { youngs_modulus, .. } = changed.sections[1].1 else {
+            panic!("a tube");
+        };
+        assert_eq!(youngs_modulus, 6e6);
+        // The changed case builds, the smaller hose 20 % stiffer in bending.
+        let built = cooler
+            .build_with_changes(
+                "t",
+                &[add(
+                    "sections.hose_small.youngs_modulus",
+                    Amount::Number(1e6),
+                )],
+                None,
+            )
+            .unwrap();
+        let base = cooler.build(None).unwrap();
+        let bending =
+            |b: &crate::BuiltCase| b.model.system().rods[1].rod.section().curvature_stiffness();
+        assert!((bending(&built)[0] / bending(&base)[0] - 1.2).abs() < 1e-12);
+        // A clip base turns with its joint axes; an Explicit section's fields change.
+        let harness = Case::from_path(dir.join("harness_clips.ron")).unwrap();
+        let turned = super::apply_changes(
+            &report,
+            &harness.file,
+            "t",
+            &[add(
+                "clips.bracket.base.direction",
+                Amount::Vector([0.0, 0.0, 90.0]),
+            )],
+        )
+        .unwrap();
+        let base = turned.clips[1].1.base.as_ref().unwrap();
+        assert!(near(base.direction, [0.0, 1.0, 0.0]) && near(base.normal, [0.0, 0.0, 1.0]));
+        let elastica = Case::from_path(dir.join("elastica_fig2.ron")).unwrap();
+        let stiffer = super::apply_changes(
+            &report,
+            &elastica.file,
+            "t",
+            &[crate::schema::VariantChange {
+                item: "sections.paper.ei".into(),
+                change: Change::Set(Amount::Number(2.5)),
+            }],
+        )
+        .unwrap();
+        assert!(
+            matches!(stiffer.sections[0].1, crate::schema::SectionDef::Explicit { ei, .. } if ei == 2.5)
+        );
+    }
+
+    #[test]
+    fn bad_directions_and_stiffnesses_name_the_item_and_the_fix() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+        let cooler = Case::from_path(dir.join("cooler_hose.ron")).unwrap();
+        let harness = Case::from_path(dir.join("harness_clips.ron")).unwrap();
+        let report = crate::error::Reporter { origin: "test" };
+        for (case, item, change, needles) in [
+            (
+                &cooler,
+                "connectors.oil_cooler.direction",
+                Change::Set(Amount::Vector([1.0, 0.0, 0.0])),
+                &["can only be turned", "Add((0, 0, 15))"][..],
+            ),
+            (
+                &cooler,
+                "connectors.oil_cooler.direction",
+                Change::Add(Amount::Number(5.0)),
+                &["takes a rotation vector (x, y, z) in degrees, not a number"][..],
+            ),
+            (
+                &cooler,
+                "sections.hose_small.ei",
+                Change::Add(Amount::Number(1.0)),
+                &[
+                    "it is a Tube",
+                    "sections.hose_small.youngs_modulus",
+                    "Explicit",
+                ][..],
+            ),
+            (
+                &cooler,
+                "sections.hose_tiny.youngs_modulus",
+                Change::Add(Amount::Number(1.0)),
+                &[
+                    "no section named 'hose_tiny'",
+                    "sections: hose_large, hose_small",
+                ][..],
+            ),
+            (
+                &cooler,
+                "sections.hose_small.youngs_modulus",
+                Change::Add(Amount::Vector([1.0, 0.0, 0.0])),
+                &["takes a number in Pa, not a vector"][..],
+            ),
+            (
+                &cooler,
+                "junctions.tee.ports.hose9.direction",
+                Change::Add(Amount::Vector([0.0, 0.0, 1.0])),
+                &["no port named 'hose9'", "ports: hose1, hose2, hose3"][..],
+            ),
+            (
+                &cooler,
+                "junctions.tee.ports.hose2.normal",
+                Change::Add(Amount::Vector([0.0, 0.0, 1.0])),
+                &[
+                    "'normal' is not a field of port 'hose2'",
+                    "`position`, `direction`",
+                ][..],
+            ),
+            (
+                &cooler,
+                "connectors.oil_cooler.normal",
+                Change::Add(Amount::Vector([0.0, 0.0, 1.0])),
+                &["only `position`, `direction`"][..],
+            ),
+            (
+                &harness,
+                "clips.bracket.base.direction",
+                Change::Set(Amount::Vector([0.0, 0.0, 1.0])),
+                &["can only be turned"][..],
+            ),
+        ] {
+            let e = super::apply_changes(
+                &report,
+                &case.file,
+                "t",
+                &[crate::schema::VariantChange {
+                    item: item.into(),
+                    change,
+                }],
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains(&format!("\"{item}\"")), "{item}: {e}");
+            assert!(e.contains("hint: "), "{item}: {e}");
+            for needle in needles {
+                assert!(e.contains(needle), "{item}: {e} lacks {needle}");
+            }
+        }
+        // A stiffness set to zero is the section's own error, within the variant.
+        let e = cooler
+            .build_with_changes(
+                "soft",
+                &[crate::schema::VariantChange {
+                    item: "sections.hose_small.youngs_modulus".into(),
+                    change: Change::Set(Amount::Number(0.0)),
+                }],
+                None,
+            )
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("variant 'soft'") && e.contains("youngs_modulus"),
+            "{e}"
+        );
     }
 
     fn case(text: &str) -> Case {

@@ -21,7 +21,11 @@
 //!
 //! `K` is the Hessian of the Lagrangian. It is solved with the sparse Cholesky factor
 //! of the energy Hessian `H` at the equilibrium (the gauge held as in the solve,
-//! [`crate::gauge`]) and a Schur complement on the few active rows, then refined
+//! [`crate::gauge`]: a round rod's free turn about its axis between pins, on which no
+//! output depends) and a Schur complement on the few active rows — where `H` is
+//! indefinite but definite on the directions the active rows leave free (a hose
+//! pressed into a groove under axial compression), the factor of `H + ρ AᵀA`, the
+//! same system since `A dδ/dp` is prescribed — then refined
 //! against the exact directional derivative of `Φ` (the curvature of active contacts,
 //! `Σ μ_i ∇² c_i`, is the only difference between `K` and `H`): the result satisfies
 //! the linearised KKT system to the accuracy of that directional derivative.
@@ -125,10 +129,11 @@ pub enum SensitivityError {
         /// Unknowns of the base model.
         expected: usize,
     },
-    /// The Hessian at the equilibrium is not positive definite (an unstable state, or
-    /// one held only by its active constraints).
+    /// The Hessian at the equilibrium is not positive definite on the directions its
+    /// active constraints leave free (an unstable state, or a neutral direction beyond
+    /// the gauge freedoms held by construction): the derivative is not unique.
     #[error(
-        "the Hessian at the equilibrium is not positive definite: sensitivities need a stable equilibrium whose energy Hessian is definite"
+        "the Hessian at the equilibrium is not positive definite on the directions its active contacts and stops leave free: sensitivities need a stable equilibrium without neutral directions beyond the gauge (a round rod's turn about its axis between pins is held)"
     )]
     NotPositiveDefinite,
     /// An active row disappeared at a step of a parameter (the contact moved off its

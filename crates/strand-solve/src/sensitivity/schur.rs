@@ -15,12 +15,79 @@ use crate::gauge::Gauge;
 /// dropped (dependent rows: one contact seen twice).
 const SCHUR_CUTOFF: f64 = 1e-12;
 
+/// Factorises `H + ρ AᵀA` (`values`: `H` with the gauge held; `rows`: the active rows
+/// `A`) for the smallest `ρ` of a ladder from 1e-2 to 1e6 times `H`'s largest diagonal
+/// entry that makes it positive definite, and returns `ρ`. An equilibrium whose
+/// Hessian is definite on the directions its active rows leave free (the null space
+/// of `A`) has one (Finsler's lemma); one that is not (an unstable state, or a
+/// neutral direction the rows do not hold), or whose rows couple unknowns the
+/// Hessian's pattern does not, is [`SensitivityError::NotPositiveDefinite`].
+fn augmented_factor(
+    cholesky: &mut SparseCholesky,
+    pattern: &strand_system::HessianPattern,
+    values: &[f64],
+    rows: &[Vec<(usize, f64)>],
+) -> Result<f64, SensitivityError> {
+    if rows.is_empty() {
+        return Err(SensitivityError::NotPositiveDefinite);
+    }
+    // Where each product a_k a_l of every row goes in the upper triangle.
+    let entry = |i: usize, j: usize| {
+        let (r, c) = if i <= j { (i, j) } else { (j, i) };
+        let range = pattern.col_ptr[c]..pattern.col_ptr[c + 1];
+        pattern.row_idx[range.clone()]
+            .binary_search(&r)
+            .ok()
+            .map(|p| range.start + p)
+    };
+    let mut products: Vec<(usize, f64)> = Vec::new();
+    for row in rows {
+        // One entry per unknown (a row may name one twice): a aᵀ, upper triangle.
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(row.len());
+        let mut sorted = row.clone();
+        sorted.sort_by_key(|&(k, _)| k);
+        for (k, a) in sorted {
+            match merged.last_mut() {
+                Some((last, sum)) if *last == k => *sum += a,
+                _ => merged.push((k, a)),
+            }
+        }
+        for (x, &(k, a)) in merged.iter().enumerate() {
+            for &(l, b) in &merged[x..] {
+                let at = entry(k, l).ok_or(SensitivityError::NotPositiveDefinite)?;
+                products.push((at, a * b));
+            }
+        }
+    }
+    let diagonal = (0..pattern.dim())
+        .filter_map(|k| entry(k, k))
+        .map(|at| values[at].abs())
+        .fold(0.0f64, f64::max);
+    let mut augmented = values.to_vec();
+    for exponent in -2..=6 {
+        let rho = diagonal * 10f64.powi(exponent);
+        augmented.copy_from_slice(values);
+        for &(at, product) in &products {
+            augmented[at] += rho * product;
+        }
+        if cholesky.factor(&augmented) {
+            return Ok(rho);
+        }
+    }
+    Err(SensitivityError::NotPositiveDefinite)
+}
+
 /// The factorised linearised KKT system at the base equilibrium.
 pub(crate) struct KktFactor {
     cholesky: SparseCholesky,
     /// The Hessian with the gauge held (values of the model's pattern).
     hessian: Vec<f64>,
     pattern: strand_system::HessianPattern,
+    /// `ρ` of the factor `H + ρ AᵀA` (N/m or N·m/rad per unit row), 0 when `H` itself
+    /// is positive definite: an equilibrium held only by its active rows (a hose
+    /// pressed into a groove under axial compression) has an indefinite `H` but is
+    /// stable on the directions the rows leave free, where `H + ρ AᵀA` is definite.
+    penalty: f64,
     /// The active rows' gradients without the gauge-held unknowns.
     rows: Vec<Vec<(usize, f64)>>,
     /// `H⁻¹ a_i` per active row.
@@ -43,10 +110,6 @@ impl KktFactor {
         let mut cholesky = SparseCholesky::try_new(model.pattern())?;
         let mut values = hessian.to_vec();
         gauge.fix_matrix(&mut values);
-        if !cholesky.factor(&values) {
-            return Err(SensitivityError::NotPositiveDefinite);
-        }
-        let n = model.dofs().len();
         let held = gauge.held();
         let rows: Vec<Vec<(usize, f64)>> = active
             .iter()
@@ -58,6 +121,12 @@ impl KktFactor {
                     .collect()
             })
             .collect();
+        let penalty = if cholesky.factor(&values) {
+            0.0
+        } else {
+            augmented_factor(&mut cholesky, model.pattern(), &values, &rows)?
+        };
+        let n = model.dofs().len();
         let columns: Vec<Vec<f64>> = rows
             .iter()
             .map(|row| {
@@ -88,11 +157,18 @@ impl KktFactor {
             cholesky,
             hessian: values,
             pattern: model.pattern().clone(),
+            penalty,
             rows,
             columns,
             schur,
             dependent,
         })
+    }
+
+    /// Whether the factor is of `H + ρ AᵀA` (`H` alone indefinite: the equilibrium is
+    /// held by its active rows).
+    pub(crate) fn augmented(&self) -> bool {
+        self.penalty > 0.0
     }
 
     /// `H v` with the gauge held.
@@ -128,8 +204,19 @@ impl KktFactor {
 
     /// Solves `[H −Aᵀ; A 0] (v, w) = −(rhs.gradient, rhs.gaps)`: the state and
     /// multiplier changes `v` (chart units) and `w` (N, N·m).
+    ///
+    /// With the factor of `H + ρ AᵀA` the first equation is solved as
+    /// `(H + ρ AᵀA) v − Aᵀ w = −(rhs.gradient + ρ Aᵀ rhs.gaps)`, the same system, as
+    /// `A v = −rhs.gaps`.
     pub(crate) fn solve(&mut self, rhs: &Kkt) -> (Vec<f64>, Vec<f64>) {
         let mut y = rhs.gradient.clone();
+        if self.penalty > 0.0 {
+            for (row, &c) in self.rows.iter().zip(&rhs.gaps) {
+                for &(k, a) in row {
+                    y[k] += self.penalty * a * c;
+                }
+            }
+        }
         self.cholesky.solve_in_place(&mut y);
         let m = self.rows.len();
         let w: Vec<f64> = match &self.schur {

@@ -67,6 +67,10 @@ pub struct Sensitivities {
     /// Whether some active rows are linearly dependent (their multipliers' split, not
     /// their sum, is then a minimum-norm choice).
     pub dependent_rows: bool,
+    /// Whether the energy Hessian alone is indefinite at the equilibrium, which its
+    /// active rows hold (stable on the directions they leave free): the derivatives
+    /// were solved with the factor of `H + ρ AᵀA`, the same linearised KKT system.
+    pub held_by_active_rows: bool,
     /// One entry per parameter.
     pub parameters: Vec<ParameterSensitivity>,
     gauge: Gauge,
@@ -138,6 +142,7 @@ impl Sensitivities {
             multipliers,
             flagged,
             dependent_rows: factor.dependent,
+            held_by_active_rows: factor.augmented(),
             parameters: Vec::with_capacity(count),
             gauge,
         };

@@ -3,13 +3,14 @@
 //! `ITEM` is named as in `batch --vary` (see [`super::spec`]); `LO..HI` is a range
 //! without a step. Signed bounds (`-20mm..+40mm`) are offsets from the case's value;
 //! unsigned ones (`150mm..300mm`) are values, for items whose value the case states
-//! (rod lengths, junction masses, connector position components, gravity components).
+//! (rod lengths, junction masses, connector position components, gravity components,
+//! section stiffnesses). A `direction` is turned by offsets only (`-10deg..+10deg`).
 //! Units as in `batch --vary` (default: the case's length unit, kg, N, m/s²).
 
 use strand_case::schema::CaseFile;
 use strand_case::{ItemQuantity as Quantity, LengthUnit};
 
-use super::spec::{SpecError, fail, parse_number, resolve, units};
+use super::spec::{SpecError, base_unit, fail, parse_number, resolve};
 
 /// The bounds of one design variable.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +23,8 @@ pub struct Bounds {
     pub component: Option<usize>,
     /// What kind of number the item is.
     pub quantity: Quantity,
+    /// The item resolved against the case.
+    pub target: strand_case::VariantItem,
     /// The item's unit in the case (`mm` for lengths in a case in mm, `kg`, `N`, `m/s2`).
     pub unit: String,
     /// Lower and upper offsets from the case's value, in `unit`.
@@ -100,13 +103,14 @@ pub fn parse_bounds(text: &str, file: &CaseFile) -> Result<Bounds, SpecError> {
     }
     let unit = match quantity {
         Quantity::Length => case_unit.map_or("m", |u| u.symbol()),
-        other => units(other).first().map_or("", |(u, _)| *u),
+        other => base_unit(other),
     };
     Ok(Bounds {
         label: label.to_string(),
         item,
         component,
         quantity,
+        target,
         unit: unit.to_string(),
         lower,
         upper,
@@ -138,6 +142,24 @@ mod tests {
         assert!((z.lower + 20.0).abs() < 1e-9 && (z.upper - 10.0).abs() < 1e-9);
         let m = parse_bounds("tee.mass=500g..2kg", &cooler()).unwrap();
         assert!((m.lower + 0.5).abs() < 1e-12 && (m.upper - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn directions_are_offsets_in_degrees_and_stiffnesses_values_or_offsets() {
+        let d = parse_bounds("oil_cooler.direction.y=-0.1rad..+5deg", &cooler()).unwrap();
+        assert_eq!(
+            (d.item.as_str(), d.unit.as_str()),
+            ("connectors.oil_cooler.direction", "deg")
+        );
+        assert!((d.lower + 0.1 * 180.0 / std::f64::consts::PI).abs() < 1e-12);
+        assert_eq!((d.upper, d.origin), (5.0, None));
+        let e = parse_bounds("hose_small.youngs_modulus=4MPa..6MPa", &cooler()).unwrap();
+        assert_eq!((e.unit.as_str(), e.origin), ("Pa", Some(5e6)));
+        assert!((e.lower + 1e6).abs() < 1e-6 && (e.upper - 1e6).abs() < 1e-6);
+        let no_value = parse_bounds("oil_cooler.direction.y=0deg..5deg", &cooler())
+            .unwrap_err()
+            .to_string();
+        assert!(no_value.contains("states no value"), "{no_value}");
     }
 
     #[test]

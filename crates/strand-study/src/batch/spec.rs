@@ -10,8 +10,11 @@
 //! `A`), a list `A,B,C` or one value. A value with a sign (`+30mm`, `-150mm`, `+0`)
 //! is an offset from the case's value (`Add`); a value without one is the value itself
 //! (`Set`). Each number may carry a unit: `mm`, `cm`, `m` for lengths (default: the
-//! case's length unit), `kg`, `g` for masses, `N` for forces, `m/s2` for gravity.
-//! Components of vectors only take offsets.
+//! case's length unit), `kg`, `g` for masses, `N` for forces (and `ea`, `ga`), `m/s2`
+//! for gravity, `deg` (default) or `rad` for the turn of a `direction` about an axis
+//! (`oil_cooler.direction.y=-10deg..+10deg:2deg`), `N·m²` (`Nm2`) for `ei` and `gj`,
+//! `Pa`, `kPa`, `MPa`, `GPa` for `youngs_modulus`. Components of vectors only take
+//! offsets.
 
 use strand_case::schema::{Amount, CaseFile, Change, VariantChange};
 use strand_case::{
@@ -25,7 +28,8 @@ pub const MAX_VALUE_CHARS: usize = 24;
 pub const MAX_VALUES: usize = 10_000;
 
 /// Accepted unit suffixes of `quantity` with their size in the base unit (m, kg, N,
-/// m/s², 1), longest first so that `mm` is not read as `m`.
+/// m/s², deg, N·m², Pa, 1), in the order they are tried: a suffix before every
+/// shorter one it ends with, so that `mm` is not read as `m` nor `MPa` as `Pa`.
 pub(super) fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
     match quantity {
         Quantity::Length => &[("mm", 1e-3), ("cm", 1e-2), ("m", 1.0)],
@@ -33,7 +37,29 @@ pub(super) fn units(quantity: Quantity) -> &'static [(&'static str, f64)] {
         Quantity::Force => &[("N", 1.0)],
         Quantity::Acceleration => &[("m/s2", 1.0), ("m/s^2", 1.0), ("m/s²", 1.0)],
         Quantity::Count => &[],
+        Quantity::Angle => &[
+            ("deg", 1.0),
+            ("°", 1.0),
+            ("rad", 180.0 / std::f64::consts::PI),
+        ],
+        Quantity::BendingStiffness => &[
+            ("N·m²", 1.0),
+            ("N·m2", 1.0),
+            ("Nm2", 1.0),
+            ("Nm^2", 1.0),
+            ("Nmm2", 1e-6),
+        ],
+        Quantity::Modulus => &[("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3), ("Pa", 1.0)],
     }
+}
+
+/// The unit of size 1 of a quantity other than a length (`kg`, `N`, `m/s2`, `deg`,
+/// `N·m²`, `Pa`; empty for a count): the unit of the item in the case file.
+pub(crate) fn base_unit(quantity: Quantity) -> &'static str {
+    units(quantity)
+        .iter()
+        .find(|(_, size)| *size == 1.0)
+        .map_or("", |(u, _)| *u)
 }
 
 /// One varied parameter: the item, whether its values are offsets, and the values.
@@ -165,7 +191,7 @@ pub fn resolve(
         )
     };
     let hint = format!(
-        "vary e.g. <rod>.length, <rod>.segments, <rod>.end.position.z, <rod>.end.force.x, <junction>.mass, <connector>.position.x or gravity.z; {}; {}; {}",
+        "vary e.g. <rod>.length, <rod>.segments, <rod>.end.position.z, <rod>.end.force.x, <junction>.mass, <junction>.ports.<port>.direction.z (deg), <connector>.position.x, <connector>.direction.y (deg), <clip>.at, <clip>.base.direction.z (deg), <section>.ei (N·m²), <section>.youngs_modulus (Pa) or gravity.z; {}; {}; {}",
         names("rods", file.rods.iter().map(|r| r.name.as_str()).collect()),
         names(
             "junctions",
@@ -180,10 +206,10 @@ pub fn resolve(
         ShortFormError::Unknown(_) => fail(text, e.to_string(), hint.clone()),
         ShortFormError::Ambiguous { .. } => fail(text, e.to_string(), "write the full item"),
     })?;
-    let item = VariantItem::parse(file, &full).map_err(|_| {
+    let item = VariantItem::parse(file, &full).map_err(|e| {
         fail(
             text,
-            format!("'{label}' is not an item a batch can vary"),
+            format!("'{label}' is not an item a batch can vary: {}", e.message),
             hint.clone(),
         )
     })?;
@@ -272,7 +298,7 @@ impl Vary {
                 .find_map(|n| n.unit)
                 .unwrap_or(match quantity {
                     Quantity::Length => case_unit.map_or("m", |u| u.symbol()),
-                    other => units(other).first().map_or("", |(u, _)| *u),
+                    other => base_unit(other),
                 });
         let size = units(quantity)
             .iter()

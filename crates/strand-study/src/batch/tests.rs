@@ -70,6 +70,43 @@ fn ranges_offsets_units_and_ids() {
 }
 
 #[test]
+fn directions_turn_in_degrees_and_stiffnesses_take_their_units() {
+    let v = vary("oil_cooler.direction.z=-10deg..+10deg:5deg");
+    assert_eq!(v.item, "connectors.oil_cooler.direction");
+    assert_eq!((v.component, v.unit.as_str()), (Some(2), "deg"));
+    assert_eq!(v.values, [-10.0, -5.0, 0.0, 5.0, 10.0]);
+    assert_eq!(
+        v.change(0).change,
+        Change::Add(Amount::Vector([0.0, 0.0, -10.0]))
+    );
+    // Radians are turned into degrees for the case.
+    let r = vary("tee.ports.hose2.direction.x=+0.1rad");
+    assert_eq!(r.item, "junctions.tee.ports.hose2.direction");
+    let Change::Add(Amount::Vector(turn)) = r.change(0).change else {
+        panic!("an offset vector")
+    };
+    assert!((turn[0] - 0.1 * 180.0 / std::f64::consts::PI).abs() < 1e-12);
+    // A modulus in MPa is set in Pa; the default unit is Pa.
+    let e = vary("hose_small.youngs_modulus=4MPa,6MPa");
+    assert_eq!(e.item, "sections.hose_small.youngs_modulus");
+    assert_eq!(e.change(1).change, Change::Set(Amount::Number(6e6)));
+    assert_eq!(vary("hose_small.youngs_modulus=+1e5").unit, "Pa");
+    // A turn is an offset; a tube has no `ei`.
+    let m = error("oil_cooler.direction.z=10deg");
+    assert!(m.contains("can only be offset"), "{m}");
+    let m = error("hose_small.ei=+1");
+    assert!(
+        m.contains("not an item a batch can vary") && m.contains("it is a Tube"),
+        "{m}"
+    );
+    // Every variant of a direction and a modulus builds.
+    let case = cooler();
+    for change in [v.change(4), r.change(0), e.change(0)] {
+        case.build_with_changes("t", &[change], None).unwrap();
+    }
+}
+
+#[test]
 fn bad_varies_say_what_to_write() {
     for (text, needle) in [
         ("hose2.length", "missing '='"),

@@ -22,12 +22,12 @@ impl Problem {
         for text in vary {
             let b = parse_bounds(text, &case.file)
                 .map_err(|e| OptimizeError::input("--vary", text, &e.message, &e.hint))?;
-            let Some((scale, _)) = parameter_scale(b.quantity, case) else {
+            let Some((scale, _)) = parameter_scale(b.target, case) else {
                 return Err(OptimizeError::input(
                     "--vary",
                     text,
                     "not a continuous parameter",
-                    "vary lengths, positions, masses, forces or gravity",
+                    "vary lengths, positions, directions, masses, forces, stiffnesses or gravity",
                 ));
             };
             if variables

@@ -7,14 +7,16 @@ pub mod table;
 
 use std::path::Path;
 
-use strand_case::{Case, CaseDesign, DesignParameter, ItemQuantity as Quantity, LengthUnit};
+use strand_case::{
+    Case, CaseDesign, DesignParameter, ItemQuantity as Quantity, LengthUnit, VariantItem,
+};
 use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter};
 use strand_solve::Solution;
 use strand_solve::sensitivity::SensitivitySettings;
 
 pub use table::{ENERGY, OutputTable, output_table, outputs_at};
 
-use crate::batch::spec::resolve;
+use crate::batch::spec::{base_unit, resolve};
 use crate::error::{Result, StudyError};
 use crate::format::significant;
 
@@ -22,11 +24,25 @@ fn invalid(message: String) -> StudyError {
     StudyError::Input(message)
 }
 
-/// The typical size of a parameter of `quantity` in its unit in `case` (the
-/// difference steps are a small fraction of it, [`DesignParameter::scale`]) and that
-/// unit (the case's length unit, kg, N, m/s2); `None` for a count.
-pub fn parameter_scale(quantity: Quantity, case: &Case) -> Option<(f64, String)> {
+/// The typical size of parameter `item` in its unit in `case` (the difference steps
+/// are a small fraction of it, [`DesignParameter::scale`]) and that unit (the case's
+/// length unit, kg, N, m/s2, deg, N·m², Pa); `None` for a count.
+pub fn parameter_scale(item: VariantItem, case: &Case) -> Option<(f64, String)> {
     let unit = LengthUnit::parse(&case.file.units.length);
+    let quantity = item.quantity();
+    if let VariantItem::Section { .. } = item {
+        // A stiffness enters the gradient linearly (the energy is linear in it at a
+        // fixed state), so the differences are exact at any step: a hundred times its
+        // own value makes the steps 1 % of it and keeps the round-off of the stiff
+        // forces out of the derivatives (as for masses and loads).
+        let value = item.case_value(&case.file).map_or(1.0, f64::abs);
+        let scale = if value > 0.0 && value.is_finite() {
+            100.0 * value
+        } else {
+            100.0
+        };
+        return Some((scale, base_unit(quantity).to_string()));
+    }
     Some(match quantity {
         Quantity::Length => (
             1.0 / unit.map_or(1.0, |u| u.metres()),
@@ -37,6 +53,11 @@ pub fn parameter_scale(quantity: Quantity, case: &Case) -> Option<(f64, String)>
         Quantity::Mass => (100.0, "kg".to_string()),
         Quantity::Force => (100.0, "N".to_string()),
         Quantity::Acceleration => (10.0, "m/s2".to_string()),
+        // Ten radians, in degrees: the steps turn a frame by 1e-3 rad, small for the
+        // truncation of the extrapolated differences (O(h⁴)) and large against the
+        // round-off of reactions summed from stiff forces.
+        Quantity::Angle => (1800.0 / std::f64::consts::PI, "deg".to_string()),
+        Quantity::BendingStiffness | Quantity::Modulus => (1.0, base_unit(quantity).to_string()),
         Quantity::Count => return None,
     })
 }
@@ -49,9 +70,9 @@ pub fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter,
     for name in names {
         let (item, target, component) = resolve(name, name, &case.file)
             .map_err(|e| invalid(format!("--param {name}: {} (hint: {})", e.message, e.hint)))?;
-        let Some((scale, unit_name)) = parameter_scale(target.quantity(), case) else {
+        let Some((scale, unit_name)) = parameter_scale(target, case) else {
             return Err(invalid(format!(
-                "--param {name}: a number of segments is not a continuous parameter (hint: differentiate with respect to lengths, positions, masses, forces or gravity)"
+                "--param {name}: a number of segments is not a continuous parameter (hint: differentiate with respect to lengths, positions, directions, masses, forces, stiffnesses or gravity)"
             )));
         };
         if out
@@ -76,7 +97,7 @@ pub fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter,
 
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
 /// `names` ([`parameters`]): every output's value and its derivative per parameter
-/// (per unit of the parameter: the case's length unit, kg, N, m/s²), from
+/// (per unit of the parameter: the case's length unit, kg, N, m/s², deg, N·m², Pa), from
 /// [`output_table`] (without the energy, [`ENERGY`]).
 pub fn sensitivities(case: &Case, names: &[String], solution: &Solution) -> Result<SensitivityDoc> {
     let params = parameters(case, names)?;
