@@ -235,6 +235,7 @@ mod tests {
             key: RowKey::Contact(key),
             value,
             gradient,
+            curvature: None,
         }
     }
 
