@@ -110,6 +110,13 @@ pub struct SolverSettings {
     /// iterations (5–6 before this round); without it the curvature costs two drop
     /// cases 169 and 1205 iterations.
     pub active_row_penalty: bool,
+    /// When the first trial of a step with contact rows is rejected, try it once more
+    /// projected back onto the rows held (the rows' second-order correction: a curved
+    /// gap is violated at second order by a step that satisfied its linearisation, and
+    /// the exact penalty would reject the step for it). Default on: drop case 10 of
+    /// `tests/validation/drop.rs` converges in 105 iterations instead of 278 (with
+    /// continuation), the family's mean 60 → 46.
+    pub constraint_correction: bool,
     /// Escape only from saddles whose most negative curvature is at least this
     /// fraction of the unknowns' own stiffness scale (the smallest shift `σ` that makes
     /// `H + σD` positive definite, `D` the damping scale); 0 escapes from every saddle.
@@ -201,6 +208,7 @@ impl Default for SolverSettings {
             mixed_newton: true,
             constraint_curvature: true,
             active_row_penalty: true,
+            constraint_correction: true,
             escape_min_shift: 0.0,
             max_continuation_steps: 64,
             continuation_first_step: 0.125,

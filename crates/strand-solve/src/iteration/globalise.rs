@@ -188,6 +188,41 @@ impl Iteration<'_> {
                     self.rows.len()
                 );
             }
+            if full
+                && !accepted
+                && !self.rows.is_empty()
+                && trial_merit.is_finite()
+                && predicted > 0.0
+                && settings.constraint_correction
+                && let Some((corrected, corrected_rows, corrected_energy)) =
+                    self.constraint_correction(&trial, &trial_rows, t)
+            {
+                // The rows' second-order correction: the trial projected back onto the
+                // rows held (and any it violates), in the metric of this iteration's
+                // factor. A curved gap (a hose sliding over a ridge or a pipe) is
+                // violated at second order by a step that satisfied its linearisation,
+                // and the exact penalty rejects the step for it (the Maratos effect).
+                let corrected_merit =
+                    corrected_energy + self.merit_weight * violation_of(&corrected_rows);
+                let corrected_achieved = merit - corrected_merit;
+                if self.trace {
+                    eprintln!(
+                        "strand-solve:   constraint correction: merit {corrected_merit:.9e} J (trial {trial_merit:.9e} J, from {merit:.9e} J)"
+                    );
+                }
+                if corrected_achieved >= settings.acceptance_ratio * predicted {
+                    self.model
+                        .evaluate(&corrected, &mut self.work.trial_eval, true);
+                    self.accept(
+                        corrected,
+                        corrected_rows,
+                        t,
+                        corrected_achieved / predicted,
+                        None,
+                    );
+                    return Ok(());
+                }
+            }
             if full && let Some(v) = &negative {
                 // Along a direction of negative curvature the damped step is short;
                 // the step plus that direction, scaled to the trust region, often
@@ -345,6 +380,42 @@ impl Iteration<'_> {
         }
         let bent = curved_step(&work.step, t, &c, 1.0);
         Some((self.model.retract(&self.state, &bent), c))
+    }
+
+    /// The rows' second-order correction of a rejected `trial` (at `t` times the step)
+    /// with its `rows`: the least change `c` in the metric of this iteration's factor
+    /// `K` that closes the rows held in this step (and every row violated at the trial)
+    /// to first order at the trial, `min ½ cᵀKc s.t. value_i + a_i·c ≥ 0` (the exact
+    /// step of [`crate::sqp`] with a zero gradient). Returns the corrected state, its
+    /// rows and its energy; `None` when there is nothing to correct, the correction is
+    /// not smaller than the step, or the corrected state is not admissible.
+    fn constraint_correction(
+        &mut self,
+        trial: &SystemState,
+        rows: &[Row],
+        t: f64,
+    ) -> Option<(SystemState, Vec<Row>, f64)> {
+        let held: Vec<usize> = (0..rows.len())
+            .filter(|&i| self.multiplier(rows[i].key) > 0.0 || rows[i].value < 0.0)
+            .collect();
+        if held.is_empty() {
+            return None;
+        }
+        let zero = vec![0.0; self.work.step.len()];
+        let corrected = crate::sqp::exact_step(&mut self.work.cholesky, rows, &held, &zero)?;
+        let c = corrected.step;
+        let (c_rotation, c_translation) = self.model.step_size(&c);
+        let (rotation, translation) = self.model.step_size(&self.work.step);
+        if c_rotation > t * rotation && c_translation > t * translation {
+            return None;
+        }
+        let state = self.model.retract(trial, &c);
+        let mut state_rows = Vec::new();
+        if !self.collect_rows(&state, &mut state_rows) {
+            return None;
+        }
+        let energy = self.model.energy(&state);
+        Some((state, state_rows, energy))
     }
 
     /// The quadratic model `gᵀp + ½ pᵀHp` (J) of the energy change along `p`.
