@@ -2,7 +2,8 @@
 //! and (through [`Constraints`]) contact. Each is a row `value + Σ_k gradient_k d_k ≥ 0`
 //! in the step `d`; its multiplier is the force (N) or moment (N·m) that holds it.
 
-use strand_system::{Model, SystemState};
+use nalgebra::DMatrix;
+use strand_system::{HessianPattern, Model, SystemState};
 
 /// Why a state is not admissible for the inequality constraints (contact), with the
 /// rod and obstacle names and lengths in mm, as the user reads them.
@@ -90,6 +91,46 @@ pub struct Row {
     pub value: f64,
     /// Sparse gradient with respect to the unknowns: `(unknown index, ∂value/∂d)`.
     pub gradient: Vec<(usize, f64)>,
+    /// Second derivatives of the value with respect to position unknowns (a contact
+    /// gap curved across a ridge, a mesh vertex or another rod); `None` where flat.
+    pub curvature: Option<RowCurvature>,
+}
+
+/// The second derivatives of a row's value with respect to some position blocks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowCurvature {
+    /// The unknown blocks (3 unknowns each), in the order of `hessian`'s 3×3 blocks.
+    pub blocks: Vec<usize>,
+    /// `∂²value/∂d∂d` over those blocks (symmetric, `3·blocks.len()` square), in the
+    /// row's unit per m² (m⁻¹ for a gap).
+    pub hessian: DMatrix<f64>,
+}
+
+impl RowCurvature {
+    /// Adds `factor` times this curvature into the upper-triangular `values` of
+    /// `pattern` (pairs of blocks the pattern does not couple, such as two rods in
+    /// contact, are left out).
+    pub fn add_into(&self, pattern: &HessianPattern, values: &mut [f64], factor: f64) {
+        for (a, &block_a) in self.blocks.iter().enumerate() {
+            for (b, &block_b) in self.blocks.iter().enumerate() {
+                if block_a > block_b {
+                    continue;
+                }
+                let Some(offsets) = pattern.find_offsets(block_a, block_b) else {
+                    continue;
+                };
+                for k in 0..3 {
+                    for i in 0..3 {
+                        // Upper triangle only (a diagonal block stores rows 0..=k).
+                        if block_a == block_b && (a != b || i > k) {
+                            continue;
+                        }
+                        values[offsets[k] + i] += factor * self.hessian[(3 * a + i, 3 * b + k)];
+                    }
+                }
+            }
+        }
+    }
 }
 
 impl Row {
@@ -146,11 +187,13 @@ pub fn limit_rows(model: &Model, state: &SystemState, out: &mut Vec<Row>) {
             key: RowKey::Limit { clip, upper: false },
             value: value - lower,
             gradient: vec![(index, 1.0)],
+            curvature: None,
         });
         out.push(Row {
             key: RowKey::Limit { clip, upper: true },
             value: upper - value,
             gradient: vec![(index, -1.0)],
+            curvature: None,
         });
     }
 }

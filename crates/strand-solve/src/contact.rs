@@ -15,6 +15,7 @@ use strand_system::{Model, SystemState};
 use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 
 mod advance;
+mod curvature;
 mod exclusion;
 mod mesh_gaps;
 mod rod_minima;
@@ -22,20 +23,27 @@ mod start;
 #[cfg(test)]
 mod tests;
 
+use curvature::Feature;
 use exclusion::Exclusion;
 
 /// What tells the gaps of one rod feature (vertex or edge) against one obstacle
 /// apart, for the row keys: the mesh's smooth patch (0 for a rod) and which end of a
-/// stretch of nearest points on an edge (0: not a stretch end; 1: low; 2: high).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// stretch of nearest points on an edge (0: not a stretch end; 1: low; 2: high); and
+/// the obstacle feature of the nearest point (for the gap's curvature, not the key).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Tag {
     patch: usize,
     end: u8,
+    feature: Feature,
 }
 
 impl Tag {
-    pub(crate) fn new(patch: usize, end: u8) -> Self {
-        Self { patch, end }
+    pub(crate) fn new(patch: usize, end: u8, feature: Feature) -> Self {
+        Self {
+            patch,
+            end,
+            feature,
+        }
     }
 }
 
@@ -44,6 +52,9 @@ impl Tag {
 pub struct Contact {
     meshes: Vec<Arc<ObstacleMesh>>,
     margin_m: f64,
+    /// Whether a step's reach towards the meshes is measured along its path
+    /// (`Contact::mesh_advancement`) rather than from its start alone.
+    sampled_advancement: bool,
 }
 
 /// One contact pair at a state, with its force.
@@ -57,11 +68,25 @@ pub struct ContactForce {
 
 impl Contact {
     /// Contact against `meshes`, with pairs closer than `margin_m` (surface to surface,
-    /// m) entering as constraints. Each edge moves by at most half of the larger of the
-    /// margin and its clearance in one step, so nothing beyond the margin can be
-    /// reached within one step.
+    /// m) entering as constraints. No step carries an edge's centreline through a mesh
+    /// (the step is sampled along its path) or two pieces of rod towards each other by
+    /// more than half of the larger of the margin and their gap, so nothing beyond the
+    /// margin is passed through within one step.
     pub fn new(meshes: Vec<Arc<ObstacleMesh>>, margin_m: f64) -> Self {
-        Self { meshes, margin_m }
+        Self {
+            meshes,
+            margin_m,
+            sampled_advancement: true,
+        }
+    }
+
+    /// The same contact with the step's reach towards the meshes measured from the
+    /// start of the step alone (each edge moves by at most half of the larger of the
+    /// margin and its clearance, as before the path was sampled; for comparison) when
+    /// `sampled` is false.
+    pub fn with_sampled_advancement(mut self, sampled: bool) -> Self {
+        self.sampled_advancement = sampled;
+        self
     }
 
     /// A margin suited to `model`: twice its largest outer radius, at least 5 mm.
@@ -132,7 +157,7 @@ impl Contact {
         gaps.extend(
             rod_minima::local_minima(between_rods)
                 .into_iter()
-                .map(|gap| (gap, Tag::new(0, 0))),
+                .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
         );
         // The positions' low-order parts (compensated summation), to first order: a gap
         // then resolves the vertex positions beyond double precision, as the elastic
@@ -291,6 +316,7 @@ impl Constraints for Contact {
                 key: key_of(&gap, tag),
                 value: gap.gap,
                 gradient,
+                curvature: curvature::row_curvature(model, state, &gap, tag.feature),
             });
         }
         Ok(())

@@ -98,6 +98,7 @@ impl<'m> Solver<'m> {
                 step: vec![0.0; n],
                 product: vec![0.0; n],
                 rhs: vec![0.0; n],
+                model_gradient: None,
             },
         })
     }

@@ -91,6 +91,32 @@ pub struct SolverSettings {
     /// inflates at second order (see `strand_system::Model::evaluate_mixed`). Same
     /// equilibria, fewer iterations on stiff rods.
     pub mixed_newton: bool,
+    /// Add the curvature of the contact constraints held with a positive force to the
+    /// model's Hessian (the Lagrangian's `−λ∇²g`: across a ridge, a mesh vertex or
+    /// another rod the gap is curved, about `λ/r`, which a limp rod's own stiffness
+    /// does not see). Default on: with [`SolverSettings::active_row_penalty`], the drop
+    /// family of `tests/validation/drop.rs` (median 49 iterations without either)
+    /// takes 41 (alone 38, but one case 49 → 147); with this round's other contact
+    /// changes (the path-sampled advancement, the halved trust-region shrink),
+    /// `hose_in_groove.ron` takes 11 iterations instead of 51 and
+    /// `cooler_hose_contact.ron` 12 instead of 14.
+    pub constraint_curvature: bool,
+    /// Add the augmented-Lagrangian term `½ ρ (gap + a·d)²` of every row held with a
+    /// positive force in the last step to the SQP model, `ρ` the rod's own stiffness
+    /// along the row: the step and forces are unchanged while the active set holds, but
+    /// the model is positive definite wherever the equilibrium is stable on the
+    /// contacts' tangent space (a hose draped over a pipe), so Newton needs no damping.
+    /// Default on: the grooves and corner of `tests/validation/groove.rs` converge in 2
+    /// iterations (5–6 before this round); without it the curvature costs two drop
+    /// cases 169 and 1205 iterations.
+    pub active_row_penalty: bool,
+    /// When the first trial of a step with contact rows is rejected, try it once more
+    /// projected back onto the rows held (the rows' second-order correction: a curved
+    /// gap is violated at second order by a step that satisfied its linearisation, and
+    /// the exact penalty would reject the step for it). Default on: drop case 10 of
+    /// `tests/validation/drop.rs` converges in 105 iterations instead of 278 (with
+    /// continuation), the family's mean 60 → 46.
+    pub constraint_correction: bool,
     /// Escape only from saddles whose most negative curvature is at least this
     /// fraction of the unknowns' own stiffness scale (the smallest shift `σ` that makes
     /// `H + σD` positive definite, `D` the damping scale); 0 escapes from every saddle.
@@ -188,6 +214,9 @@ impl Default for SolverSettings {
             stiffness_continuation: true,
             escape_saddles: true,
             mixed_newton: true,
+            constraint_curvature: true,
+            active_row_penalty: true,
+            constraint_correction: true,
             escape_min_shift: 0.0,
             max_continuation_steps: 64,
             continuation_first_step: 0.125,

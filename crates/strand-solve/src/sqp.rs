@@ -71,7 +71,7 @@ pub(crate) fn constrained_step(
 /// `(A H⁻¹ Aᵀ) λ = −value − A d_N`, refined as a primal–dual active set: a row with a
 /// negative multiplier leaves the set, the most violated other row joins it. `None` if
 /// the Schur complement is singular or the refinement does not settle.
-fn exact_step(
+pub(crate) fn exact_step(
     cholesky: &mut SparseCholesky,
     rows: &[Row],
     active: &[usize],
@@ -235,6 +235,7 @@ mod tests {
             key: RowKey::Contact(key),
             value,
             gradient,
+            curvature: None,
         }
     }
 

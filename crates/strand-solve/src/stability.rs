@@ -232,6 +232,7 @@ mod tests {
             key: RowKey::Contact(0),
             value: 0.0,
             gradient: vec![(0, 1.0), (1, -1.0)],
+            curvature: None,
         };
         let inertia = reduced_inertia(&pattern, &values, &Gauge::default(), &[&row], 1e-9).unwrap();
         assert_eq!(inertia.negative, 0);

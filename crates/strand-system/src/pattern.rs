@@ -108,10 +108,14 @@ impl HessianPattern {
 
     /// Value offsets of global block `(row_block, col_block)`, `row_block ≤ col_block`.
     pub fn offsets(&self, row_block: usize, col_block: usize) -> [usize; 3] {
-        let slot = self.block_rows[col_block]
-            .binary_search(&row_block)
-            .expect("block in pattern");
-        self.block_offsets[col_block][slot]
+        self.find_offsets(row_block, col_block)
+            .expect("block in pattern")
+    }
+
+    /// [`HessianPattern::offsets`], or `None` if the pattern does not hold the block.
+    pub fn find_offsets(&self, row_block: usize, col_block: usize) -> Option<[usize; 3]> {
+        let slot = self.block_rows[col_block].binary_search(&row_block).ok()?;
+        Some(self.block_offsets[col_block][slot])
     }
 
     /// The scatter map of an element whose local blocks map to `blocks` (`None` for an

@@ -1,14 +1,16 @@
-//! Conservative advancement: how far a step may go before some rod edge could reach an
-//! obstacle that no contact row represents.
+//! Conservative advancement: how far a step may go before some rod edge could pass
+//! through an obstacle that no contact row represents.
 //!
 //! Rows exist for the pairs within the search margin; everything farther is invisible
-//! to the step. An edge whose capsule is `c` away from every mesh may therefore move by
-//! half of `max(margin, c)`, and two rod edges `c` apart (beyond the excluded near
-//! neighbours) may approach each other by half of `max(margin, c)`: their relative
-//! move, not their own, counts. A hose falling through free space thus moves by half
-//! its clearance per step, not by half the margin.
+//! to the step. Against the meshes the step is sampled along its path
+//! ([`Contact::mesh_advancement`]): an edge's centreline cannot cross a surface between
+//! two samples where it is `d₀` and `d₁` away if it moves by less than `d₀ + d₁`, so an
+//! edge lying on a face slides by nearly two radii per sample. Two rod edges `c` apart
+//! (beyond the excluded near neighbours) may approach each other by half of
+//! `max(margin, c)`: their relative move, not their own, counts. A hose falling through
+//! free space thus moves by about its clearance per step, not by half the margin.
 
-use nalgebra::Vector3;
+use nalgebra::{Point3, Vector3};
 use strand_contact::Obstacle;
 use strand_system::{Model, SystemState};
 
@@ -28,9 +30,10 @@ const ROD_REACH_EDGES: f64 = 32.0;
 
 impl Contact {
     /// The largest multiple `t` of the straight move of every vertex from `state` to
-    /// `target` such that every edge moves by at most half of `max(margin, clearance)`
-    /// (m), its clearance measured at `state` against every mesh and every other rod
-    /// (looked for up to twice the edge's move: `t` above 1 is a lower bound).
+    /// `target` such that no edge's centreline passes through a mesh on the way
+    /// ([`Contact::mesh_advancement`]) and no two rod edges approach each other by more
+    /// than half of `max(margin, gap)` (m), the gap measured at `state` (`t` above 1 is
+    /// a lower bound).
     pub(crate) fn advancement(
         &self,
         model: &Model,
@@ -68,27 +71,6 @@ impl Contact {
             });
         }
         let centrelines = centrelines(state);
-        // Clearance of every edge, m, looked for up to twice its move (beyond that it
-        // does not limit the step).
-        let mut clearance: Vec<Vec<f64>> = moves
-            .iter()
-            .map(|edges| edges.iter().map(|d| 2.0 * d).collect())
-            .collect();
-        for (rod, (vertices, edges)) in centrelines.iter().zip(&moves).enumerate() {
-            let radius = model.system().rods[rod].rod.section().outer_radius;
-            for (edge, &moved) in edges.iter().enumerate() {
-                if moved <= half_margin {
-                    continue;
-                }
-                let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-                for mesh in &self.meshes {
-                    let reach = clearance[rod][edge] + radius;
-                    if let Some(near) = mesh.segment_proximity(a, b, reach) {
-                        clearance[rod][edge] = (near.distance - radius).max(0.0);
-                    }
-                }
-            }
-        }
         let rods = rod_geometries(model, &centrelines);
         // Two rods (or two parts of one) close their gap by at most the largest
         // relative move of their edges' ends: parts moving together (a falling hose)
@@ -127,15 +109,149 @@ impl Contact {
                 }
             }
         }
-        for (edges, room) in moves.iter().zip(&clearance) {
-            for (&moved, &c) in edges.iter().zip(room) {
-                if moved > half_margin {
-                    fraction = fraction.min(0.5 * c.max(self.margin_m) / moved);
-                } else if moved > 0.0 {
-                    fraction = fraction.min(half_margin / moved);
-                }
-            }
+        if self.sampled_advancement {
+            fraction = fraction.min(self.mesh_advancement(model, &centrelines, &deltas, &moves));
+        } else {
+            fraction = fraction.min(self.mesh_advancement_by_margin(model, &centrelines, &moves));
         }
         Ok(fraction)
     }
+
+    /// The mesh part of [`Contact::advancement`] by the clearance at `state` alone:
+    /// every edge moving by more than half the margin moves by at most half of
+    /// `max(margin, clearance)` (m).
+    fn mesh_advancement_by_margin(
+        &self,
+        model: &Model,
+        centrelines: &[Vec<Point3<f64>>],
+        moves: &[Vec<f64>],
+    ) -> f64 {
+        let half_margin = 0.5 * self.margin_m;
+        let mut fraction = f64::INFINITY;
+        for (rod, (vertices, edges)) in centrelines.iter().zip(moves).enumerate() {
+            let radius = model.system().rods[rod].rod.section().outer_radius;
+            for (edge, &moved) in edges.iter().enumerate() {
+                if moved <= half_margin {
+                    if moved > 0.0 {
+                        fraction = fraction.min(half_margin / moved);
+                    }
+                    continue;
+                }
+                // Clearance looked for up to twice the edge's move.
+                let mut clearance = 2.0 * moved;
+                let (a, b) = (&vertices[edge], &vertices[edge + 1]);
+                for mesh in &self.meshes {
+                    if let Some(near) = mesh.segment_proximity(a, b, clearance + radius) {
+                        clearance = (near.distance - radius).max(0.0);
+                    }
+                }
+                fraction = fraction.min(0.5 * clearance.max(self.margin_m) / moved);
+            }
+        }
+        fraction
+    }
+
+    /// The mesh part of [`Contact::advancement`] along the path: the largest multiple
+    /// `t` (up to [`PATH_SAMPLES`] samples; above 1 a lower bound) of the straight
+    /// move for which no edge's centreline reaches a mesh. The distance `d` of a
+    /// centreline segment to a mesh changes by at most the larger move of its ends, so
+    /// between two samples where an edge is `d₀` and `d₁` away and moves by less than
+    /// `d₀ + d₁` it cannot cross a surface: an edge in contact (`d` about its radius)
+    /// slides by nearly twice its radius per sample, however close it lies. A trial
+    /// that ends inside an obstacle is seen by its own rows (its centreline is then
+    /// within a radius of the surface); one that passes through a thin part is not,
+    /// which this excludes.
+    fn mesh_advancement(
+        &self,
+        model: &Model,
+        centrelines: &[Vec<Point3<f64>>],
+        deltas: &[Vec<Vector3<f64>>],
+        moves: &[Vec<f64>],
+    ) -> f64 {
+        if self.meshes.is_empty() {
+            return f64::INFINITY;
+        }
+        let radii: Vec<f64> = model
+            .system()
+            .rods
+            .iter()
+            .map(|r| r.rod.section().outer_radius)
+            .collect();
+        // The centreline distance of every moving edge at the move's multiple `t`,
+        // looked for up to the edge's remaining move to `t_end` (farther does not
+        // limit it), m.
+        let distances = |t: f64, t_end: f64| -> Vec<Vec<f64>> {
+            centrelines
+                .iter()
+                .zip(deltas)
+                .zip(moves)
+                .map(|((vertices, delta), edges)| {
+                    edges
+                        .iter()
+                        .enumerate()
+                        .map(|(edge, &moved)| {
+                            let reach = moved * (t_end - t) + f64::MIN_POSITIVE;
+                            let a = vertices[edge] + t * delta[edge];
+                            let b = vertices[edge + 1] + t * delta[edge + 1];
+                            self.meshes
+                                .iter()
+                                .filter_map(|mesh| mesh.segment_proximity(&a, &b, reach))
+                                .map(|near| near.distance)
+                                .fold(reach, f64::min)
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        let end = PATH_SAMPLES as f64;
+        let mut t = 0.0;
+        let mut here = distances(0.0, end);
+        for _ in 0..PATH_SAMPLES {
+            // The next sample: every edge moves by at most `PATH_STRIDE` of its
+            // distance (and, in contact, of its radius), then checked against the
+            // distance found there.
+            let mut stride = f64::INFINITY;
+            for (rod, (edges, near)) in moves.iter().zip(&here).enumerate() {
+                for (&moved, &d) in edges.iter().zip(near) {
+                    if moved > 0.0 {
+                        stride = stride.min(PATH_STRIDE * d.max(radii[rod]) / moved);
+                    }
+                }
+            }
+            let mut next = (t + stride).min(end);
+            let mut there = distances(next, end);
+            // Shorten the stride until every edge's move fits between the distances.
+            let fits =
+                |next: f64, there: &[Vec<f64>]| {
+                    moves.iter().zip(&here).zip(there).all(|((edges, a), b)| {
+                        edges.iter().zip(a).zip(b).all(|((&moved, &d0), &d1)| {
+                            moved == 0.0 || (next - t) * moved < d0 + d1
+                        })
+                    })
+                };
+            let mut tries = 0;
+            while !fits(next, &there) {
+                tries += 1;
+                if tries > 4 {
+                    return t.max(f64::MIN_POSITIVE);
+                }
+                next = t + 0.5 * (next - t);
+                there = distances(next, end);
+            }
+            t = next;
+            here = there;
+            if t >= 1.0 {
+                break;
+            }
+        }
+        t
+    }
 }
+
+/// Largest number of samples of [`Contact::mesh_advancement`] along a step.
+const PATH_SAMPLES: usize = 8;
+
+/// Move of an edge from one sample to the next of [`Contact::mesh_advancement`], as a
+/// fraction of its distance to the meshes there (at least its radius): below 2, the
+/// next sample is found clear when the distance there is at least `stride − 1` of it.
+const PATH_STRIDE: f64 = 1.6;

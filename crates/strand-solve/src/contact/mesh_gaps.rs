@@ -5,7 +5,7 @@ use nalgebra::Point3;
 use strand_contact::{Gap, LocalContact, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::Model;
 
-use super::{Contact, Tag};
+use super::{Contact, Feature, Tag};
 use crate::constraints::ConstraintError;
 
 /// How much nearer than both its vertices (relative to `1 + edge length`, m) an edge's
@@ -43,7 +43,8 @@ impl Contact {
         let gap_of = |contact: &LocalContact, edge: usize, s: f64, point: Point3<f64>| {
             let near = &contact.proximity;
             let normal = near.normal.ok_or_else(|| touches(&near.point_on_mesh))?;
-            Ok::<_, ConstraintError>(Gap {
+            let feature = Feature::on_mesh(mesh, near.triangle, near.barycentric, &normal);
+            let gap = Gap {
                 rod,
                 edge,
                 s,
@@ -52,7 +53,8 @@ impl Contact {
                 witness: near.point_on_mesh,
                 normal,
                 gap: near.distance - geometry.radius,
-            })
+            };
+            Ok::<_, ConstraintError>((gap, feature))
         };
         // Per vertex: its local contacts (patch, distance).
         let mut vertex_contacts: Vec<Vec<(usize, f64)>> = vec![Vec::new(); vertices.len()];
@@ -67,7 +69,8 @@ impl Contact {
             };
             for contact in mesh.local_contacts(p, p, reach) {
                 vertex_contacts[j].push((contact.patch, contact.proximity.distance));
-                out.push((gap_of(&contact, edge, s, *p)?, Tag::new(contact.patch, 0)));
+                let (gap, feature) = gap_of(&contact, edge, s, *p)?;
+                out.push((gap, Tag::new(contact.patch, 0, feature)));
             }
         }
         // A vertex's distance to a patch: its contact there, else its nearest contact.
@@ -115,7 +118,8 @@ impl Contact {
                     else {
                         continue;
                     };
-                    out.push((gap_of(&at, edge, s, point)?, Tag::new(patch, end)));
+                    let (gap, feature) = gap_of(&at, edge, s, point)?;
+                    out.push((gap, Tag::new(patch, end, feature)));
                 }
             }
         }

@@ -117,6 +117,9 @@ pub(crate) struct Workspace {
     pub step: Vec<f64>,
     pub product: Vec<f64>,
     pub rhs: Vec<f64>,
+    /// The SQP model's gradient where it is not the energy's (the augmented-Lagrangian
+    /// term of the active rows, [`add_row_penalty`]), J per unknown.
+    pub model_gradient: Option<Vec<f64>>,
 }
 
 /// The state of one Newton/SQP iteration sequence.
@@ -337,13 +340,18 @@ impl<'a> Iteration<'a> {
     /// from the last accepted one down (or up) that is positive definite.
     fn factor_damped(&mut self) -> Result<(), Termination> {
         let settings = self.settings;
-        let work = &mut *self.work;
         let mut damping = self.damping;
         let mut failed = false;
+        let model = self.sqp_model();
+        let work = &mut *self.work;
+        work.model_gradient = model.as_ref().map(|(_, g)| g.clone());
+        let hessian = model
+            .as_ref()
+            .map_or(&work.eval.hessian[..], |(h, _)| &h[..]);
         if self.try_undamped && damping > 0.0 {
             // The last step was exact: the undamped Newton step may be positive definite
             // already (one factorisation to find out, instead of an eighth per step).
-            work.damped.copy_from_slice(&work.eval.hessian);
+            work.damped.copy_from_slice(hessian);
             work.gauge.fix_matrix(&mut work.damped);
             if work.cholesky.factor(&work.damped) {
                 self.damping = 0.0;
@@ -353,7 +361,7 @@ impl<'a> Iteration<'a> {
             failed = true;
         }
         loop {
-            work.damped.copy_from_slice(&work.eval.hessian);
+            work.damped.copy_from_slice(hessian);
             if damping > 0.0 {
                 let scale = damping_scale(
                     &work.eval.hessian,
@@ -385,6 +393,50 @@ impl<'a> Iteration<'a> {
         self.damping = damping;
         self.indefinite = failed;
         Ok(())
+    }
+
+    /// The SQP model's Hessian and gradient when they differ from the energy's: the
+    /// Lagrangian's `H − Σ λ_i ∇²g_i` over the rows with a positive multiplier of the
+    /// last QP and a curvature (a contact held across a ridge, a mesh vertex or another
+    /// rod: the constraint's curvature, about `λ/r`, can dwarf a limp rod's own
+    /// stiffness; setting `constraint_curvature`), plus the augmented-Lagrangian term
+    /// `½ Σ ρ_i (value_i + a_i·d)²` of those rows (setting `active_row_penalty`, see
+    /// [`add_row_penalty`]). `None` when neither applies.
+    fn sqp_model(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        let settings = self.settings;
+        if self.multipliers.is_empty()
+            || !(settings.constraint_curvature || settings.active_row_penalty)
+        {
+            return None;
+        }
+        let pattern = self.model.pattern();
+        let energy = &self.work.eval;
+        let mut hessian = energy.hessian.clone();
+        let mut gradient = energy.gradient.clone();
+        let mut changed = false;
+        for row in &self.rows {
+            let lambda = self.multiplier(row.key);
+            if lambda <= 0.0 {
+                continue;
+            }
+            if settings.constraint_curvature
+                && let Some(curvature) = &row.curvature
+            {
+                curvature.add_into(pattern, &mut hessian, -lambda);
+                changed = true;
+            }
+            if settings.active_row_penalty {
+                changed |= add_row_penalty(
+                    pattern,
+                    &self.work.diagonal,
+                    &energy.hessian,
+                    row,
+                    &mut hessian,
+                    &mut gradient,
+                );
+            }
+        }
+        changed.then_some((hessian, gradient))
     }
 
     /// A direction of negative curvature of the Hessian (the generalised eigenvector of
@@ -423,7 +475,8 @@ impl<'a> Iteration<'a> {
     /// linearised inequalities with the same matrix.
     fn direction(&mut self) -> Result<(), Termination> {
         let work = &mut *self.work;
-        for (s, g) in work.step.iter_mut().zip(&work.eval.gradient) {
+        let gradient = work.model_gradient.as_ref().unwrap_or(&work.eval.gradient);
+        for (s, g) in work.step.iter_mut().zip(gradient) {
             *s = -g;
         }
         work.gauge.fix_vector(&mut work.step);
@@ -438,7 +491,7 @@ impl<'a> Iteration<'a> {
                     .is_ok()
             })
             .collect();
-        work.rhs.copy_from_slice(&work.eval.gradient);
+        work.rhs.copy_from_slice(gradient);
         work.gauge.fix_vector(&mut work.rhs);
         let constrained = crate::sqp::constrained_step(
             self.model.pattern(),
@@ -600,4 +653,63 @@ pub(crate) fn residual_floor(model: &Model) -> f64 {
         })
         .fold(0.0, f64::max);
     FLOOR_ULPS * f64::EPSILON * stiffest
+}
+
+/// Adds the augmented-Lagrangian term `½ ρ (value + a·d)²` of an active `row` to the
+/// SQP model (`ρ a aᵀ` to `hessian`, `ρ·value·a` to `gradient`), `ρ` the energy
+/// Hessian's stiffness along the row (`Σ a_k² H_kk / Σ a_k²`, N/m for a gap). On the
+/// rows held active by the QP it is constant (`value + a·d = 0`), so the step and the
+/// multipliers are those of the unpenalised QP; but it makes the model positive
+/// definite wherever only the tangent space of the contacts is (a hose draped over a
+/// pipe, whose energy alone is indefinite along the normals), so the Newton step needs
+/// no Levenberg–Marquardt damping there. Returns `false` (and adds nothing) when the
+/// pattern does not couple the row's unknowns (two rods in contact).
+pub(crate) fn add_row_penalty(
+    pattern: &strand_system::HessianPattern,
+    diagonal: &[usize],
+    energy_hessian: &[f64],
+    row: &Row,
+    hessian: &mut [f64],
+    gradient: &mut [f64],
+) -> bool {
+    // The stored offset of entry (p, q) of the upper triangle (block-wise CSC).
+    let offset = |p: usize, q: usize| -> Option<usize> {
+        let (p, q) = if p <= q { (p, q) } else { (q, p) };
+        pattern
+            .find_offsets(p / 3, q / 3)
+            .map(|offsets| offsets[q % 3] + p % 3)
+    };
+    // The row's gradient with repeated unknowns merged.
+    let mut entries: Vec<(usize, f64)> = Vec::with_capacity(row.gradient.len());
+    for &(k, a) in &row.gradient {
+        match entries.iter_mut().find(|e| e.0 == k) {
+            Some(e) => e.1 += a,
+            None => entries.push((k, a)),
+        }
+    }
+    if entries
+        .iter()
+        .any(|&(p, _)| entries.iter().any(|&(q, _)| offset(p, q).is_none()))
+    {
+        return false;
+    }
+    let norm: f64 = entries.iter().map(|(_, a)| a * a).sum();
+    if norm == 0.0 {
+        return false;
+    }
+    let rho = entries
+        .iter()
+        .map(|&(k, a)| a * a * energy_hessian[diagonal[k]].abs())
+        .sum::<f64>()
+        / norm;
+    for (i, &(p, a)) in entries.iter().enumerate() {
+        gradient[p] += rho * row.value * a;
+        for &(q, b) in &entries[i..] {
+            // One stored value stands for both (p, q) and (q, p).
+            if let Some(at) = offset(p, q) {
+                hessian[at] += rho * a * b;
+            }
+        }
+    }
+    true
 }

@@ -31,6 +31,7 @@ impl Constraints for Floor {
                         key: RowKey::Contact((r * 10_000 + j) as u64),
                         value: p.z - self.height_m - self.radius_m,
                         gradient,
+                        curvature: None,
                     });
                 }
             }
