@@ -3,6 +3,7 @@ one after the other (CI has 2 cores), and Python code runs while a solve does.""
 
 from __future__ import annotations
 
+import hashlib
 import os
 import threading
 import time
@@ -44,25 +45,43 @@ def test_python_runs_while_a_solve_runs():
     assert np.diff(stamps).max() < 0.5 * duration, (np.diff(stamps).max(), duration)
 
 
+def parallel_ratio(work) -> float:
+    """Wall time of `work(0)` and `work(1)` in two threads over one after the other."""
+    one_after_other = wall(lambda: (work(0), work(1)))
+    threads = [threading.Thread(target=work, args=(k,)) for k in (0, 1)]
+    together = wall(lambda: ([t.start() for t in threads], [t.join() for t in threads]))
+    return together / one_after_other
+
+
+def hash_work(_k: int) -> None:
+    """About 0.2 s of hashing; hashlib releases the GIL on large buffers."""
+    data = bytes(64 << 20)
+    for _ in range(3):
+        hashlib.sha256(data).digest()
+
+
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
 def test_two_solves_in_two_threads_run_concurrently():
+    # Two solves in two threads take clearly less wall time than one after the
+    # other. A control with the same shape, hashing (which releases the GIL), says
+    # whether the machine gives this process two cores at all: where it does not
+    # (other processes hold one), the wall times measure the load, not Strand.
     solves = cases()
     results = [None, None]
 
     def solve(k):
         results[k] = solves[k].solve(segments=SEGMENTS)
 
-    ratios = []
+    tries = []
     for _ in range(3):  # the best of three
-        one_after_other = wall(lambda: (solve(0), solve(1)))
-        threads = [threading.Thread(target=solve, args=(k,)) for k in (0, 1)]
-        together = wall(lambda: ([t.start() for t in threads], [t.join() for t in threads]))
-        ratios.append(together / one_after_other)
-        if ratios[-1] < 0.8:
+        tries.append((parallel_ratio(solve), parallel_ratio(hash_work)))
+        if tries[-1][0] < 0.8:
             break
     assert all(r is not None and r.converged for r in results)
-    load = os.getloadavg()[0]
-    if min(ratios) >= 0.8 and load > 2 * (os.cpu_count() or 1):
-        pytest.skip(f"machine overloaded (load {load:.1f} on {os.cpu_count()} cores): "
-                    f"threads / sequential = {min(ratios):.2f} measures the load, not the GIL")
-    assert min(ratios) < 0.8, f"two threads / one after the other = {ratios}"
+    best_solve = min(t[0] for t in tries)
+    best_control = min(t[1] for t in tries)
+    if best_solve >= 0.8 and best_control >= 0.8:
+        pytest.skip(f"the machine runs two hashing threads no faster than one after the "
+                    f"other ({best_control:.2f}): threads / sequential for the solves "
+                    f"({best_solve:.2f}) measures the load")
+    assert best_solve < 0.8, f"(solves, hashing control) in two threads / one after the other: {tries}"
