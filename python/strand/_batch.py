@@ -10,27 +10,10 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Union
 
 from . import _strand
 from ._case import Case
-from ._values import Value, item_texts, values_text
+from ._values import Value, csv_cell as _cell, item_texts, values_text
 
 #: Columns kept as text (the parameter columns, between ``id`` and ``status``, too).
 _TEXT_COLUMNS = {"id", "status", "stage", "reason"}
-
-
-def _cell(text: str) -> Any:
-    """A summary cell: empty → None, ``true``/``false`` → bool, a number → int or
-    float (``inf`` included), else the text."""
-    if text == "":
-        return None
-    if text in ("true", "false"):
-        return text == "true"
-    try:
-        return int(text)
-    except ValueError:
-        pass
-    try:
-        return float(text)
-    except ValueError:
-        return text
 
 
 def parse_summary(text: str) -> List[Dict[str, Any]]:

@@ -8,23 +8,7 @@ import json
 from typing import Any, Dict, List
 
 from ._result import Result
-
-
-def _number(text: str) -> Any:
-    """A cell of ``motion.csv``: empty → None, ``true``/``false`` → bool, a number →
-    int or float, else the text."""
-    if text == "":
-        return None
-    if text in ("true", "false"):
-        return text == "true"
-    try:
-        return int(text)
-    except ValueError:
-        pass
-    try:
-        return float(text)
-    except ValueError:
-        return text
+from ._values import csv_cell as _number
 
 
 def parse_motion_csv(text: str) -> List[Dict[str, Any]]:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Iterable, Mapping, Union
+from typing import Any, Iterable, Mapping, Union
 
 Value = Union[str, int, float]
 
@@ -25,3 +25,21 @@ def values_text(values: Union[Value, Iterable[Value]]) -> str:
 def item_texts(items: Mapping[str, object], one) -> list:
     """``ITEM=VALUE`` for every entry of ``items``, each value written by ``one``."""
     return [f"{item}={one(v)}" for item, v in items.items()]
+
+
+def csv_cell(text: str) -> Any:
+    """A cell of a CSV Strand writes (``summary.csv``, ``motion.csv``): empty → None,
+    ``true``/``false`` → bool, a number → int or float (``inf`` included), else the
+    text."""
+    if text == "":
+        return None
+    if text in ("true", "false"):
+        return text == "true"
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
