@@ -189,12 +189,23 @@ fn check_held(
             // branch, the solve converges to the tolerance at the changed design.
             let (_, near) = s.path_point(&design, &base, j, t).unwrap();
             let solution = solve_from(&built, base.state.clone(), Some(near.state));
-            outputs(&built, &solution, Some(&pins))
+            (
+                outputs(&built, &solution, Some(&pins)),
+                solution.report.residual.combined_n,
+            )
         };
         let fd = p.3;
-        let (up, down, up2, down2) = (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
+        let ((up, r_up), (down, r_down), (up2, r_up2), (down2, r_down2)) =
+            (at(fd), at(-fd), at(2.0 * fd), at(-2.0 * fd));
+        // What the reference can resolve where the sensitivity is exactly zero (an
+        // output the parameter cannot reach, e.g. across a clip held on its stop): the
+        // four solves stop at residuals r (N), so the extrapolated difference of an
+        // output carries about (4/3)·2r/(2·fd) + (1/3)·2r/(4·fd) = 1.5·r/fd of
+        // iteration noise per unit of the parameter.
+        let resolution = judged_per(p.0) * 1.5 * r_up.max(r_down).max(r_up2).max(r_down2) / fd;
         let mut failures = Vec::new();
         let (mut worst_absolute, mut worst_relative) = (0.0f64, 0.0f64);
+        let mut structural_zeros = 0;
         for (k, name) in names.iter().enumerate() {
             let e = exact[k];
             let get = |m: &BTreeMap<String, Sample>| m.get(name).copied();
@@ -213,6 +224,17 @@ fn check_held(
             let derivative = per * e.derivative;
             let error = (derivative - reference).abs();
             compared += 1;
+            if e.derivative == 0.0 {
+                // Structurally zero: the reference must be noise.
+                structural_zeros += 1;
+                if reference.abs() > resolution.max(1e-9) {
+                    failures.push(format!(
+                        "d {name} / d {} (per {per} of its unit): sensitivity exactly 0, solves {reference:.9e} (above their resolution {resolution:.2e})",
+                        p.0
+                    ));
+                }
+                continue;
+            }
             if reference.abs() > 1e-9 {
                 worst_relative = worst_relative.max(error / reference.abs());
             }
@@ -225,7 +247,7 @@ fn check_held(
             }
         }
         println!(
-            "{}{}: {} outputs, largest error {worst_absolute:.2e}, largest relative error {worst_relative:.2e} (of derivatives above 1e-9)",
+            "{}{}: {} outputs, largest error {worst_absolute:.2e}, largest relative error {worst_relative:.2e} (of derivatives above 1e-9); {structural_zeros} exactly zero (reference resolution {resolution:.1e})",
             p.0,
             p.1.map_or(String::new(), |c| format!(".{}", ["x", "y", "z"][c])),
             names.len()
