@@ -232,18 +232,29 @@ impl<'m> Solver<'m> {
             let coarse =
                 coarse_solver.solve(nested::restrict(&initial, &kept), &coarse_settings)?;
             coarse_iterations = coarse.report.iterations;
-            // Only a stable coarse equilibrium is a good start: an unstable branch (a
-            // straight rod beyond buckling) would be carried into the fine solve.
-            if coarse.report.stable {
-                start = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
-            } else if !coarse.report.converged {
-                // A coarse level that ran out of budget may still have come most of the
-                // way: its state is the better start when its energy on the fine model
-                // is lower than the initial state's.
-                let prolonged = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
-                if self.model.energy(&prolonged) < self.model.energy(&initial) {
-                    start = prolonged;
-                }
+            // A prolonged state is a start only where the fine iteration can move from
+            // it: its new vertices interpolate the coarse ones, and with contact they
+            // can put a fine edge's centreline through a mesh the coarse capsules
+            // cleared. The fine iteration would then reject every trial and end on
+            // that state (everyday_s1_017: a cable over a floor, reported as exit 1
+            // because its contacts could not be evaluated).
+            let admissible = |state: &SystemState| {
+                self.constraints.is_none_or(|c| {
+                    let mut rows = Vec::new();
+                    c.rows(self.model, state, &mut rows).is_ok()
+                })
+            };
+            let prolonged = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
+            // Only a stable coarse equilibrium is a good start (an unstable branch, a
+            // straight rod beyond buckling, would be carried into the fine solve).
+            // A coarse level that ran out of budget may still have come most of the
+            // way: its state is the better start when its energy on the fine model is
+            // lower than the initial state's.
+            let better = coarse.report.stable
+                || (!coarse.report.converged
+                    && self.model.energy(&prolonged) < self.model.energy(&initial));
+            if better && admissible(&prolonged) {
+                start = prolonged;
             }
         }
         let mut solution = self.iterate(start, settings);
