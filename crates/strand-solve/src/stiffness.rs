@@ -367,6 +367,28 @@ mod tests {
 
     use super::*;
 
+    /// Solves `model` from `start` with the default settings changed by `with(true)`
+    /// and by `with(false)`: the solutions with the feature on and off.
+    fn on_and_off(
+        model: &Model,
+        start: &SystemState,
+        with: impl Fn(bool) -> SolverSettings,
+    ) -> (crate::Solution, crate::Solution) {
+        let solve = |on| crate::solve(model, start.clone(), &with(on)).unwrap();
+        (solve(true), solve(false))
+    }
+
+    /// Asserts that rod 0's vertices of `a` and `b` agree within `tolerance_m`.
+    fn assert_same_positions(a: &crate::Solution, b: &crate::Solution, tolerance_m: f64) {
+        for (p, q) in a.state.rods[0]
+            .positions
+            .iter()
+            .zip(&b.state.rods[0].positions)
+        {
+            assert!((p - q).norm() < tolerance_m, "{p} vs {q}");
+        }
+    }
+
     /// A 1 m rod of `segments` edges clamped at the origin along +x, free at the other
     /// end, 0.5 kg/m, under `gravity` m/s² along −z.
     fn cantilever(ea: f64, ei: f64, segments: usize, gravity: f64) -> System {
@@ -465,14 +487,10 @@ mod tests {
         });
         let model = Model::try_new(system).unwrap();
         let start = initial_state(model.system());
-        let solve = |stiffness_limp_start| {
-            let settings = SolverSettings {
-                stiffness_limp_start,
-                ..SolverSettings::default()
-            };
-            crate::solve(&model, start.clone(), &settings).unwrap()
-        };
-        let (limp, plain) = (solve(true), solve(false));
+        let (limp, plain) = on_and_off(&model, &start, |stiffness_limp_start| SolverSettings {
+            stiffness_limp_start,
+            ..SolverSettings::default()
+        });
         println!(
             "limp start {} vs without {} iterations",
             limp.report.iterations, plain.report.iterations
@@ -485,13 +503,7 @@ mod tests {
             limp.report.iterations,
             plain.report.iterations
         );
-        for (a, b) in limp.state.rods[0]
-            .positions
-            .iter()
-            .zip(&plain.state.rods[0].positions)
-        {
-            assert!((a - b).norm() < 1e-8, "{a} vs {b}");
-        }
+        assert_same_positions(&limp, &plain, 1e-8);
     }
 
     #[test]
@@ -505,14 +517,10 @@ mod tests {
         system.rods[0].end = End::pinned(Vector3::new(0.9, 0.0, 0.0));
         let model = Model::try_new(system).unwrap();
         let start = initial_state(model.system());
-        let solve = |mixed_newton| {
-            let settings = SolverSettings {
-                mixed_newton,
-                ..SolverSettings::default()
-            };
-            crate::solve(&model, start.clone(), &settings).unwrap()
-        };
-        let (mixed, plain) = (solve(true), solve(false));
+        let (mixed, plain) = on_and_off(&model, &start, |mixed_newton| SolverSettings {
+            mixed_newton,
+            ..SolverSettings::default()
+        });
         println!(
             "mixed {} vs plain {} iterations",
             mixed.report.iterations, plain.report.iterations
@@ -525,13 +533,7 @@ mod tests {
             mixed.report.iterations,
             plain.report.iterations
         );
-        for (a, b) in mixed.state.rods[0]
-            .positions
-            .iter()
-            .zip(&plain.state.rods[0].positions)
-        {
-            assert!((a - b).norm() < 1e-9, "{a} vs {b}");
-        }
+        assert_same_positions(&mixed, &plain, 1e-9);
     }
 
     #[test]
@@ -557,12 +559,6 @@ mod tests {
             stiffened.report
         );
         assert_eq!(direct.report.continuation_steps, 0);
-        for (a, b) in stiffened.state.rods[0]
-            .positions
-            .iter()
-            .zip(&direct.state.rods[0].positions)
-        {
-            assert!((a - b).norm() < 1e-9, "{a} vs {b}");
-        }
+        assert_same_positions(&stiffened, &direct, 1e-9);
     }
 }
