@@ -77,17 +77,21 @@ impl Gauge {
     pub fn holding_in(pattern: &HessianPattern, mut held: Vec<usize>) -> Self {
         held.sort_unstable();
         held.dedup();
+        let mut is_held = vec![false; pattern.dim()];
+        for &k in &held {
+            is_held[k] = true;
+        }
         let mut off_diagonal = Vec::new();
         let mut diagonal = Vec::new();
         for col in 0..pattern.dim() {
-            let column_held = held.binary_search(&col).is_ok();
+            let column_held = is_held[col];
             for offset in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
                 let row = pattern.row_idx[offset];
                 if row == col {
                     if column_held {
                         diagonal.push(offset);
                     }
-                } else if column_held || held.binary_search(&row).is_ok() {
+                } else if column_held || is_held[row] {
                     off_diagonal.push(offset);
                 }
             }

@@ -3,7 +3,10 @@
 use std::ops::Range;
 
 use nalgebra::{DVector, UnitQuaternion, Vector3};
-use strand_rod::element::{BendTwist, ElementDerivatives, bend_twist, dead_moment, stretch_shear};
+use strand_rod::element::{
+    BendTwist, ElementDerivatives, bend_twist, bend_twist_gradient, dead_moment, stretch_shear,
+    stretch_shear_gradient,
+};
 use strand_rod::sectional::{BoundaryFrames, edge_element, vertex_frames};
 use strand_rod::so3;
 
@@ -73,6 +76,9 @@ pub struct Evaluation {
     pub gradient: Vec<f64>,
     /// Hessian values in the model's [`HessianPattern`] (upper triangle).
     pub hessian: Vec<f64>,
+    /// Whether `hessian` belongs to the configuration last evaluated into this value
+    /// (`false` after an evaluation without the Hessian: then it is stale).
+    pub has_hessian: bool,
 }
 
 /// Size of a gradient, in physical units.
@@ -333,6 +339,7 @@ impl Model {
             energy: 0.0,
             gradient: vec![0.0; self.dofs.len()],
             hessian: vec![0.0; self.pattern.nnz()],
+            has_hessian: false,
         }
     }
 
@@ -355,18 +362,20 @@ impl Model {
         if with_hessian {
             out.hessian.iter_mut().for_each(|h| *h = 0.0);
         }
+        out.has_hessian = with_hessian;
         let boundary = self.all_boundary_frames(state);
         for element in &self.elements {
             match element.kind {
                 ElementKind::Edge { rod, edge } => {
                     let d = match stresses {
                         Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
-                        None => self.edge_derivatives(state, rod, edge),
+                        None => self.edge_derivatives(state, rod, edge, with_hessian),
                     };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::Vertex { rod, vertex } => {
-                    let d = self.vertex_derivatives(state, &boundary[rod], rod, vertex);
+                    let d =
+                        self.vertex_derivatives(state, &boundary[rod], rod, vertex, with_hessian);
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::EndMoment { rod, at_end } => {
@@ -509,10 +518,16 @@ impl Model {
         state: &SystemState,
         rod: usize,
         edge: usize,
+        with_hessian: bool,
     ) -> ElementDerivatives<9> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().strain_stiffness();
-        stretch_shear(&edge_element(&spec.rod, &state.rods[rod], &c, edge))
+        let element = edge_element(&spec.rod, &state.rods[rod], &c, edge);
+        if with_hessian {
+            stretch_shear(&element)
+        } else {
+            stretch_shear_gradient(&element)
+        }
     }
 
     fn vertex_derivatives(
@@ -521,17 +536,23 @@ impl Model {
         boundary: &BoundaryFrames,
         rod: usize,
         vertex: usize,
+        with_hessian: bool,
     ) -> ElementDerivatives<6> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().curvature_stiffness();
         let (q_a, q_b) = vertex_frames(&state.rods[rod], boundary, vertex).expect("vertex element");
-        bend_twist(&BendTwist {
+        let element = BendTwist {
             frame_a: q_a,
             frame_b: q_b,
             weight: spec.rod.vertex_weight(vertex),
             stiffness: &c,
             rest_curvature: spec.rod.rest_curvature(vertex),
-        })
+        };
+        if with_hessian {
+            bend_twist(&element)
+        } else {
+            bend_twist_gradient(&element)
+        }
     }
 
     fn end_moment_derivatives(

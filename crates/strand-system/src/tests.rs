@@ -458,6 +458,40 @@ pub(crate) fn check_derivatives_at(model: &Model, state: &SystemState) {
 }
 
 #[test]
+fn an_evaluation_without_the_hessian_has_the_same_energy_and_gradient_to_the_bit() {
+    // The solver evaluates trial states without the Hessian and assembles it only when
+    // a step needs it: energy and gradient must not depend on that choice, or the
+    // acceptance of a step would.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for system in [
+        test_system(),
+        junction_system(),
+        clipped_system(),
+        body_clip_system(),
+    ] {
+        let model = Model::try_new(system).unwrap();
+        let state = perturbed(&model, &mut rng);
+        let mut full = model.new_evaluation();
+        model.evaluate(&state, &mut full, true);
+        assert!(full.has_hessian);
+        let mut first = model.new_evaluation();
+        model.evaluate(&state, &mut first, false);
+        assert!(!first.has_hessian);
+        assert_eq!(first.energy.to_bits(), full.energy.to_bits());
+        assert!(
+            first
+                .gradient
+                .iter()
+                .zip(&full.gradient)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
+        // Evaluated again with the Hessian into the same buffers: the same Hessian.
+        model.evaluate(&state, &mut first, true);
+        assert!(first.has_hessian && first.hessian == full.hessian);
+    }
+}
+
+#[test]
 fn validation_rejects_unreachable_ends_and_free_rods() {
     let mut system = test_system();
     system.rods[1].end.support = Support::Pinned {

@@ -43,8 +43,7 @@ impl BendTwist<'_> {
 /// is the exact spatial moment the vertex transmits (see [`crate::sectional`]).
 pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
     let rel = RelativeRotation::new(e.frame_a, e.frame_b);
-    let delta = rel.phi / e.weight - e.rest_curvature;
-    let moment = e.stiffness.component_mul(&delta);
+    let (delta, moment) = curvature_and_moment(e, &rel);
     let c = Matrix3::from_diagonal(e.stiffness);
     let hessian =
         rel.jacobian.transpose() * c * rel.jacobian / e.weight + rel.contracted_hessian(&moment);
@@ -53,4 +52,23 @@ pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
         gradient: rel.jacobian.transpose() * moment,
         hessian,
     }
+}
+
+/// [`bend_twist`] without the second derivatives (the Hessian is left zero), for an
+/// evaluation that needs no Hessian; energy and gradient are the same to the last bit.
+pub fn bend_twist_gradient(e: &BendTwist<'_>) -> ElementDerivatives<6> {
+    let rel = RelativeRotation::new(e.frame_a, e.frame_b);
+    let (delta, moment) = curvature_and_moment(e, &rel);
+    ElementDerivatives {
+        energy: 0.5 * e.weight * delta.dot(&moment),
+        gradient: rel.jacobian.transpose() * moment,
+        hessian: Default::default(),
+    }
+}
+
+/// `ΔK = φ/h̄ − K0` (1/m) and the moment `M = C_K ΔK` (N·m).
+fn curvature_and_moment(e: &BendTwist<'_>, rel: &RelativeRotation) -> (Vector3<f64>, Vector3<f64>) {
+    let delta = rel.phi / e.weight - e.rest_curvature;
+    let moment = e.stiffness.component_mul(&delta);
+    (delta, moment)
 }

@@ -64,10 +64,28 @@ pub fn stretch_shear_mixed(e: &StretchShear<'_>, stress: &Vector3<f64>) -> Eleme
     stretch_shear_with_stress(e, Some(stress))
 }
 
-fn stretch_shear_with_stress(
-    e: &StretchShear<'_>,
-    stress: Option<&Vector3<f64>>,
-) -> ElementDerivatives<9> {
+/// [`stretch_shear`] without the second derivatives (the Hessian is left zero), for an
+/// evaluation that needs no Hessian; energy and gradient are the same to the last bit.
+pub fn stretch_shear_gradient(e: &StretchShear<'_>) -> ElementDerivatives<9> {
+    let first = first_order(e);
+    ElementDerivatives {
+        energy: first.energy,
+        gradient: first.gradient,
+        hessian: Default::default(),
+    }
+}
+
+/// The strain, material force, rotation, energy and gradient of an edge element.
+struct FirstOrder {
+    rotation: Matrix3<f64>,
+    gamma: Vector3<f64>,
+    c: Matrix3<f64>,
+    force_material: Vector3<f64>,
+    energy: f64,
+    gradient: SVector<f64, 9>,
+}
+
+fn first_order(e: &StretchShear<'_>) -> FirstOrder {
     let h = e.length;
     let rotation = e.frame.to_rotation_matrix().into_inner();
     let gamma = e.strain();
@@ -75,7 +93,6 @@ fn stretch_shear_with_stress(
     let c = Matrix3::from_diagonal(e.stiffness);
     let force_material = c * delta;
     let force = rotation * force_material;
-    let stress = stress.copied().unwrap_or(force_material);
 
     let mut gradient = SVector::<f64, 9>::zeros();
     gradient.fixed_rows_mut::<3>(0).copy_from(&(-force));
@@ -83,6 +100,30 @@ fn stretch_shear_with_stress(
     gradient
         .fixed_rows_mut::<3>(6)
         .copy_from(&(h * force_material.cross(&gamma)));
+    FirstOrder {
+        rotation,
+        gamma,
+        c,
+        force_material,
+        energy: 0.5 * h * delta.dot(&force_material),
+        gradient,
+    }
+}
+
+fn stretch_shear_with_stress(
+    e: &StretchShear<'_>,
+    stress: Option<&Vector3<f64>>,
+) -> ElementDerivatives<9> {
+    let h = e.length;
+    let FirstOrder {
+        rotation,
+        gamma,
+        c,
+        force_material,
+        energy,
+        gradient,
+    } = first_order(e);
+    let stress = stress.copied().unwrap_or(force_material);
 
     let k_rr = rotation * c * rotation.transpose() / h;
     let gamma_x = skew(&gamma);
@@ -108,7 +149,7 @@ fn stretch_shear_with_stress(
     hessian.fixed_view_mut::<3, 3>(6, 6).copy_from(&k_tt);
 
     ElementDerivatives {
-        energy: 0.5 * h * delta.dot(&force_material),
+        energy,
         gradient,
         hessian,
     }

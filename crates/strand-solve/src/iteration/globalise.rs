@@ -105,10 +105,19 @@ impl Iteration<'_> {
                 self.model
                     .retract_into(&self.state, &self.work.step, t, &mut trial);
             }
-            // Whether `work.trial_eval` holds the trial's gradient and Hessian.
+            // Whether `work.trial_eval` holds the trial's energy and gradient (its
+            // Hessian is assembled only when a correction or the next iteration needs
+            // it: `has_hessian`).
             let mut evaluated = full;
+            // A stiff rod's positions follow a large turn of its frames (below), and
+            // that correction needs the trial's Hessian; so does the next iteration,
+            // unless mixed Newton evaluates it again with the predicted stresses.
+            let turned = self.stiff && t * rotation > FOLLOW_TURN * self.valley_turn;
+            let mixed = settings.mixed_newton && self.stiff;
             let mut energy = if full {
-                self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                let with_hessian = !mixed || (turned && self.rows.is_empty());
+                self.model
+                    .evaluate(&trial, &mut self.work.trial_eval, with_hessian);
                 self.work.trial_eval.energy
             } else {
                 self.model.energy(&trial)
@@ -139,7 +148,7 @@ impl Iteration<'_> {
                         }
                     }
                 }
-                if surprising || (self.stiff && t * rotation > FOLLOW_TURN * self.valley_turn) {
+                if surprising || turned {
                     energy = self.follow(&mut trial, &mut evaluated);
                 }
             }
@@ -169,11 +178,15 @@ impl Iteration<'_> {
                 && predicted.abs() <= noise
             {
                 if !evaluated {
-                    self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                    self.model
+                        .evaluate(&trial, &mut self.work.trial_eval, false);
                 }
                 let (trial_residual, _) = self.kkt(&trial_rows, &self.work.trial_eval.gradient);
                 accepted = trial_residual.combined_n < residual;
                 if accepted {
+                    if !self.work.trial_eval.has_hessian {
+                        self.model.evaluate(&trial, &mut self.work.trial_eval, true);
+                    }
                     self.accept(trial, trial_rows, t, 1.0, None);
                     return Ok(());
                 }
@@ -318,7 +331,10 @@ impl Iteration<'_> {
                         self.collect_rows(&trial, &mut trial_rows);
                     }
                 }
-                if !evaluated {
+                // With mixed Newton, `accept` evaluates the trial itself (with the
+                // predicted stresses); otherwise its Hessian is the next iteration's.
+                let has_hessian = evaluated && self.work.trial_eval.has_hessian;
+                if !(mixed || has_hessian) {
                     self.model.evaluate(&trial, &mut self.work.trial_eval, true);
                 }
                 let taken = match &correction {
@@ -453,9 +469,10 @@ impl Iteration<'_> {
     /// Lets the positions of `trial` follow its frames: replaces it by the positions-only
     /// correction ([`Iteration::relax_positions`]) when that lowers the energy. Returns
     /// the energy of `trial`; `evaluated` says whether `work.trial_eval` holds its
-    /// gradient and Hessian (on entry and on return).
+    /// energy and gradient (on entry and on return; the Hessian, which the correction
+    /// needs, is assembled here if missing, and not for a relaxed trial).
     fn follow(&mut self, trial: &mut SystemState, evaluated: &mut bool) -> f64 {
-        if !*evaluated {
+        if !*evaluated || !self.work.trial_eval.has_hessian {
             self.model.evaluate(trial, &mut self.work.trial_eval, true);
             *evaluated = true;
         }
@@ -464,7 +481,7 @@ impl Iteration<'_> {
             let relaxed_energy = self.model.energy(&relaxed);
             if relaxed_energy < energy {
                 *trial = relaxed;
-                self.model.evaluate(trial, &mut self.work.trial_eval, true);
+                self.model.evaluate(trial, &mut self.work.trial_eval, false);
                 return self.work.trial_eval.energy;
             }
         }
@@ -514,9 +531,11 @@ impl Iteration<'_> {
         self.state = trial;
         self.rows = rows;
         std::mem::swap(&mut self.work.eval, &mut self.work.trial_eval);
-        if let Some(stresses) = &stresses {
-            self.model
-                .evaluate_mixed(&self.state, &mut self.work.eval, stresses);
+        match &stresses {
+            Some(stresses) => self
+                .model
+                .evaluate_mixed(&self.state, &mut self.work.eval, stresses),
+            None => assert!(self.work.eval.has_hessian, "accepted without a Hessian"),
         }
         self.mixed_hessian = stresses.is_some();
         let full_step = t >= 1.0 || self.step_at_limit;

@@ -1,6 +1,6 @@
-//! Sparse Cholesky factorisation with faer: the symbolic analysis (fill-reducing
-//! ordering, elimination tree, supernodes) is done once per model and reused by every
-//! numeric factorisation; workspaces are allocated once.
+//! The general backend of [`super::SparseCholesky`]: faer's sparse Cholesky with the
+//! symbolic analysis (fill-reducing ordering, elimination tree, supernodes) done once
+//! per pattern and reused by every numeric factorisation; workspaces allocated once.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -16,23 +16,21 @@ use strand_system::HessianPattern;
 
 use crate::{LinearError, SolveError};
 
-/// A reusable sparse `LLᵀ` factorisation of matrices with one fixed pattern.
-pub struct SparseCholesky {
+/// faer's sparse `LLᵀ` factorisation of matrices with one fixed pattern.
+pub(crate) struct FaerCholesky {
     structure: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
     factor_values: Vec<f64>,
     factor_buffer: MemBuffer,
     solve_buffer: MemBuffer,
-    factored: bool,
 }
 
-impl SparseCholesky {
-    /// Symbolic analysis of the upper-triangular pattern.
-    ///
-    /// The model numbers unknowns along each rod (a narrow band), which is already a
-    /// good elimination order for a single rod; for systems of several rods the block
-    /// AMD ordering is analysed too and the one with the sparser factor is kept.
-    pub fn try_new(pattern: &HessianPattern) -> Result<Self, SolveError> {
+impl FaerCholesky {
+    /// Symbolic analysis of the upper-triangular pattern: the natural numbering (along
+    /// each rod) and, unless the pattern is banded (then the natural numbering is
+    /// fill-free), the block AMD ordering are analysed, and the one with the sparser
+    /// factor is kept.
+    pub(crate) fn try_new(pattern: &HessianPattern) -> Result<Self, SolveError> {
         let n = pattern.dim();
         let structure = SymbolicSparseColMat::new_checked(
             n,
@@ -79,18 +77,17 @@ impl SparseCholesky {
             factor_values,
             factor_buffer,
             solve_buffer,
-            factored: false,
         })
     }
 
     /// Number of nonzeros of the factor `L`.
-    pub fn factor_nnz(&self) -> usize {
+    pub(crate) fn factor_nnz(&self) -> usize {
         self.factor_values.len()
     }
 
     /// Numeric factorisation of the matrix with the model's pattern and `values`
     /// (upper triangle). Returns `false` if the matrix is not positive definite.
-    pub fn factor(&mut self, values: &[f64]) -> bool {
+    pub(crate) fn factor(&mut self, values: &[f64]) -> bool {
         let matrix = SparseColMatRef::new(self.structure.as_ref(), values);
         let result = self.symbolic.factorize_numeric_llt::<f64>(
             &mut self.factor_values,
@@ -101,13 +98,11 @@ impl SparseCholesky {
             MemStack::new(&mut self.factor_buffer),
             Default::default(),
         );
-        self.factored = result.is_ok();
-        self.factored
+        result.is_ok()
     }
 
     /// Solves `A x = rhs` in place with the last successful factorisation.
-    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        assert!(self.factored, "solve before a successful factorisation");
+    pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.factor_values);
         llt.solve_in_place_with_conj(
@@ -152,24 +147,4 @@ fn block_amd_ordering(pattern: &HessianPattern) -> Result<(Vec<usize>, Vec<usize
         inverse[old] = new;
     }
     Ok((forward, inverse))
-}
-
-/// `out = A x` for the symmetric matrix `A` given by its upper triangle (`values` in
-/// `pattern`).
-pub(crate) fn symmetric_product(
-    pattern: &HessianPattern,
-    values: &[f64],
-    x: &[f64],
-    out: &mut [f64],
-) {
-    out.iter_mut().for_each(|o| *o = 0.0);
-    for col in 0..pattern.dim() {
-        for k in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
-            let row = pattern.row_idx[k];
-            out[row] += values[k] * x[col];
-            if row != col {
-                out[col] += values[k] * x[row];
-            }
-        }
-    }
 }

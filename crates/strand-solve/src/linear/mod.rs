@@ -1,0 +1,116 @@
+//! Sparse Cholesky factorisation `A = L Lᵀ` of the Hessian, with its pattern analysed
+//! once per model and reused by every numeric factorisation (workspaces allocated
+//! once). Two backends behind one type:
+//!
+//! * [`envelope`]: a dense-profile factorisation for matrices whose nonzeros hug the
+//!   diagonal, a single rod numbered along its length (no symbolic analysis, contiguous
+//!   inner loops);
+//! * [`faer_llt`]: faer's sparse Cholesky with a fill-reducing ordering, for systems of
+//!   several rods coupled by junctions, clips and bodies.
+
+mod envelope;
+mod faer_llt;
+
+use strand_system::HessianPattern;
+
+use crate::SolveError;
+use envelope::EnvelopeCholesky;
+use faer_llt::FaerCholesky;
+
+/// A reusable sparse `LLᵀ` factorisation of matrices with one fixed pattern.
+pub struct SparseCholesky {
+    backend: Backend,
+    factored: bool,
+}
+
+enum Backend {
+    Envelope(EnvelopeCholesky),
+    Faer(Box<FaerCholesky>),
+}
+
+impl SparseCholesky {
+    /// Analysis of the upper-triangular pattern.
+    ///
+    /// The model numbers unknowns along each rod (a narrow band): a pattern whose
+    /// blocks couple only to blocks at most 3 positions before them
+    /// ([`HessianPattern::is_banded`], a single rod) is factorised in its envelope
+    /// directly. Otherwise faer analyses the natural and the block AMD ordering, and
+    /// the envelope is still used when it holds no more entries than faer's sparser
+    /// factor.
+    pub fn try_new(pattern: &HessianPattern) -> Result<Self, SolveError> {
+        let backend = if pattern.is_banded() {
+            Backend::Envelope(EnvelopeCholesky::new(pattern))
+        } else {
+            let faer = FaerCholesky::try_new(pattern)?;
+            if EnvelopeCholesky::size_of(pattern) <= faer.factor_nnz() {
+                Backend::Envelope(EnvelopeCholesky::new(pattern))
+            } else {
+                Backend::Faer(Box::new(faer))
+            }
+        };
+        Ok(Self {
+            backend,
+            factored: false,
+        })
+    }
+
+    /// Number of stored entries of the factor `L`.
+    pub fn factor_nnz(&self) -> usize {
+        match &self.backend {
+            Backend::Envelope(e) => e.len(),
+            Backend::Faer(f) => f.factor_nnz(),
+        }
+    }
+
+    /// Whether the factorisation runs in the matrix's envelope (a single rod) rather
+    /// than through faer's sparse Cholesky.
+    pub fn is_envelope(&self) -> bool {
+        matches!(self.backend, Backend::Envelope(_))
+    }
+
+    /// Numeric factorisation of the matrix with the model's pattern and `values`
+    /// (upper triangle). Returns `false` if the matrix is not positive definite.
+    pub fn factor(&mut self, values: &[f64]) -> bool {
+        self.factored = match &mut self.backend {
+            Backend::Envelope(e) => e.factor(values),
+            Backend::Faer(f) => f.factor(values),
+        };
+        self.factored
+    }
+
+    /// Solves `A x = rhs` in place with the last successful factorisation.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        assert!(self.factored, "solve before a successful factorisation");
+        match &mut self.backend {
+            Backend::Envelope(e) => e.solve_in_place(rhs),
+            Backend::Faer(f) => f.solve_in_place(rhs),
+        }
+    }
+}
+
+/// `out = A x` for the symmetric matrix `A` given by its upper triangle (`values` in
+/// `pattern`).
+pub(crate) fn symmetric_product(
+    pattern: &HessianPattern,
+    values: &[f64],
+    x: &[f64],
+    out: &mut [f64],
+) {
+    out.iter_mut().for_each(|o| *o = 0.0);
+    for col in 0..pattern.dim() {
+        let range = pattern.col_ptr[col]..pattern.col_ptr[col + 1];
+        let x_col = x[col];
+        // The transposed part of column `col` (its rows above the diagonal).
+        let mut transposed = 0.0;
+        for (&row, &value) in pattern.row_idx[range.clone()].iter().zip(&values[range]) {
+            out[row] += value * x_col;
+            if row != col {
+                transposed += value * x[row];
+            }
+        }
+        out[col] += transposed;
+    }
+}
+
+#[cfg(test)]
+mod tests;
