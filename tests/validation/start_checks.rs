@@ -6,7 +6,9 @@
 //! - a hose whose route crosses over itself 10 mm apart (less than its diameter) is
 //!   rejected, naming where;
 //! - a hose inside a closed box is rejected as starting inside it; inside an open box
-//!   (no lid) it is accepted: an open mesh has no inside.
+//!   (no lid) it is accepted: an open mesh has no inside;
+//! - the hint of a rejected start fits what the user gave: move the route, or (no
+//!   route: the start was the solver's guess) give one.
 
 use strand_cli::Exit;
 
@@ -125,6 +127,36 @@ fn a_hose_crossing_over_itself_is_rejected_by_check_and_solve_with_the_place() {
         .parse()
         .unwrap();
     assert!((depth - 15.8).abs() <= 1.0, "overlap {depth} mm");
+    // The start is the user's route: the hint says to move it.
+    for (_, _, stderr) in &results {
+        assert!(stderr.contains("hint: move the rod's `route`"), "{stderr}");
+    }
+}
+
+#[test]
+fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
+    // The closed box encloses the clamps: every start the solver can guess (hanging,
+    // bowed, arched, straight) begins inside it. The user gave no route, so the hint
+    // asks for one rather than to move it.
+    let text = case_text(
+        400.0,
+        20,
+        "(400, 0, 0)",
+        "(1, 0, 0)",
+        "[(0, 0, 0), (400, 0, 0)]",
+    );
+    let unrouted = text.replace("route: Some([(0, 0, 0), (400, 0, 0)])", "route: None");
+    assert_ne!(unrouted, text, "the route was not found");
+    let results = check_and_solve(&unrouted, &box_obj(true));
+    rejected(&results, "rod 'hose' starts inside mesh 'part'");
+    for (_, _, stderr) in &results {
+        assert!(
+            stderr.contains("hint: the rod has no `route`")
+                && stderr.contains("give the rod a `route`"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("move the rod's `route`"), "{stderr}");
+    }
 }
 
 #[test]

@@ -3,24 +3,30 @@
 //! part under the connectors it may pass straight through it, and the solve would
 //! reject the case as "starting inside" although the user never said where the hose
 //! runs. The guess is then bowed to one of four sides (gravity turned horizontal),
-//! else arched upwards (gravity reversed), and the solve settles it where it comes to
-//! rest: an equilibrium of the case, not necessarily the one a fitter would choose
-//! (a route chooses). Laying the hanging guess over the parts instead (lifting its
-//! vertices above them) was tried: the cable then rests across the rims of a box top,
-//! which did not converge in 400 iterations; bowed sideways it comes to rest against
-//! the box in 27.
+//! else arched upwards (gravity reversed), else bowed half-way up to one of the four
+//! sides, else laid straight between the ends (compressed), and the solve settles it
+//! where it comes to rest: an equilibrium of the case, not necessarily the one a fitter
+//! would choose (a route chooses). Laying the hanging guess over the parts instead
+//! (lifting its vertices above them) was tried: the cable then rests across the rims of
+//! a box top, which did not converge in 400 iterations; bowed sideways it comes to rest
+//! against the box in 27. The straight start is for a hose held inside a groove (its
+//! bows leave the clamps into the flanks) or one whose bows cross over themselves: of
+//! 80 generated everyday cables (`crates/strand-cli/tests/everyday.rs`, seeds 1 and 2),
+//! 7 were refused before it and the half-way bows, none after.
 
 use nalgebra::Vector3;
 use strand_rod::RodState;
-use strand_system::{RouteShape, System, initial_state, initial_state_with};
+use strand_system::{RouteShape, System, SystemState, initial_state, initial_state_with};
 
 use crate::BuiltCase;
 use crate::nominal::use_guesses;
 
 impl BuiltCase {
     /// The first of the hanging guess (`self.initial`, routes smoothed), the routes as
-    /// drawn, the guesses bowed sideways and the guess arched upwards that clears every obstacle ([`BuiltCase::check_start`]),
-    /// with the rods' warm-start `guesses` and routes kept in each. When none clears,
+    /// drawn, the guesses bowed sideways, the guess arched upwards, the guesses bowed
+    /// half-way up and the straight start ([`Start::Straight`]) that clears every
+    /// obstacle ([`BuiltCase::check_start`]), with the rods' warm-start `guesses` and
+    /// routes kept in each. When none clears,
     /// the routes as drawn if there are routes, else `self.initial` unchanged (the
     /// check then names the overlap); unchanged without an environment. Returns which
     /// start was taken.
@@ -55,14 +61,21 @@ impl BuiltCase {
         .normalize();
         let other = down.cross(&side);
         let weight = g.norm().max(1.0);
+        let tilted = |a: Vector3<f64>| (a - down).normalize() * weight;
         // Sideways first: an arch is itself an (unstable) equilibrium of a clamped
-        // rod that Newton may find; a sideways bow is none and falls.
+        // rod that Newton may find; a sideways bow is none and falls. Then bowed
+        // half-way up to each side (a hose between the flanks of a groove, whose
+        // bottom the hanging guess and whose flanks the sideways bows pass through).
         for (kind, gravity) in [
             (Start::Sideways, side * weight),
             (Start::Sideways, -side * weight),
             (Start::Sideways, other * weight),
             (Start::Sideways, -other * weight),
             (Start::Arched, -down * weight),
+            (Start::Sideways, tilted(side)),
+            (Start::Sideways, tilted(-side)),
+            (Start::Sideways, tilted(other)),
+            (Start::Sideways, tilted(-other)),
         ] {
             let mut candidate = initial_state(&System {
                 gravity,
@@ -72,6 +85,18 @@ impl BuiltCase {
             let hanging = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
                 return kind;
+            }
+            self.initial = hanging;
+        }
+        // Last, the ends joined straight (a hose held inside a groove: the chord
+        // between two points clear of both flanks stays clear of them), leaving each
+        // end along its clamp for one edge, the rod compressed onto that shorter path.
+        if let Some(straight) = straightened(system, &self.initial) {
+            let mut candidate = initial_state_with(&straight, RouteShape::AsDrawn);
+            use_guesses(&mut candidate, guesses);
+            let hanging = std::mem::replace(&mut self.initial, candidate);
+            if self.check_start().is_ok() {
+                return Start::Straight;
             }
             self.initial = hanging;
         }
@@ -87,6 +112,38 @@ impl BuiltCase {
     }
 }
 
+/// `system` with a straight route for every rod that has none, both ends held and no
+/// clip: from the start vertex one reference edge along the start's tangent in
+/// `hanging` (the clamp direction at a clamp), straight to one edge before the end
+/// vertex along the end's tangent, then to the end vertex. `None` when no rod gets
+/// one.
+fn straightened(system: &System, hanging: &SystemState) -> Option<System> {
+    let mut straight = system.clone();
+    let mut any = false;
+    for (r, spec) in straight.rods.iter_mut().enumerate() {
+        let clipped = system.clips.iter().any(|c| c.rod.0 == r);
+        if spec.route.is_some()
+            || clipped
+            || !spec.start.support.is_held()
+            || !spec.end.support.is_held()
+        {
+            continue;
+        }
+        let p = &hanging.rods[r].positions;
+        let n = p.len() - 1;
+        let (a, b) = (p[0], p[n]);
+        let (first, last) = (spec.rod.edge_length(0), spec.rod.edge_length(n - 1));
+        let (ta, tb) = ((p[1] - a).normalize(), (b - p[n - 1]).normalize());
+        let route = vec![a, a + ta * first, b - tb * last, b];
+        if route.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
+            continue;
+        }
+        spec.route = Some(route);
+        any = true;
+    }
+    any.then_some(straight)
+}
+
 /// Which default guess a case with an environment starts from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Start {
@@ -100,6 +157,9 @@ pub enum Start {
     /// The hanging shape with gravity turned horizontal: bowed to one side of a part
     /// between the ends.
     Sideways,
+    /// The ends joined by a straight line (leaving each along its clamp for one edge),
+    /// the rod compressed onto it: every bowed guess passes through an obstacle.
+    Straight,
     /// A given state (a warm start from a neighbouring solution, e.g. the previous
     /// pose of a motion): no guess was made.
     Given,
@@ -118,6 +178,9 @@ impl Start {
             ),
             Start::Arched => Some(
                 "arched up (the hanging and sideways guesses pass through an obstacle; give a route to choose)",
+            ),
+            Start::Straight => Some(
+                "straight between the ends, compressed (every hanging, bowed and arched guess passes through an obstacle; give a route to choose)",
             ),
         }
     }

@@ -720,3 +720,67 @@ fn a_coarse_start_through_the_floor_is_not_taken() {
     assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
     assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
 }
+
+/// `strand check` on `case` written into `dir`: its stdout (the start it takes).
+fn check(binary: &Path, dir: &Path, case: &Case) -> String {
+    let ron_path = dir.join(format!("{}.ron", case.name));
+    std::fs::write(&ron_path, &case.ron).unwrap();
+    std::fs::write(
+        dir.join(format!("{}.obj", case.name)),
+        obj_text(&case.triangles),
+    )
+    .unwrap();
+    let output = Command::new(binary)
+        .arg("check")
+        .arg(&ron_path)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// Regression: cables whose every bowed guess passes through the geometry or through
+/// themselves were refused (exit 2, "move the rod's route" although none was given):
+/// `everyday_s1_008` (a 60° groove: the hanging guess passes through its crease, the
+/// bowed and arched ones leave the clamps into the flanks) and `everyday_s2_004` (a
+/// stiff cable over a box whose bowed guesses cross over themselves). Both now start
+/// straight between the connectors (inside the V, above the box) and converge, clear
+/// of the geometry by the brute-force check.
+#[test]
+fn cables_that_no_bowed_guess_clears_start_straight_and_converge() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (seed, index, segments, environment) in [(1, 8, 959, "groove60"), (2, 4, 403, "box")] {
+        let case = generate(seed, index, 3000);
+        assert_eq!(
+            (case.segments, case.environment.label()),
+            (segments, environment),
+            "the generator changed: find the case again"
+        );
+        let start = check(&binary(), tmp.path(), &case);
+        assert!(start.contains("straight between the ends"), "{start}");
+        let outcome = solve_and_check(&binary(), tmp.path(), &case, Duration::from_secs(120));
+        println!("{}\n{}", header(), outcome.row);
+        assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
+        assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
+    }
+}
+
+/// Regression: `everyday_s1_007` (a limp cable, 409 segments, sliding into a 60°
+/// groove) ended in `line_search_failed` at 641 N: the SQP model with the active rows'
+/// augmented-Lagrangian term gave a step that went uphill in the merit (its penalty
+/// pulled open rows held in the last QP shut), so no trial could be accepted. That
+/// iteration now steps with the plain model: it converges (224 iterations).
+#[test]
+fn a_limp_cable_sliding_into_a_groove_converges() {
+    let case = generate(1, 7, 3000);
+    assert_eq!(
+        (case.segments, case.environment.label()),
+        (409, "groove60"),
+        "the generator changed: find the case again"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let outcome = solve_and_check(&binary(), tmp.path(), &case, Duration::from_secs(120));
+    println!("{}\n{}", header(), outcome.row);
+    assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
+    assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
+}

@@ -23,12 +23,28 @@ pub enum ConstraintError {
         /// Where, mm.
         point_mm: [f64; 3],
     },
+    /// A rod starts with its centreline through an obstacle's surface or another
+    /// centreline (found by the start check: [`Constraints::check_start`]).
+    #[error(
+        "rod '{rod}' starts through {what}: its centreline passes through ({:.1}, {:.1}, \
+         {:.1}) mm\n  hint: {hint}",
+        .point_mm[0], .point_mm[1], .point_mm[2]
+    )]
+    StartsThrough {
+        /// The rod's name.
+        rod: String,
+        /// What it passes through, e.g. `edge 4 touches mesh 'bracket'`.
+        what: String,
+        /// Where, mm.
+        point_mm: [f64; 3],
+        /// What to change.
+        hint: StartHint,
+    },
     /// A rod starts overlapping an obstacle or another rod.
     #[error(
         "rod '{rod}' starts inside {kind} '{obstacle}': the hose surface overlaps it by \
          {overlap_mm:.3} mm at s = {s_mm:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  \
-         hint: move the rod's route, supports or the obstacle so that the hose starts clear \
-         of it",
+         hint: {hint}",
         .point_mm[0], .point_mm[1], .point_mm[2]
     )]
     StartsOverlapping {
@@ -44,12 +60,13 @@ pub enum ConstraintError {
         s_mm: f64,
         /// The deepest centreline point, mm.
         point_mm: [f64; 3],
+        /// What to change.
+        hint: StartHint,
     },
     /// A rod starts inside a closed mesh.
     #[error(
         "rod '{rod}' starts inside mesh '{mesh}': its centreline is enclosed by the closed \
-         mesh at s = {s_mm:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: move \
-         the rod's route, supports or the obstacle so that the hose starts outside the part",
+         mesh at s = {s_mm:.1} mm, centreline point ({:.1}, {:.1}, {:.1}) mm\n  hint: {hint}",
         .point_mm[0], .point_mm[1], .point_mm[2]
     )]
     StartsEnclosed {
@@ -61,10 +78,40 @@ pub enum ConstraintError {
         s_mm: f64,
         /// That vertex, mm.
         point_mm: [f64; 3],
+        /// What to change.
+        hint: StartHint,
     },
     /// Any other failure of the gap computation (e.g. an invalid margin).
     #[error(transparent)]
     Gaps(#[from] strand_contact::GapError),
+}
+
+/// What a user changes when a rod starts inside an obstacle: it depends on whether
+/// the start is the rod's own `route` or the solver's guess.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StartHint {
+    /// The rod has a route: move it (or the supports, or the obstacle).
+    MoveRoute,
+    /// The rod has no route: the start is the solver's guess (hanging, bowed, arched or
+    /// straight between the ends), none of which clears; a route chooses the way.
+    GiveRoute,
+}
+
+impl std::fmt::Display for StartHint {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StartHint::MoveRoute => {
+                "move the rod's `route`, supports or the obstacle so that the hose starts \
+                 clear of it"
+            }
+            StartHint::GiveRoute => {
+                "the rod has no `route`, and no start the solver guesses (hanging, bowed \
+                 sideways or up, straight between the ends) clears the obstacles: give the \
+                 rod a `route` (a list of points, or `route_file`) that passes clear of \
+                 them, or move its supports or the obstacle"
+            }
+        })
+    }
 }
 
 /// Identifies a constraint across iterates, so its multiplier carries over.

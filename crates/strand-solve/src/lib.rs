@@ -30,7 +30,7 @@ pub mod stability;
 pub mod stiffness;
 
 pub use activity::{Activity, activity};
-pub use constraints::{ConstraintError, Constraints, Row, RowKey, limit_rows};
+pub use constraints::{ConstraintError, Constraints, Row, RowKey, StartHint, limit_rows};
 pub use iteration::ROUND_OFF_STALL;
 pub use linear::SparseCholesky;
 pub use newton::{Solver, solve, solve_constrained};

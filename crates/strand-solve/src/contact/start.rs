@@ -5,7 +5,41 @@ use strand_contact::Obstacle;
 use strand_system::{Model, SystemState};
 
 use super::{Contact, START_OVERLAP_M};
-use crate::constraints::ConstraintError;
+use crate::constraints::{ConstraintError, StartHint};
+
+/// The hint for a start of `rod` (its name) in `model` that does not clear: move its
+/// route, or give it one when the start was the solver's guess.
+pub(super) fn start_hint(model: &Model, rod: &str) -> StartHint {
+    let routed = model
+        .system()
+        .rods
+        .iter()
+        .find(|r| r.name == rod)
+        .is_some_and(|r| r.route.is_some());
+    if routed {
+        StartHint::MoveRoute
+    } else {
+        StartHint::GiveRoute
+    }
+}
+
+/// A gap error of the start check as the user reads it: a centreline through an
+/// obstacle is a start through it, with the hint.
+pub(super) fn at_start(model: &Model, error: ConstraintError) -> ConstraintError {
+    match error {
+        ConstraintError::CentrelineTouches {
+            rod,
+            what,
+            point_mm,
+        } => ConstraintError::StartsThrough {
+            hint: start_hint(model, &rod),
+            rod,
+            what,
+            point_mm,
+        },
+        other => other,
+    }
+}
 
 impl Contact {
     /// `Err` naming the deepest overlap of a rod's surface with a mesh or another rod
@@ -15,7 +49,9 @@ impl Contact {
         model: &Model,
         state: &SystemState,
     ) -> Result<(), ConstraintError> {
-        let gaps = self.gaps(model, state, self.margin_m)?;
+        let gaps = self
+            .gaps(model, state, self.margin_m)
+            .map_err(|e| at_start(model, e))?;
         let deepest = gaps
             .iter()
             .filter(|g| g.gap < -START_OVERLAP_M)
@@ -36,6 +72,7 @@ impl Contact {
             overlap_mm: -g.gap * 1e3,
             s_mm: at * 1e3,
             point_mm: [g.point.x * 1e3, g.point.y * 1e3, g.point.z * 1e3],
+            hint: start_hint(model, &rod.name),
         })
     }
 
@@ -63,6 +100,7 @@ impl Contact {
                     mesh: mesh.name().to_string(),
                     s_mm: s * 1e3,
                     point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
+                    hint: start_hint(model, &rod.name),
                 });
             }
         }

@@ -88,6 +88,21 @@ impl Iteration<'_> {
         let mut trial = self.state.clone();
         let mut trial_rows: Vec<Row> = Vec::new();
         let mut t = fits(self.radius);
+        if self.work.model_gradient.is_some()
+            && -(t * slope + 0.5 * t * t * curvature) + self.merit_weight * violation * t <= 0.0
+        {
+            // The augmented model's step goes uphill in the merit: no shorter trial
+            // of it can be accepted (every ratio would be 0); step with the plain
+            // model instead (`run`).
+            if self.trace {
+                eprintln!(
+                    "strand-solve: iteration {:3}: the augmented model's step ascends; plain step",
+                    self.report.iterations
+                );
+            }
+            self.ascent = true;
+            return Err(Termination::LineSearchFailed);
+        }
         // The second-order correction of the first trial (at `first_t`), once computed:
         // shorter trials follow the parabola `t·d + (t/first_t)²·c`.
         let first_t = t;

@@ -167,6 +167,13 @@ pub(crate) struct Iteration<'a> {
     /// Whether `work.eval.hessian` was assembled with predicted edge stresses (mixed
     /// Newton) rather than the state's own.
     mixed_hessian: bool,
+    /// Whether the last direction, from the augmented SQP model ([`Iteration::sqp_model`]),
+    /// failed to descend the merit function (its predicted decrease not positive): the
+    /// iteration is then stepped again with the plain model.
+    ascent: bool,
+    /// Step with the energy's own Hessian and gradient, without the contact rows'
+    /// curvature and augmented-Lagrangian terms (see [`Iteration::ascent`]).
+    plain_model: bool,
     /// Whether the trial being accepted is the first one and was as long as the
     /// translation limits allow (see [`Iteration::globalise`]).
     step_at_limit: bool,
@@ -227,6 +234,8 @@ impl<'a> Iteration<'a> {
             curvature_direction: Vec::new(),
             mixed_hessian: stresses.is_some(),
             step_at_limit: false,
+            ascent: false,
+            plain_model: false,
         };
         let mut rows = Vec::new();
         iteration.collect_rows(&iteration.state.clone(), &mut rows);
@@ -257,13 +266,20 @@ impl<'a> Iteration<'a> {
             }
             self.report.iterations += 1;
             crate::activity::record(residual.combined_n);
-            if let Err(stop) = self.factor_damped() {
-                break stop;
+            let mut stepped = self.step(residual.combined_n);
+            if self.ascent {
+                // The augmented SQP model's step does not descend the merit (the
+                // penalty pulls open rows held in the last QP shut, uphill in energy):
+                // this iteration takes the plain step instead.
+                self.ascent = false;
+                self.plain_model = true;
+                stepped = self.step(residual.combined_n);
+                self.plain_model = false;
             }
-            if let Err(stop) = self.direction() {
-                break stop;
-            }
-            if let Err(stop) = self.globalise(residual.combined_n) {
+            if let Err((stop, searched)) = stepped {
+                if !searched {
+                    break stop;
+                }
                 // No step improves the merit any more: at a residual within
                 // [`ROUND_OFF_SPREAD`] times the floor that is round-off, not failure.
                 if residual.combined_n <= ROUND_OFF_SPREAD * self.report.residual_floor_n
@@ -275,6 +291,14 @@ impl<'a> Iteration<'a> {
             }
         };
         self.finish(termination)
+    }
+
+    /// One step: model, direction, globalisation. `Err((stop, searched))`, `searched`
+    /// when the line search (not the model or the direction) failed.
+    fn step(&mut self, residual: f64) -> Result<(), (Termination, bool)> {
+        self.factor_damped().map_err(|stop| (stop, false))?;
+        self.direction().map_err(|stop| (stop, false))?;
+        self.globalise(residual).map_err(|stop| (stop, true))
     }
 
     /// Convergence test: the KKT residual `g − Σ λ_i a_i` with the multipliers of the
@@ -405,6 +429,7 @@ impl<'a> Iteration<'a> {
     fn sqp_model(&self) -> Option<(Vec<f64>, Vec<f64>)> {
         let settings = self.settings;
         if self.multipliers.is_empty()
+            || self.plain_model
             || !(settings.constraint_curvature || settings.active_row_penalty)
         {
             return None;
