@@ -102,16 +102,23 @@ impl ObstacleMesh {
         max_distance: f64,
     ) -> Option<(usize, Candidate<SegmentTriangleParameters>)> {
         let bound = SegmentBound::new(p0, p1);
-        let (triangle, (_, candidate)) = self.trimesh.bvh().find_best(
+        let (_, (_, (triangle, candidate))) = self.tree.bvh.find_best(
             max_distance.next_up(),
             |node: &BvhNode, best| bound.distance(node, best),
             |leaf, _| {
-                let [a, b, c] = self.local_triangle(leaf as usize);
-                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                Some((candidate.squared.sqrt(), candidate))
+                // The nearest triangle of the cluster (the first of equals).
+                self.tree
+                    .cluster(leaf)
+                    .iter()
+                    .map(|&t| {
+                        let [a, b, c] = self.local_triangle(t as usize);
+                        let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                        (candidate.squared.sqrt(), (t as usize, candidate))
+                    })
+                    .reduce(|best, next| if next.0 < best.0 { next } else { best })
             },
         )?;
-        Some((triangle as usize, candidate))
+        Some((triangle, candidate))
     }
 
     /// The public result for closest parameters on `triangle`.
@@ -144,17 +151,19 @@ impl ObstacleMesh {
     fn tie_interval(&self, p0: &Point3<f64>, p1: &Point3<f64>, limit: f64) -> (f64, f64) {
         let bound = SegmentBound::new(p0, p1);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-        self.trimesh.bvh().traverse(|node: &BvhNode| {
+        self.tree.bvh.traverse(|node: &BvhNode| {
             if bound.distance(node, limit) > limit {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let [a, b, c] = self.local_triangle(leaf as usize);
-                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                if candidate.squared <= limit * limit {
-                    let half = 0.5 * candidate.interval;
-                    low = low.min(candidate.value.0 - half);
-                    high = high.max(candidate.value.0 + half);
+                for &t in self.tree.cluster(leaf) {
+                    let [a, b, c] = self.local_triangle(t as usize);
+                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                    if candidate.squared <= limit * limit {
+                        let half = 0.5 * candidate.interval;
+                        low = low.min(candidate.value.0 - half);
+                        high = high.max(candidate.value.0 + half);
+                    }
                 }
             }
             TraversalAction::Continue
