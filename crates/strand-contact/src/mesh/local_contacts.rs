@@ -147,7 +147,11 @@ impl ObstacleMesh {
             if let Some(leaf) = node.leaf_data() {
                 for &t in self.tree.cluster(leaf) {
                     let triangle = t as usize;
-                    let [a, b, c] = self.local_triangle(triangle);
+                    let corners = self.local_triangle(triangle);
+                    if bound.triangle_distance(&corners, limit) > limit {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
                     let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                     if candidate.squared <= limit * limit {
                         near.push(Near {

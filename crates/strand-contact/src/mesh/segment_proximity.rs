@@ -105,17 +105,24 @@ impl ObstacleMesh {
         let (_, (_, (triangle, candidate))) = self.tree.bvh.find_best(
             max_distance.next_up(),
             |node: &BvhNode, best| bound.distance(node, best),
-            |leaf, _| {
-                // The nearest triangle of the cluster (the first of equals).
-                self.tree
-                    .cluster(leaf)
-                    .iter()
-                    .map(|&t| {
-                        let [a, b, c] = self.local_triangle(t as usize);
-                        let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                        (candidate.squared.sqrt(), (t as usize, candidate))
-                    })
-                    .reduce(|best, next| if next.0 < best.0 { next } else { best })
+            |leaf, best| {
+                // The nearest triangle of the cluster (the first of equals) nearer than
+                // `best`; a triangle whose box is not nearer is not tested.
+                let mut found: Option<(f64, (usize, Candidate<SegmentTriangleParameters>))> = None;
+                for &t in self.tree.cluster(leaf) {
+                    let corners = self.local_triangle(t as usize);
+                    let beat = found.as_ref().map_or(best, |f| f.0.min(best));
+                    if bound.triangle_distance(&corners, beat) >= beat {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
+                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                    let distance = candidate.squared.sqrt();
+                    if found.as_ref().is_none_or(|f| distance < f.0) {
+                        found = Some((distance, (t as usize, candidate)));
+                    }
+                }
+                found
             },
         )?;
         Some((triangle, candidate))
@@ -157,7 +164,11 @@ impl ObstacleMesh {
             }
             if let Some(leaf) = node.leaf_data() {
                 for &t in self.tree.cluster(leaf) {
-                    let [a, b, c] = self.local_triangle(t as usize);
+                    let corners = self.local_triangle(t as usize);
+                    if bound.triangle_distance(&corners, limit) > limit {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
                     let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                     if candidate.squared <= limit * limit {
                         let half = 0.5 * candidate.interval;
@@ -194,7 +205,19 @@ impl SegmentBound {
     /// Distance between the segment and the node's box, or a lower bound of it that
     /// is already above `limit` (the node is pruned either way), m.
     pub(super) fn distance(&self, node: &BvhNode, limit: f64) -> f64 {
-        let (min, max) = (node.mins(), node.maxs());
+        self.box_distance(node.mins(), node.maxs(), limit)
+    }
+
+    /// [`SegmentBound::distance`] to the bounding box of triangle `[a, b, c]` (a leaf
+    /// holds several triangles: each is pruned by its own box before its exact test).
+    pub(super) fn triangle_distance(&self, [a, b, c]: &[Point3<f64>; 3], limit: f64) -> f64 {
+        let (a, b, c) = (to_glam(a), to_glam(b), to_glam(c));
+        self.box_distance(a.min(b).min(c), a.max(b).max(c), limit)
+    }
+
+    /// Distance between the segment and the box `[min, max]`, or a lower bound of it
+    /// that is already above `limit`, m.
+    fn box_distance(&self, min: GlamVector, max: GlamVector, limit: f64) -> f64 {
         let cheap = box_box_distance(min, max, self.min, self.max);
         if cheap >= limit {
             cheap

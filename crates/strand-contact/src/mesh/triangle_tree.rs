@@ -4,8 +4,12 @@
 //!
 //! One BVH leaf per triangle costs 112 bytes per triangle in parry's node array alone
 //! and an `O(n log n)` build over all `n` triangles; a leaf per cluster of four close
-//! triangles cuts both by four, and a query tests the (at most four) triangles of a
-//! leaf it reaches. The triangles keep their order (triangle `t` is the `t`-th kept
+//! triangles cuts both by four; a query tests the (at most four) triangles of a leaf it
+//! reaches, each first against its own bounding box. Measured against one leaf per
+//! triangle (`cargo bench -p strand-contact --bench mesh`, 1000 segment queries), a
+//! query costs about 1.5x at 1k and 1.6x at 1M triangles, for 68 instead of 176 bytes
+//! per triangle held and 64 bytes per triangle in the cache file. The triangles keep
+//! their order (triangle `t` is the `t`-th kept
 //! triangle of the file): `order` lists them cluster by cluster.
 
 use nalgebra::Point3;

@@ -1,17 +1,19 @@
 //! The cache file layout: a 48-byte header, then the content.
 //!
 //! Header: magic `STRNDMSH`, format version (`u32`), 4 zero bytes, the key (16 bytes),
-//! the content length and its xxh3-64 checksum (`u64` each). Content: the
+//! the content length and its checksum (`u64` each). Content: the
 //! diagnostics (10 counts as `u64`, closedness, the bounding box as 6 `f64`), then
 //! sections (each its length in bytes as `u64`, then the bytes): vertices (`3 f64`
 //! each), triangles (`3 u32`), cluster order (`u32`), smooth patch of each triangle
-//! (`u32`) and parry's BVH (bincode). All numbers little-endian.
+//! (`u32`) and parry's BVH (bincode). All numbers little-endian. The checksum is the
+//! xxh3-64 hash of the xxh3-64 hashes of the diagnostics and of each section (with its
+//! length): each part hashed in one pass as it is read.
 
 use std::io::Read;
 
 use nalgebra::Point3;
 use parry3d_f64::partitioning::Bvh;
-use xxhash_rust::xxh3::{Xxh3, xxh3_64};
+use xxhash_rust::xxh3::xxh3_64;
 
 use super::key::{CacheKey, FORMAT_VERSION};
 use crate::mesh::{MeshDiagnostics, TriangleTree};
@@ -39,6 +41,7 @@ pub(crate) fn encode(
     d: &MeshDiagnostics,
 ) -> Result<Vec<u8>, String> {
     let bvh = bincode::serialize(&tree.bvh).map_err(|e| format!("cannot encode the BVH: {e}"))?;
+    let mut digests = Vec::new();
     let mut content = Vec::with_capacity(
         256 + tree.vertices.len() * 24
             + tree.indices.len() * 12
@@ -65,6 +68,7 @@ pub(crate) fn encode(
     for x in [min.x, min.y, min.z, max.x, max.y, max.z] {
         content.extend_from_slice(&x.to_le_bytes());
     }
+    digests.extend_from_slice(&xxh3_64(&content).to_le_bytes());
     let sections: [&[u8]; 5] = [
         bytemuck::cast_slice(&tree.vertices),
         bytemuck::cast_slice(&tree.indices),
@@ -73,8 +77,11 @@ pub(crate) fn encode(
         &bvh,
     ];
     for section in sections {
-        content.extend_from_slice(&(section.len() as u64).to_le_bytes());
+        let length = (section.len() as u64).to_le_bytes();
+        content.extend_from_slice(&length);
         content.extend_from_slice(section);
+        digests.extend_from_slice(&length);
+        digests.extend_from_slice(&xxh3_64(section).to_le_bytes());
     }
     let mut file = Vec::with_capacity(HEADER + content.len());
     file.extend_from_slice(MAGIC);
@@ -82,7 +89,7 @@ pub(crate) fn encode(
     file.extend_from_slice(&[0; 4]);
     file.extend_from_slice(&key.0.to_le_bytes());
     file.extend_from_slice(&(content.len() as u64).to_le_bytes());
-    file.extend_from_slice(&xxh3_64(&content).to_le_bytes());
+    file.extend_from_slice(&xxh3_64(&digests).to_le_bytes());
     file.extend_from_slice(&content);
     Ok(file)
 }
@@ -123,22 +130,21 @@ pub(crate) fn decode(
     let mut r = Reader {
         source,
         left: length,
-        hasher: Xxh3::new(),
+        digests: Vec::new(),
     };
-    let mut counts = [0usize; 10];
-    for n in &mut counts {
-        *n = r.u64()? as usize;
-    }
-    let mut corners = [0.0; 6];
-    for x in &mut corners {
-        *x = f64::from_bits(r.u64()?);
-    }
+    let mut preamble = [0u8; 16 * 8];
+    r.fill(&mut preamble)?;
+    r.digests
+        .extend_from_slice(&xxh3_64(&preamble).to_le_bytes());
+    let word = |k: usize| u64::from_le_bytes(preamble[8 * k..8 * k + 8].try_into().expect("8"));
+    let counts: [usize; 10] = std::array::from_fn(|k| word(k) as usize);
+    let corners: [f64; 6] = std::array::from_fn(|k| f64::from_bits(word(10 + k)));
     let vertices: Vec<[f64; 3]> = r.section()?;
     let indices: Vec<[u32; 3]> = r.section()?;
     let order: Vec<u32> = r.section()?;
     let patch: Vec<u32> = r.section()?;
     let bvh_bytes: Vec<u8> = r.section()?;
-    if r.left != 0 || r.hasher.digest() != checksum {
+    if r.left != 0 || xxh3_64(&r.digests) != checksum {
         return Err("checksum mismatch (corrupt)".to_string());
     }
     let bvh: Bvh = bincode::deserialize(&bvh_bytes).map_err(|e| format!("BVH: {e}"))?;
@@ -190,7 +196,8 @@ struct Reader<'a, R: Read> {
     source: &'a mut R,
     /// Content bytes not read yet.
     left: u64,
-    hasher: Xxh3,
+    /// What the checksum is the hash of (see the [module docs](self)).
+    digests: Vec<u8>,
 }
 
 impl<R: Read> Reader<'_, R> {
@@ -203,7 +210,6 @@ impl<R: Read> Reader<'_, R> {
             .read_exact(out)
             .map_err(|e| format!("cannot read it: {e}"))?;
         self.left -= out.len() as u64;
-        self.hasher.update(out);
         Ok(())
     }
 
@@ -222,6 +228,9 @@ impl<R: Read> Reader<'_, R> {
         }
         let mut out = vec![T::zeroed(); (bytes / size) as usize];
         self.fill(bytemuck::cast_slice_mut(&mut out))?;
+        self.digests.extend_from_slice(&bytes.to_le_bytes());
+        self.digests
+            .extend_from_slice(&xxh3_64(bytemuck::cast_slice(&out)).to_le_bytes());
         Ok(out)
     }
 }

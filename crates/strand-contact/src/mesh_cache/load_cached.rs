@@ -25,16 +25,21 @@ impl ObstacleMesh {
     ) -> Result<Self, MeshError> {
         let path = path.as_ref();
         check_placement(&path.display().to_string(), scale_to_metres, pose)?;
-        let bytes = read(path)?;
+        let unreadable = |source| MeshError::Read {
+            path: path.to_path_buf(),
+            source,
+        };
+        let length = std::fs::metadata(path).map_err(unreadable)?.len();
         let directory = settings
             .directory
             .as_ref()
             .filter(|_| cfg!(target_endian = "little"))
-            .filter(|_| bytes.len() as u64 >= settings.min_file_bytes);
+            .filter(|_| length >= settings.min_file_bytes);
         let Some(directory) = directory else {
-            return mesh_from_bytes(path, &bytes, scale_to_metres, pose);
+            return mesh_from_bytes(path, &read(path)?, scale_to_metres, pose);
         };
-        let key = CacheKey::of(&bytes, scale_to_metres, pose);
+        // A hit needs only the key: the file is hashed as it is read, not kept.
+        let key = CacheKey::of_file(path, scale_to_metres, pose).map_err(unreadable)?;
         let file = directory.join(key.file_name());
         let fault = match store::open(&file) {
             Ok(None) => None,
@@ -48,8 +53,12 @@ impl ObstacleMesh {
             },
             Err(reason) => Some(reason),
         };
+        let bytes = read(path)?;
         let mut mesh = mesh_from_bytes(path, &bytes, scale_to_metres, pose)?;
+        // The key of what was built (the file may have changed since it was hashed).
+        let key = CacheKey::of(&bytes, scale_to_metres, pose);
         drop(bytes);
+        let file = directory.join(key.file_name());
         let written = encode(&key, &mesh.tree, &mesh.patch, &mesh.diagnostics)
             .and_then(|encoded| store::write_atomically(&file, &encoded));
         mesh.cache_use = match (written, fault) {
