@@ -17,14 +17,17 @@
 //! (`position` in the case's length unit, `R` the rotation by `angle_deg` about
 //! `axis`). Paths are relative to the case file's folder. Built meshes (with their
 //! BVH) are cached in the [`crate::Case`], keyed by resolved path, name and
-//! transform, so variants and batch runs of a case share them.
+//! transform, so variants and batch runs of a case share them; large mesh files also go
+//! through the on-disk cache ([`strand_contact::mesh_cache`], settings from the
+//! environment: `STRAND_CACHE_DIR`, `STRAND_MESH_CACHE=off`), so the next process
+//! reads the built mesh instead of parsing the file and building its BVH.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
-use strand_contact::ObstacleMesh;
+use strand_contact::{MeshCacheSettings, ObstacleMesh};
 
 use crate::build::BuiltCase;
 use crate::error::{CaseError, Reporter};
@@ -79,10 +82,23 @@ pub struct AxisAngleDef {
 }
 
 /// Cache of built environment meshes, shared by clones of a [`crate::Case`] (and so by
-/// its variants and batch runs, also across threads).
-#[derive(Clone, Default)]
+/// its variants and batch runs, also across threads), in front of the on-disk mesh
+/// cache of [`EnvironmentCache::disk`].
+#[derive(Clone)]
 pub struct EnvironmentCache {
     entries: Arc<Mutex<Vec<CacheEntry>>>,
+    /// The on-disk mesh cache used for meshes not built yet (default:
+    /// [`MeshCacheSettings::from_env`]).
+    pub disk: MeshCacheSettings,
+}
+
+impl Default for EnvironmentCache {
+    fn default() -> Self {
+        Self {
+            entries: Arc::default(),
+            disk: MeshCacheSettings::from_env(),
+        }
+    }
 }
 
 /// A built mesh with what it was built from.
@@ -226,7 +242,7 @@ fn load_placed(
             meshes.push(Arc::clone(mesh));
             continue;
         }
-        let mesh = ObstacleMesh::load(&path, scale_to_metres, &pose)
+        let mesh = ObstacleMesh::load_cached(&path, scale_to_metres, &pose, &cache.disk)
             .map_err(|e| {
                 let text = e.to_string();
                 let (message, hint) = text.split_once("\n  hint: ").unwrap_or((&text, ""));

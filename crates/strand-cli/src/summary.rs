@@ -346,6 +346,9 @@ pub(crate) fn environment_lines(
             d.duplicate_vertices,
             d.non_manifold_edges,
         );
+        if !matches!(d.cache.as_str(), "" | "off") {
+            let _ = writeln!(s, "  {name}  {}", d.cache_detail);
+        }
         let scale = 1.0 / unit.metres();
         let _ = writeln!(
             s,

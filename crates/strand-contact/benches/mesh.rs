@@ -1,6 +1,7 @@
 //! Mesh benchmarks (issue 11): building the BVH of generated, seeded surfaces of 1k and
-//! 1M triangles, loading a 1M-triangle OBJ (read, parse, build), and nearest point
-//! queries of segments against 1k and 1M triangles.
+//! 1M triangles, loading a 1M-triangle OBJ cold (read, parse, build) and through the
+//! on-disk mesh cache (hash the OBJ, read the cache file), and nearest point queries of
+//! segments against 1k and 1M triangles.
 //!
 //! `cargo bench -p strand-contact --bench mesh` (prints the memory per triangle too).
 
@@ -14,8 +15,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_contact::ObstacleMesh;
 use strand_contact::bench::wavy_surface;
+use strand_contact::{MeshCacheSettings, MeshCacheUse, ObstacleMesh};
 
 /// A wavy 1 m square of about `triangles` triangles, every vertex jittered by a seeded
 /// ±0.1 mm (so no two rows are alike).
@@ -92,11 +93,24 @@ fn load(c: &mut Criterion) {
     let (vertices, faces) = surface(1_000_000);
     write_obj(&obj, &vertices, &faces);
     let pose = Isometry3::identity();
+    let cache = MeshCacheSettings::in_directory(dir.path().join("cache"), 0);
     let mut group = c.benchmark_group("mesh load 1M");
     group.sample_size(10);
     group.bench_function("cold (read, parse, build)", |b| {
         b.iter(|| ObstacleMesh::load(&obj, 1e-3, &pose).unwrap())
     });
+    let written = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
+    assert!(matches!(written.cache_use(), MeshCacheUse::Written { .. }));
+    group.bench_function(
+        "cached (read the OBJ for its hash, read the cache file)",
+        |b| {
+            b.iter(|| {
+                let mesh = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
+                assert!(mesh.cache_use().is_hit());
+                mesh
+            })
+        },
+    );
     group.finish();
 }
 

@@ -22,6 +22,9 @@ pub use closest::{
     SegmentSegment, SegmentTriangle, closest_segment_segment, closest_segment_triangle,
 };
 pub mod mesh;
+pub mod mesh_cache;
+
+pub use mesh_cache::{MeshCacheSettings, MeshCacheUse};
 
 pub use mesh::{
     LocalContact, MeshDiagnostics, MeshError, MeshFormat, ObstacleMesh, Proximity,

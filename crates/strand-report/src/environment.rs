@@ -40,6 +40,13 @@ pub struct MeshDiagnosticsResult {
     pub bounding_box_max_m: [f64; 3],
     /// Size of the bounding box along x, y, z, m.
     pub size_m: [f64; 3],
+    /// The on-disk mesh cache: `off`, `hit` (read from the cache), `written` (built and
+    /// cached), `replaced` (an unusable cache file rebuilt) or `not written`.
+    #[serde(default)]
+    pub cache: String,
+    /// What the mesh cache did, in words (with the cache file).
+    #[serde(default)]
+    pub cache_detail: String,
 }
 
 impl MeshDiagnosticsResult {
@@ -62,6 +69,8 @@ impl MeshDiagnosticsResult {
             bounding_box_min_m: [min.x, min.y, min.z],
             bounding_box_max_m: [max.x, max.y, max.z],
             size_m: d.size_m(),
+            cache: mesh.cache_use().label().to_string(),
+            cache_detail: mesh.cache_use().to_string(),
         }
     }
 }

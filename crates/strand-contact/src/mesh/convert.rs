@@ -1,4 +1,4 @@
-//! Conversions between nalgebra (the public API) and glam (parry's math types).
+//! Conversion from nalgebra (the public API) to glam (parry's math types).
 
 use nalgebra::Point3;
 use parry3d_f64::math::Vector as GlamVector;
@@ -10,8 +10,8 @@ pub(crate) fn to_glam(p: &Point3<f64>) -> GlamVector {
 }
 
 /// A parry glam vector as a nalgebra point.
-#[inline]
-pub(crate) fn from_glam(v: GlamVector) -> Point3<f64> {
+#[cfg(test)]
+fn from_glam(v: GlamVector) -> Point3<f64> {
     Point3::new(v.x, v.y, v.z)
 }
 

@@ -52,16 +52,18 @@ impl ObstacleMesh {
     fn winding_along(&self, point: &Point3<f64>, d: &Vector3<f64>) -> Option<i64> {
         let mut winding = 0i64;
         let mut ambiguous = false;
-        self.trimesh.bvh().traverse(|node: &BvhNode| {
+        self.tree.bvh.traverse(|node: &BvhNode| {
             if ambiguous || !ray_hits_box(point, d, node) {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let [a, b, c] = self.local_triangle(leaf as usize);
-                match crossing(point, d, &a, &b, &c) {
-                    Crossing::Miss => {}
-                    Crossing::Hit(sign) => winding += sign,
-                    Crossing::Ambiguous => ambiguous = true,
+                for &t in self.tree.cluster(leaf) {
+                    let [a, b, c] = self.local_triangle(t as usize);
+                    match crossing(point, d, &a, &b, &c) {
+                        Crossing::Miss => {}
+                        Crossing::Hit(sign) => winding += sign,
+                        Crossing::Ambiguous => ambiguous = true,
+                    }
                 }
             }
             TraversalAction::Continue

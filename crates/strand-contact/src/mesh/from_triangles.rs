@@ -1,10 +1,9 @@
 //! Building a mesh from vertices and triangles, with validation.
 
 use nalgebra::Point3;
-use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
-use super::convert::to_glam;
 use super::topology::analyse;
+use super::triangle_tree::TriangleTree;
 use super::{MeshError, ObstacleMesh};
 
 /// A triangle counts as degenerate (and is skipped) when twice its area is at most
@@ -81,22 +80,22 @@ pub(crate) fn build(
         };
         return Err(MeshError::NoTriangles { mesh: name, detail });
     }
-    let topology = analyse(&vertices, &kept, skipped_degenerate, [min, max]);
-    let glam_vertices = vertices.iter().map(to_glam).collect();
-    let trimesh =
-        TriMesh::with_flags(glam_vertices, kept, TriMeshFlags::empty()).map_err(|_| {
-            MeshError::NoTriangles {
-                mesh: name.clone(),
-                detail: String::new(),
-            }
-        })?;
+    // The topology analysis and the BVH are independent: one core each.
+    let (topology, tree) = rayon::join(
+        || analyse(&vertices, &kept, skipped_degenerate, [min, max]),
+        || {
+            let raw = vertices.iter().map(|p| [p.x, p.y, p.z]).collect();
+            TriangleTree::build(raw, kept.clone(), [min, max])
+        },
+    );
     Ok(ObstacleMesh {
         name,
-        trimesh: std::sync::Arc::new(trimesh),
+        tree: std::sync::Arc::new(tree),
         bounding_box: [min, max],
         patch: topology.patch.into(),
         diagnostics: topology.diagnostics,
         placement: None,
+        cache_use: crate::mesh_cache::MeshCacheUse::Off,
     })
 }
 

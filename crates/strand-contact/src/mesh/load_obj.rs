@@ -24,57 +24,66 @@ impl ObstacleMesh {
         pose: &Isometry3<f64>,
     ) -> Result<Self, MeshError> {
         let path = path.as_ref();
-        let label = path.display().to_string();
-        check_placement(&label, scale_to_metres, pose)?;
+        check_placement(&path.display().to_string(), scale_to_metres, pose)?;
         let bytes = std::fs::read(path).map_err(|source| MeshError::Read {
             path: path.to_path_buf(),
             source,
         })?;
-        let options = load_options();
-        let no_materials =
-            |_: &Path| -> tobj::MTLLoadResult { Ok((Vec::new(), Default::default())) };
-        let (models, _materials) =
-            tobj::load_obj_buf(&mut Cursor::new(&bytes), &options, no_materials).map_err(|e| {
-                MeshError::Parse {
-                    path: path.to_path_buf(),
-                    message: e.to_string(),
-                }
-            })?;
-
-        let mut vertices = Vec::new();
-        let mut triangles = Vec::new();
-        for model in &models {
-            let mesh = &model.mesh;
-            let offset = u32::try_from(vertices.len()).map_err(|_| MeshError::Parse {
-                path: path.to_path_buf(),
-                message: "more than 2^32 vertices".to_string(),
-            })?;
-            for xyz in mesh.positions.chunks_exact(3) {
-                let file = Point3::new(xyz[0], xyz[1], xyz[2]);
-                if !file.iter().all(|x| x.is_finite()) {
-                    return Err(non_finite_vertex(&label, &bytes, file));
-                }
-                vertices.push(pose * Point3::from(file.coords * scale_to_metres));
-            }
-            triangles.extend(
-                mesh.indices
-                    .chunks_exact(3)
-                    .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
-            );
-        }
-        build(name_of(path), vertices, &triangles).map_err(|e| match e {
-            MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
-                mesh: label,
-                detail,
-            },
-            other => other,
-        })
+        obj_mesh(path, &bytes, scale_to_metres, pose)
     }
+}
+
+/// The mesh of the OBJ file `path` whose content is `bytes` (see
+/// [`ObstacleMesh::load_obj`]).
+pub(crate) fn obj_mesh(
+    path: &Path,
+    bytes: &[u8],
+    scale_to_metres: f64,
+    pose: &Isometry3<f64>,
+) -> Result<ObstacleMesh, MeshError> {
+    let label = path.display().to_string();
+    check_placement(&label, scale_to_metres, pose)?;
+    let options = load_options();
+    let no_materials = |_: &Path| -> tobj::MTLLoadResult { Ok((Vec::new(), Default::default())) };
+    let (models, _materials) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, no_materials)
+        .map_err(|e| MeshError::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for model in &models {
+        let mesh = &model.mesh;
+        let offset = u32::try_from(vertices.len()).map_err(|_| MeshError::Parse {
+            path: path.to_path_buf(),
+            message: "more than 2^32 vertices".to_string(),
+        })?;
+        for xyz in mesh.positions.chunks_exact(3) {
+            let file = Point3::new(xyz[0], xyz[1], xyz[2]);
+            if !file.iter().all(|x| x.is_finite()) {
+                return Err(non_finite_vertex(&label, bytes, file));
+            }
+            vertices.push(pose * Point3::from(file.coords * scale_to_metres));
+        }
+        triangles.extend(
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
+    }
+    build(name_of(path), vertices, &triangles).map_err(|e| match e {
+        MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
+            mesh: label,
+            detail,
+        },
+        other => other,
+    })
 }
 
 /// The placement of a mesh file, `label`: a finite positive scale to metres and a
 /// finite pose, else [`MeshError::InvalidScale`] / [`MeshError::InvalidPose`].
-pub(super) fn check_placement(
+pub(crate) fn check_placement(
     label: &str,
     scale_to_metres: f64,
     pose: &Isometry3<f64>,
@@ -112,7 +121,7 @@ fn load_options() -> tobj::LoadOptions {
 }
 
 /// The mesh name for a file: its stem.
-fn name_of(path: &Path) -> String {
+pub(crate) fn name_of(path: &Path) -> String {
     path.file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| path.display().to_string())

@@ -140,19 +140,25 @@ impl ObstacleMesh {
         let bound = SegmentBound::new(p0, p1);
         let limit = max_distance.next_up();
         let mut near = Vec::new();
-        self.trimesh.bvh().traverse(|node: &BvhNode| {
+        self.tree.bvh.traverse(|node: &BvhNode| {
             if bound.distance(node, limit) > limit {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let triangle = leaf as usize;
-                let [a, b, c] = self.local_triangle(triangle);
-                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                if candidate.squared <= limit * limit {
-                    near.push(Near {
-                        triangle,
-                        candidate,
-                    });
+                for &t in self.tree.cluster(leaf) {
+                    let triangle = t as usize;
+                    let corners = self.local_triangle(triangle);
+                    if bound.triangle_distance(&corners, limit) > limit {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
+                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                    if candidate.squared <= limit * limit {
+                        near.push(Near {
+                            triangle,
+                            candidate,
+                        });
+                    }
                 }
             }
             TraversalAction::Continue

@@ -25,13 +25,17 @@ mod segment_box;
 mod segment_proximity;
 pub mod stl;
 mod topology;
+mod triangle_tree;
 
 pub(crate) use convert::to_glam;
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
+pub(crate) use load_obj::{check_placement, name_of};
 pub use local_contacts::LocalContact;
 pub use obstacle_mesh::ObstacleMesh;
 pub use segment_proximity::Proximity;
 pub use stl::{MeshFormat, STL_WELD_RELATIVE_TOLERANCE, write_ascii_stl, write_binary_stl};
+pub(crate) use stl::{mesh_from_bytes, read};
 pub use topology::SMOOTH_PATCH_ANGLE_RAD;
+pub(crate) use triangle_tree::{CLUSTER_SIZE, TriangleTree};

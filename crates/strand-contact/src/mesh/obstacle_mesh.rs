@@ -4,12 +4,13 @@ use std::fmt;
 use std::sync::Arc;
 
 use nalgebra::{Isometry3, Point3};
-use parry3d_f64::shape::TriMesh;
 
 use super::MeshDiagnostics;
-use super::convert::from_glam;
+use super::triangle_tree::TriangleTree;
+use crate::mesh_cache::MeshCacheUse;
 
-/// A rigid environment mesh in world coordinates (m): a parry `TriMesh` with its BVH.
+/// A rigid environment mesh in world coordinates (m): its triangles and a parry BVH
+/// over clusters of neighbouring triangles.
 ///
 /// Immutable once built; share it with `Arc` across iterations, variants and batches.
 /// A mesh moved rigidly ([`ObstacleMesh::placed`], a part riding on a motion) shares
@@ -19,7 +20,7 @@ use super::convert::from_glam;
 pub struct ObstacleMesh {
     pub(crate) name: String,
     /// The triangles and their BVH, in the mesh's own frame.
-    pub(crate) trimesh: Arc<TriMesh>,
+    pub(crate) tree: Arc<TriangleTree>,
     /// Bounding box of the kept triangles in the mesh's own frame, m.
     pub(crate) bounding_box: [Point3<f64>; 2],
     /// The smooth patch of every triangle (named by its smallest triangle index).
@@ -28,6 +29,8 @@ pub struct ObstacleMesh {
     pub(crate) diagnostics: MeshDiagnostics,
     /// The map from the mesh's own frame to the world (`None`: the identity).
     pub(crate) placement: Option<Isometry3<f64>>,
+    /// Whether the mesh came from the on-disk cache (see [`crate::mesh_cache`]).
+    pub(crate) cache_use: MeshCacheUse,
 }
 
 impl ObstacleMesh {
@@ -44,18 +47,24 @@ impl ObstacleMesh {
 
     /// Number of triangles kept (degenerate ones are skipped).
     pub fn triangle_count(&self) -> usize {
-        self.trimesh.num_triangles()
+        self.tree.indices.len()
     }
 
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
-        self.trimesh.vertices().len()
+        self.tree.vertices.len()
     }
 
     /// Number of degenerate (zero-area) triangles skipped when the mesh was built; the
     /// caller may warn about them.
     pub fn skipped_degenerate(&self) -> usize {
         self.diagnostics.degenerate_skipped
+    }
+
+    /// Whether the mesh was read from the on-disk cache, built and written to it, or
+    /// built without it ([`ObstacleMesh::load_cached`]).
+    pub fn cache_use(&self) -> &MeshCacheUse {
+        &self.cache_use
     }
 
     /// Counts, defects, closedness and bounding box of the mesh, for the user.
@@ -87,13 +96,16 @@ impl ObstacleMesh {
     /// The vertices of triangle `index` in the mesh's own frame, m (what the queries
     /// work in).
     pub(crate) fn local_triangle(&self, index: usize) -> [Point3<f64>; 3] {
-        let vertices = self.trimesh.vertices();
-        self.trimesh.indices()[index].map(|i| from_glam(vertices[i as usize]))
+        self.tree.triangle(index)
     }
 
-    /// Approximate memory use of the mesh and its BVH in bytes.
+    /// Memory held by the mesh in bytes: vertices, triangles, BVH, smooth patches and
+    /// name (shared with the meshes placed from it).
     pub fn memory_bytes(&self) -> usize {
-        self.trimesh.total_memory_size() + self.name.capacity()
+        std::mem::size_of::<Self>()
+            + self.tree.memory_bytes()
+            + self.patch.len() * std::mem::size_of::<u32>()
+            + self.name.capacity()
     }
 }
 

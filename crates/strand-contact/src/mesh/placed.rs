@@ -8,7 +8,6 @@
 use nalgebra::{Isometry3, Point3};
 
 use super::ObstacleMesh;
-use super::convert::from_glam;
 use super::segment_proximity::Proximity;
 
 impl ObstacleMesh {
@@ -39,10 +38,10 @@ impl ObstacleMesh {
         };
         let mut min = Point3::from([f64::INFINITY; 3]);
         let mut max = Point3::from([f64::NEG_INFINITY; 3]);
-        let vertices = self.trimesh.vertices();
-        for indices in self.trimesh.indices() {
+        let vertices = &self.tree.vertices;
+        for indices in &self.tree.indices {
             for &i in indices {
-                let p = placement * from_glam(vertices[i as usize]);
+                let p = placement * Point3::from(vertices[i as usize]);
                 min = min.inf(&p);
                 max = max.sup(&p);
             }

@@ -102,16 +102,30 @@ impl ObstacleMesh {
         max_distance: f64,
     ) -> Option<(usize, Candidate<SegmentTriangleParameters>)> {
         let bound = SegmentBound::new(p0, p1);
-        let (triangle, (_, candidate)) = self.trimesh.bvh().find_best(
+        let (_, (_, (triangle, candidate))) = self.tree.bvh.find_best(
             max_distance.next_up(),
             |node: &BvhNode, best| bound.distance(node, best),
-            |leaf, _| {
-                let [a, b, c] = self.local_triangle(leaf as usize);
-                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                Some((candidate.squared.sqrt(), candidate))
+            |leaf, best| {
+                // The nearest triangle of the cluster (the first of equals) nearer than
+                // `best`; a triangle whose box is not nearer is not tested.
+                let mut found: Option<(f64, (usize, Candidate<SegmentTriangleParameters>))> = None;
+                for &t in self.tree.cluster(leaf) {
+                    let corners = self.local_triangle(t as usize);
+                    let beat = found.as_ref().map_or(best, |f| f.0.min(best));
+                    if bound.triangle_distance(&corners, beat) >= beat {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
+                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                    let distance = candidate.squared.sqrt();
+                    if found.as_ref().is_none_or(|f| distance < f.0) {
+                        found = Some((distance, (t as usize, candidate)));
+                    }
+                }
+                found
             },
         )?;
-        Some((triangle as usize, candidate))
+        Some((triangle, candidate))
     }
 
     /// The public result for closest parameters on `triangle`.
@@ -144,17 +158,23 @@ impl ObstacleMesh {
     fn tie_interval(&self, p0: &Point3<f64>, p1: &Point3<f64>, limit: f64) -> (f64, f64) {
         let bound = SegmentBound::new(p0, p1);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-        self.trimesh.bvh().traverse(|node: &BvhNode| {
+        self.tree.bvh.traverse(|node: &BvhNode| {
             if bound.distance(node, limit) > limit {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
-                let [a, b, c] = self.local_triangle(leaf as usize);
-                let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                if candidate.squared <= limit * limit {
-                    let half = 0.5 * candidate.interval;
-                    low = low.min(candidate.value.0 - half);
-                    high = high.max(candidate.value.0 + half);
+                for &t in self.tree.cluster(leaf) {
+                    let corners = self.local_triangle(t as usize);
+                    if bound.triangle_distance(&corners, limit) > limit {
+                        continue;
+                    }
+                    let [a, b, c] = corners;
+                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+                    if candidate.squared <= limit * limit {
+                        let half = 0.5 * candidate.interval;
+                        low = low.min(candidate.value.0 - half);
+                        high = high.max(candidate.value.0 + half);
+                    }
                 }
             }
             TraversalAction::Continue
@@ -185,7 +205,19 @@ impl SegmentBound {
     /// Distance between the segment and the node's box, or a lower bound of it that
     /// is already above `limit` (the node is pruned either way), m.
     pub(super) fn distance(&self, node: &BvhNode, limit: f64) -> f64 {
-        let (min, max) = (node.mins(), node.maxs());
+        self.box_distance(node.mins(), node.maxs(), limit)
+    }
+
+    /// [`SegmentBound::distance`] to the bounding box of triangle `[a, b, c]` (a leaf
+    /// holds several triangles: each is pruned by its own box before its exact test).
+    pub(super) fn triangle_distance(&self, [a, b, c]: &[Point3<f64>; 3], limit: f64) -> f64 {
+        let (a, b, c) = (to_glam(a), to_glam(b), to_glam(c));
+        self.box_distance(a.min(b).min(c), a.max(b).max(c), limit)
+    }
+
+    /// Distance between the segment and the box `[min, max]`, or a lower bound of it
+    /// that is already above `limit`, m.
+    fn box_distance(&self, min: GlamVector, max: GlamVector, limit: f64) -> f64 {
         let cheap = box_box_distance(min, max, self.min, self.max);
         if cheap >= limit {
             cheap

@@ -81,11 +81,7 @@ impl ObstacleMesh {
     ) -> Result<Self, MeshError> {
         let path = path.as_ref();
         let bytes = read(path)?;
-        let extension = path.extension().and_then(|e| e.to_str());
-        match detect_format(&bytes, extension) {
-            MeshFormat::Obj => Self::load_obj(path, scale_to_metres, pose),
-            _ => stl_mesh(path, &bytes, scale_to_metres, pose),
-        }
+        mesh_from_bytes(path, &bytes, scale_to_metres, pose)
     }
 
     /// Loads a binary or ASCII STL file (told apart by content), welds its corners
@@ -106,7 +102,23 @@ impl ObstacleMesh {
     }
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, MeshError> {
+/// The mesh of the file `path` whose content is `bytes`, OBJ or STL (see
+/// [`ObstacleMesh::load`]).
+pub(crate) fn mesh_from_bytes(
+    path: &Path,
+    bytes: &[u8],
+    scale_to_metres: f64,
+    pose: &Isometry3<f64>,
+) -> Result<ObstacleMesh, MeshError> {
+    let extension = path.extension().and_then(|e| e.to_str());
+    match detect_format(bytes, extension) {
+        MeshFormat::Obj => super::load_obj::obj_mesh(path, bytes, scale_to_metres, pose),
+        _ => stl_mesh(path, bytes, scale_to_metres, pose),
+    }
+}
+
+/// The bytes of a mesh file.
+pub(crate) fn read(path: &Path) -> Result<Vec<u8>, MeshError> {
     std::fs::read(path).map_err(|source| MeshError::Read {
         path: path.to_path_buf(),
         source,
@@ -148,11 +160,7 @@ fn stl_mesh(
         .into_iter()
         .map(|p| pose * Point3::from(p.coords * scale_to_metres))
         .collect();
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| label.clone());
-    build(name, vertices, &triangles).map_err(|e| match e {
+    build(super::load_obj::name_of(path), vertices, &triangles).map_err(|e| match e {
         MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
             mesh: label,
             detail,
