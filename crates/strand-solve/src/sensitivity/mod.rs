@@ -88,6 +88,14 @@ pub trait Design {
     /// The design at `offsets` (one per parameter, in each parameter's unit) from the
     /// base design.
     fn build(&self, offsets: &[f64]) -> Result<Self::Built, Self::Error>;
+
+    /// Whether parameter `parameter` enters the gradient linearly at a fixed state (a
+    /// load, a mass, gravity, a stiffness): its difference is then exact at any step,
+    /// and `∂Φ/∂p` takes one central difference instead of the extrapolated two
+    /// ([`SensitivitySettings::richardson`]). Default: `false`.
+    fn enters_linearly(&self, _parameter: usize) -> bool {
+        false
+    }
 }
 
 /// A built design: a model and the inequality constraints beyond joint limits.
