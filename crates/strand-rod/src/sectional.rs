@@ -16,7 +16,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::element::{BendTwist, StretchShear, bend_twist};
+use crate::element::{BendTwist, StretchShear, bend_twist_gradient};
 use crate::{Rod, RodState};
 
 /// Boundary frames of a rod: `Some` where an end is attached with its frame (clamp,
@@ -143,7 +143,7 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
                     stiffness: &c_kappa,
                     rest_curvature: rod.rest_curvature(j),
                 };
-                let derivatives = bend_twist(&element);
+                let derivatives = bend_twist_gradient(&element);
                 let curvature = element.curvature();
                 let delta = curvature - rod.rest_curvature(j);
                 let m_material = c_kappa.component_mul(&delta);

@@ -4,7 +4,10 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use nalgebra::{DVector, UnitQuaternion, Vector3};
-use strand_rod::element::{BendTwist, ElementDerivatives, bend_twist, dead_moment, stretch_shear};
+use strand_rod::element::{
+    BendTwist, ElementDerivatives, bend_twist, bend_twist_gradient, dead_moment, stretch_shear,
+    stretch_shear_gradient,
+};
 use strand_rod::sectional::{BoundaryFrames, edge_element, vertex_frames};
 use strand_rod::so3;
 
@@ -268,13 +271,15 @@ impl Model {
             match element.kind {
                 ElementKind::Edge { rod, edge } => {
                     let d = match stresses {
+                        _ if !with_hessian => self.edge_derivatives(state, rod, edge, false),
                         Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
-                        None => self.edge_derivatives(state, rod, edge),
+                        None => self.edge_derivatives(state, rod, edge, true),
                     };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::Vertex { rod, vertex } => {
-                    let d = self.vertex_derivatives(state, &boundary[rod], rod, vertex);
+                    let d =
+                        self.vertex_derivatives(state, &boundary[rod], rod, vertex, with_hessian);
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::EndMoment { rod, at_end } => {
@@ -291,7 +296,12 @@ impl Model {
                     clip,
                     after,
                 } => {
-                    let d = bend_twist(&self.clip_half(state, rod, vertex, clip, after).element());
+                    let half = self.clip_half(state, rod, vertex, clip, after);
+                    let d = if with_hessian {
+                        bend_twist(&half.element())
+                    } else {
+                        bend_twist_gradient(&half.element())
+                    };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::JointPadding => {
@@ -417,10 +427,16 @@ impl Model {
         state: &SystemState,
         rod: usize,
         edge: usize,
+        with_hessian: bool,
     ) -> ElementDerivatives<9> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().strain_stiffness();
-        stretch_shear(&edge_element(&spec.rod, &state.rods[rod], &c, edge))
+        let element = edge_element(&spec.rod, &state.rods[rod], &c, edge);
+        if with_hessian {
+            stretch_shear(&element)
+        } else {
+            stretch_shear_gradient(&element)
+        }
     }
 
     fn vertex_derivatives(
@@ -429,17 +445,23 @@ impl Model {
         boundary: &BoundaryFrames,
         rod: usize,
         vertex: usize,
+        with_hessian: bool,
     ) -> ElementDerivatives<6> {
         let spec = &self.system.rods[rod];
         let c = spec.rod.section().curvature_stiffness();
         let (q_a, q_b) = vertex_frames(&state.rods[rod], boundary, vertex).expect("vertex element");
-        bend_twist(&BendTwist {
+        let element = BendTwist {
             frame_a: q_a,
             frame_b: q_b,
             weight: spec.rod.vertex_weight(vertex),
             stiffness: &c,
             rest_curvature: spec.rod.rest_curvature(vertex),
-        })
+        };
+        if with_hessian {
+            bend_twist(&element)
+        } else {
+            bend_twist_gradient(&element)
+        }
     }
 
     fn end_moment_derivatives(

@@ -54,3 +54,17 @@ pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
         hessian,
     }
 }
+
+/// [`bend_twist`]'s energy and gradient alone (the Hessian left zero): the same
+/// numbers, without the cost of `∇²(M·φ)`, for evaluations that need no Hessian
+/// (gradients, sectional moments).
+pub fn bend_twist_gradient(e: &BendTwist<'_>) -> ElementDerivatives<6> {
+    let rel = RelativeRotation::new(e.frame_a, e.frame_b);
+    let delta = rel.phi / e.weight - e.rest_curvature;
+    let moment = e.stiffness.component_mul(&delta);
+    ElementDerivatives {
+        energy: 0.5 * e.weight * delta.dot(&moment),
+        gradient: rel.jacobian.transpose() * moment,
+        hessian: nalgebra::SMatrix::zeros(),
+    }
+}

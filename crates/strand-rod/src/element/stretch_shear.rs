@@ -113,3 +113,26 @@ fn stretch_shear_with_stress(
         hessian,
     }
 }
+
+/// [`stretch_shear`]'s energy and gradient alone (the Hessian left zero): the same
+/// numbers, for evaluations that need no Hessian.
+pub fn stretch_shear_gradient(e: &StretchShear<'_>) -> ElementDerivatives<9> {
+    let h = e.length;
+    let rotation = e.frame.to_rotation_matrix().into_inner();
+    let gamma = e.strain();
+    let delta = gamma - e.rest_strain;
+    let c = Matrix3::from_diagonal(e.stiffness);
+    let force_material = c * delta;
+    let force = rotation * force_material;
+    let mut gradient = SVector::<f64, 9>::zeros();
+    gradient.fixed_rows_mut::<3>(0).copy_from(&(-force));
+    gradient.fixed_rows_mut::<3>(3).copy_from(&force);
+    gradient
+        .fixed_rows_mut::<3>(6)
+        .copy_from(&(h * force_material.cross(&gamma)));
+    ElementDerivatives {
+        energy: 0.5 * h * delta.dot(&force_material),
+        gradient,
+        hessian: SMatrix::zeros(),
+    }
+}
