@@ -80,6 +80,9 @@ pub(crate) struct BuildExtras<'a> {
     /// The rod vertex of every clip (in clip order) to keep where the clips stay in
     /// order (a base build's: see [`crate::clips::place_clips`]).
     pub clip_vertices: Option<&'a [usize]>,
+    /// A model of the same case whose symbolic phase the build reuses where the
+    /// structure is the same ([`Model::try_new_like`]).
+    pub like: Option<&'a Model>,
 }
 
 /// Builds the model; `segments` overrides every rod's number of segments. Environment
@@ -206,7 +209,11 @@ pub(crate) fn build(
         }
         None => nominal_of(&mut system),
     };
-    let model = Model::try_new(system).map_err(system_error)?;
+    let model = match extras.like {
+        Some(like) => Model::try_new_like(system, like),
+        None => Model::try_new(system),
+    }
+    .map_err(system_error)?;
     let environment = load_environment(&report, unit, file, environment, extras.moved_meshes)?;
     let mut built = BuiltCase {
         name: name.to_string(),

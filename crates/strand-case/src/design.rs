@@ -13,13 +13,16 @@
 //! }]);
 //! ```
 
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use strand_solve::Constraints;
 use strand_solve::contact::Contact;
 use strand_solve::sensitivity::{Design, Designed};
 use strand_system::Model;
 
 use crate::schema::{Amount, Change, VariantChange};
-use crate::{BuiltCase, Case, CaseError};
+use crate::{BuiltCase, Case, CaseError, VariantItem};
 
 /// One parameter of a [`CaseDesign`].
 #[derive(Clone, Debug, PartialEq)]
@@ -34,7 +37,6 @@ pub struct DesignParameter {
 }
 
 /// A case whose parameters are variant items, offset from the case's values.
-#[derive(Clone, Debug)]
 pub struct CaseDesign<'c> {
     case: &'c Case,
     parameters: Vec<DesignParameter>,
@@ -44,19 +46,34 @@ pub struct CaseDesign<'c> {
     /// (their guesses are never used: the steps start from the base equilibrium; the
     /// clips stay on the base's vertices, so a clip moved along its rod keeps the
     /// mesh).
-    initial: std::sync::OnceLock<(strand_system::SystemState, Vec<usize>)>,
+    initial: OnceLock<strand_system::SystemState>,
+    /// The clip vertices of the first build, kept by the later ones.
+    clip_vertices: OnceLock<Vec<usize>>,
+    /// The design at zero offsets, built once, and its model's real numbers.
+    base: OnceLock<(DesignedCase, Vec<f64>)>,
+    /// Per parameter, how the model's real numbers move per unit of it where they
+    /// move affinely ([`along`]), `None` where they do not (full builds then).
+    directions: Vec<OnceLock<Option<Vec<f64>>>>,
+    /// Full builds through the case builder so far (the work a design avoids).
+    full_builds: AtomicUsize,
+}
+
+impl std::fmt::Debug for CaseDesign<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CaseDesign")
+            .field("case", &self.case.origin)
+            .field("parameters", &self.parameters)
+            .field("centre", &self.centre)
+            .field("full_builds", &self.full_builds())
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'c> CaseDesign<'c> {
     /// The design of `case` over `parameters`.
     pub fn new(case: &'c Case, parameters: Vec<DesignParameter>) -> Self {
         let centre = vec![0.0; parameters.len()];
-        Self {
-            case,
-            parameters,
-            centre,
-            initial: std::sync::OnceLock::new(),
-        }
+        Self::centred_at(case, parameters, centre)
     }
 
     /// The design of `case` over `parameters` whose zero offsets are `centre` (one per
@@ -68,12 +85,113 @@ impl<'c> CaseDesign<'c> {
             parameters.len(),
             "one centre offset per parameter"
         );
+        let directions = parameters.iter().map(|_| OnceLock::new()).collect();
         Self {
             case,
             parameters,
             centre,
-            initial: std::sync::OnceLock::new(),
+            initial: OnceLock::new(),
+            clip_vertices: OnceLock::new(),
+            base: OnceLock::new(),
+            directions,
+            full_builds: AtomicUsize::new(0),
         }
+    }
+
+    /// The design whose builds start from `state` (a state of the case's rods and
+    /// segments, e.g. its solved equilibrium) instead of computing the case's initial
+    /// guess: the steps of a sensitivity never solve from their guess, and computing
+    /// it is most of a cold build.
+    pub fn starting_from(self, state: &strand_system::SystemState) -> Self {
+        let _ = self.initial.set(state.clone());
+        self
+    }
+
+    /// How many times the design has run the case builder (the base design, the two
+    /// probes per parameter of [`Design::build`]'s affine path, and every build that
+    /// path does not cover).
+    pub fn full_builds(&self) -> usize {
+        self.full_builds.load(Ordering::Relaxed)
+    }
+
+    /// Whether parameter `parameter` moves the model's real numbers affinely, so that
+    /// [`Design::build`] moves the base model along it without the case builder
+    /// (probing it with two full builds on first use).
+    pub fn is_affine(&self, parameter: usize) -> Result<bool, CaseError> {
+        Ok(self.direction(parameter)?.is_some())
+    }
+
+    /// The design at zero offsets (built on first use).
+    fn base(&self) -> Result<&(DesignedCase, Vec<f64>), CaseError> {
+        if let Some(base) = self.base.get() {
+            return Ok(base);
+        }
+        let zero = vec![0.0; self.parameters.len()];
+        let cold = self.initial.get().is_none();
+        let mut built = self.full_build(&zero)?;
+        if cold {
+            // Built like every later build (warm: no guess, so the dead moments'
+            // reference frames are the builder's default where no moment acts), so
+            // that the probes of a parameter differ from it only where it acts.
+            built = self.full_build(&zero)?;
+        }
+        let reals = built.built.model.system().reals();
+        Ok(self.base.get_or_init(|| (built, reals)))
+    }
+
+    /// The derivative of the model's real numbers ([`strand_system::System::reals`])
+    /// per unit of parameter `parameter`, from full builds at `−h` and `+2h`
+    /// (`h` = [`AFFINE_PROBE`] times its scale): `Some` only where the two builds
+    /// have the base's structure and environment and their real numbers lie on a line
+    /// through the base's to [`AFFINE_TOLERANCE`] (lengths, positions, masses, loads,
+    /// stiffnesses — but not a frame's turn, whose quaternion moves on a circle, nor a
+    /// mesh position, which is not part of the model).
+    fn direction(&self, parameter: usize) -> Result<Option<&[f64]>, CaseError> {
+        let cell = &self.directions[parameter];
+        if let Some(d) = cell.get() {
+            return Ok(d.as_deref());
+        }
+        let (base, _) = self.base()?;
+        let h = AFFINE_PROBE * self.parameters[parameter].scale;
+        let at = |t: f64| {
+            let mut offsets = vec![0.0; self.parameters.len()];
+            offsets[parameter] = t;
+            self.full_build(&offsets)
+        };
+        let (minus, plus) = (at(-h)?, at(2.0 * h)?);
+        let direction = affine_direction(base, &minus, &plus, h);
+        Ok(cell.get_or_init(|| direction).as_deref())
+    }
+
+    /// The design at `offsets` through the case builder.
+    fn full_build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
+        self.full_builds.fetch_add(1, Ordering::Relaxed);
+        let changes = self.changes(offsets);
+        let like = self.base.get().map(|(b, _)| &b.built.model);
+        let built = match self.initial.get() {
+            Some(initial) => self.case.build_with_changes_reusing(
+                "sensitivity",
+                &changes,
+                initial,
+                self.clip_vertices.get().map(Vec::as_slice),
+                like,
+            )?,
+            None if changes.is_empty() => self.case.build(None)?,
+            None => self
+                .case
+                .build_with_changes("sensitivity", &changes, None)?,
+        };
+        let _ = self.initial.get_or_init(|| built.initial.clone());
+        let _ = self.clip_vertices.get_or_init(|| {
+            built
+                .model
+                .system()
+                .clips
+                .iter()
+                .map(|c| c.vertex)
+                .collect()
+        });
+        Ok(DesignedCase::new(built))
     }
 
     /// The case.
@@ -109,6 +227,7 @@ impl<'c> CaseDesign<'c> {
 }
 
 /// A built case with its contact constraints.
+#[derive(Clone)]
 pub struct DesignedCase {
     /// The built case.
     pub built: BuiltCase,
@@ -145,35 +264,143 @@ impl Design for CaseDesign<'_> {
         self.parameters[parameter].scale
     }
 
-    /// The first build computes the case's initial guess; later builds reuse it and
-    /// keep its clip vertices ([`Case::build_with_changes_reusing`]): a design is
-    /// built many times at small offsets, its guesses are never solved from, and its
-    /// mesh must not change with a clip's station (an edge handed from one piece to
-    /// the next where the allocation ties would make the model jump).
+    /// At zero offsets the base design (built once). Moved along one parameter that
+    /// moves the model's real numbers affinely ([`CaseDesign::is_affine`]: checked
+    /// against two full builds on first use), the base model with its real numbers
+    /// moved along that line ([`strand_system::Model::try_new_like`]: no case
+    /// builder, the base's symbolic phase). Otherwise the case builder: its first
+    /// build computes the case's initial guess; later builds reuse it and keep its
+    /// clip vertices ([`Case::build_with_changes_reusing`]): a design is built many
+    /// times at small offsets, its guesses are never solved from, and its mesh must
+    /// not change with a clip's station (an edge handed from one piece to the next
+    /// where the allocation ties would make the model jump).
     fn build(&self, offsets: &[f64]) -> Result<DesignedCase, CaseError> {
-        let changes = self.changes(offsets);
-        let built = match self.initial.get() {
-            Some((initial, clip_vertices)) => self.case.build_with_changes_reusing(
-                "sensitivity",
-                &changes,
-                initial,
-                Some(clip_vertices),
-            )?,
-            None if changes.is_empty() => self.case.build(None)?,
-            None => self
-                .case
-                .build_with_changes("sensitivity", &changes, None)?,
-        };
-        let _ = self.initial.get_or_init(|| {
-            let vertices = built
-                .model
-                .system()
-                .clips
-                .iter()
-                .map(|c| c.vertex)
-                .collect();
-            (built.initial.clone(), vertices)
-        });
-        Ok(DesignedCase::new(built))
+        let mut moved = offsets
+            .iter()
+            .enumerate()
+            .filter(|(_, x)| **x != 0.0)
+            .map(|(j, _)| j);
+        match (moved.next(), moved.next()) {
+            (None, _) => Ok(self.base()?.0.clone()),
+            (Some(j), None) => match self.direction(j)? {
+                Some(direction) => {
+                    let (base, reals) = self.base()?;
+                    along(base, reals, direction, offsets[j], &self.case.origin)
+                }
+                None => self.full_build(offsets),
+            },
+            _ => self.full_build(offsets),
+        }
     }
+
+    fn enters_linearly(&self, parameter: usize) -> bool {
+        VariantItem::parse(&self.case.file, &self.parameters[parameter].item).is_ok_and(|item| {
+            matches!(
+                item,
+                VariantItem::Gravity
+                    | VariantItem::JunctionMass(_)
+                    | VariantItem::EndForce { .. }
+                    | VariantItem::Section { .. }
+            )
+        })
+    }
+}
+
+/// The probe step of [`CaseDesign::is_affine`] as a fraction of the parameter's scale
+/// (the sensitivities' own difference step by default).
+pub const AFFINE_PROBE: f64 = 1e-4;
+
+/// The largest departure from a line, relative to the size of each real number, that
+/// [`CaseDesign::is_affine`] takes for round-off (a quadratic dependence shows as
+/// `(h/scale)²` ≈ 1e-8 relative at the probe step, a frame's turn as 1e-7).
+pub const AFFINE_TOLERANCE: f64 = 1e-12;
+
+/// `(plus − minus) / 3h` where the builds at `−h` (`minus`) and `+2h` (`plus`) have
+/// the base's structure and everything else that is not the model's real numbers,
+/// and `plus + 2 minus − 3 base` vanishes to round-off (the three lie on a line).
+fn affine_direction(
+    base: &DesignedCase,
+    minus: &DesignedCase,
+    plus: &DesignedCase,
+    h: f64,
+) -> Option<Vec<f64>> {
+    let (b, m, p) = (&base.built, &minus.built, &plus.built);
+    let same_environment = |o: &BuiltCase| {
+        o.environment.len() == b.environment.len()
+            && o.environment
+                .iter()
+                .zip(&b.environment)
+                .all(|(x, y)| std::sync::Arc::ptr_eq(x, y))
+    };
+    let same_rest = |o: &BuiltCase| {
+        same_environment(o)
+            && o.connector_names == b.connector_names
+            && o.min_bend_radius == b.min_bend_radius
+            && o.min_clearance == b.min_clearance
+            && o.connector_limits == b.connector_limits
+            && o.sections == b.sections
+    };
+    if !(same_rest(m) && same_rest(p)) {
+        return None;
+    }
+    let system = b.model.system();
+    let r0 = system.reals();
+    let (rm, rp) = (m.model.system().reals(), p.model.system().reals());
+    // Same structure: the other system with the base's real numbers is the base.
+    for other in [m.model.system(), p.model.system()] {
+        if other.with_reals(&r0).ok().as_ref() != Some(system) {
+            return None;
+        }
+    }
+    let on_line = r0.iter().zip(&rm).zip(&rp).all(|((x0, xm), xp)| {
+        let size = x0.abs().max(xm.abs()).max(xp.abs());
+        (xp + 2.0 * xm - 3.0 * x0).abs() <= 3.0 * AFFINE_TOLERANCE * size
+    });
+    on_line.then(|| {
+        rp.iter()
+            .zip(&rm)
+            .map(|(xp, xm)| (xp - xm) / (3.0 * h))
+            .collect()
+    })
+}
+
+/// The base design (its model's real numbers `base_reals`) with them moved by
+/// `t · direction` (the
+/// base's symbolic phase reused, the model validated); everything else is the base's.
+fn along(
+    base: &DesignedCase,
+    base_reals: &[f64],
+    direction: &[f64],
+    t: f64,
+    origin: &str,
+) -> Result<DesignedCase, CaseError> {
+    let b = &base.built;
+    let system = b.model.system();
+    let reals: Vec<f64> = base_reals
+        .iter()
+        .zip(direction)
+        .map(|(x, d)| x + t * d)
+        .collect();
+    let system_error = |source| CaseError::System {
+        origin: origin.to_string(),
+        source,
+    };
+    let moved = system.with_reals(&reals).map_err(system_error)?;
+    let model = Model::try_new_like(moved, &b.model).map_err(system_error)?;
+    Ok(DesignedCase::new(BuiltCase {
+        name: b.name.clone(),
+        origin: b.origin.clone(),
+        length_unit: b.length_unit,
+        model,
+        initial: b.initial.clone(),
+        settings: b.settings.clone(),
+        connector_names: b.connector_names.clone(),
+        min_bend_radius: b.min_bend_radius.clone(),
+        min_clearance: b.min_clearance.clone(),
+        connector_limits: b.connector_limits.clone(),
+        sections: b.sections.clone(),
+        environment: b.environment.clone(),
+        start: b.start,
+        clip_projections: b.clip_projections.clone(),
+    }))
 }

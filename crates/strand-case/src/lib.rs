@@ -52,6 +52,8 @@ mod variant;
 mod warm;
 
 #[cfg(test)]
+mod design_tests;
+#[cfg(test)]
 mod shipped_cases;
 #[cfg(test)]
 mod tests;
@@ -263,18 +265,23 @@ impl Case {
     /// pose). With `clip_vertices` (the rod vertex of every clip, in clip order, e.g.
     /// the base build's), each clip on a straight rod keeps its vertex while the clips
     /// stay in order: moving a clip along its rod then stretches the edges on either
-    /// side instead of changing the mesh.
+    /// side instead of changing the mesh. With `like` (a model of the same case, e.g.
+    /// the base build's), the model reuses its symbolic phase where the rods,
+    /// segments, bodies and clips are the same ([`strand_system::Model::try_new_like`]:
+    /// the same model, built faster).
     pub fn build_with_changes_reusing(
         &self,
         label: &str,
         changes: &[schema::VariantChange],
         initial: &SystemState,
         clip_vertices: Option<&[usize]>,
+        like: Option<&strand_system::Model>,
     ) -> Result<BuiltCase, CaseError> {
         let file = self.file_with_changes(label, changes)?;
         let extras = build::BuildExtras {
             warm: Some(initial),
             clip_vertices,
+            like,
             ..build::BuildExtras::default()
         };
         self.build_file(&file, None, extras)

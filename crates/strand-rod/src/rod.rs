@@ -162,6 +162,55 @@ impl Rod {
         }
     }
 
+    /// Visits every real number of the reference data in a fixed order — the
+    /// section's stiffnesses (N, N·m²), mass per length (kg/m) and outer radius (m),
+    /// then the edge lengths (m), rest strains and rest curvatures (1/m) — letting `f`
+    /// change them; the length is recomputed after. The order depends only on the
+    /// number of edges, so two rods of the same segments can be combined value by
+    /// value (a design's model moved along a parameter, `strand_system::System::reals`).
+    ///
+    /// Errors if a changed edge length is not finite and positive or a strain or
+    /// curvature not finite (the rod is then left as `f` made it).
+    pub fn visit_reals(&mut self, f: &mut dyn FnMut(&mut f64)) -> Result<(), RodError> {
+        let s = &mut self.section;
+        for x in [
+            &mut s.shear_stiffness_1,
+            &mut s.shear_stiffness_2,
+            &mut s.axial_stiffness,
+            &mut s.bending_stiffness_1,
+            &mut s.bending_stiffness_2,
+            &mut s.torsional_stiffness,
+            &mut s.mass_per_length,
+            &mut s.outer_radius,
+        ] {
+            f(x);
+        }
+        self.edge_lengths.iter_mut().for_each(&mut *f);
+        for v in self
+            .rest_strains
+            .iter_mut()
+            .chain(&mut self.rest_curvatures)
+        {
+            v.iter_mut().for_each(&mut *f);
+        }
+        self.length = self.edge_lengths.iter().sum();
+        if let Some(&bad) = self
+            .edge_lengths
+            .iter()
+            .find(|h| !(h.is_finite() && **h > 0.0))
+        {
+            return Err(RodError::Length(bad));
+        }
+        let finite = |v: &[Vector3<f64>]| v.iter().all(|g| g.iter().all(|x| x.is_finite()));
+        if !finite(&self.rest_strains) {
+            return Err(RodError::NotFinite("rest strains"));
+        }
+        if !finite(&self.rest_curvatures) {
+            return Err(RodError::NotFinite("rest curvatures"));
+        }
+        Ok(())
+    }
+
     /// The shortest reference edge length in m.
     pub fn shortest_edge(&self) -> f64 {
         self.edge_lengths

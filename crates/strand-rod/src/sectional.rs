@@ -16,7 +16,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::element::{BendTwist, StretchShear, bend_twist};
+use crate::element::{BendTwist, StretchShear, bend_twist_gradient};
 use crate::{Rod, RodState};
 
 /// Boundary frames of a rod: `Some` where an end is attached with its frame (clamp,
@@ -107,7 +107,23 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
     let n = rod.segments();
     let c_gamma = rod.section().strain_stiffness();
     let c_kappa = rod.section().curvature_stiffness();
-    let mut out = Sectional::default();
+    let vectors = || Vec::with_capacity(n + 1);
+    let numbers = || Vec::with_capacity(n + 1);
+    // Every list sized once (grown one push at a time, each was reallocated repeatedly).
+    let mut out = Sectional {
+        edge_forces: Vec::with_capacity(n),
+        strains: Vec::with_capacity(n),
+        curvatures: vectors(),
+        moments: vectors(),
+        forces: vectors(),
+        tangents: vectors(),
+        tangential_force: numbers(),
+        shear_force: numbers(),
+        bending_moment: numbers(),
+        torsion: numbers(),
+        total_moment: vectors(),
+        hamiltonian: numbers(),
+    };
     let mut edge_hamiltonian = Vec::with_capacity(n);
     for e in 0..n {
         let element = edge_element(rod, state, &c_gamma, e);
@@ -143,7 +159,7 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
                     stiffness: &c_kappa,
                     rest_curvature: rod.rest_curvature(j),
                 };
-                let derivatives = bend_twist(&element);
+                let derivatives = bend_twist_gradient(&element);
                 let curvature = element.curvature();
                 let delta = curvature - rod.rest_curvature(j);
                 let m_material = c_kappa.component_mul(&delta);

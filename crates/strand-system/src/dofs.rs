@@ -92,6 +92,18 @@ pub struct Dofs {
 }
 
 impl Dofs {
+    /// Whether `other` numbers the same unknowns the same way (every block of every
+    /// vertex, edge, body and clip, and the clips' vertices); the force scales, which
+    /// follow the rods' lengths, may differ.
+    pub fn same_numbering(&self, other: &Dofs) -> bool {
+        self.vertex_blocks == other.vertex_blocks
+            && self.edge_blocks == other.edge_blocks
+            && self.body_blocks == other.body_blocks
+            && self.clip_blocks == other.clip_blocks
+            && self.kinds == other.kinds
+            && self.clips.by_rod == other.clips.by_rod
+    }
+
     /// Numbers the unknowns rod by rod, interleaving vertices and edges along each rod
     /// (a narrow band before any fill-reducing ordering). Linear in the number of
     /// vertices (times `log` of the clips per rod).

@@ -17,6 +17,7 @@ mod initial;
 mod model;
 mod pattern;
 mod reactions;
+mod reals;
 mod route;
 mod support_ramp;
 mod system;

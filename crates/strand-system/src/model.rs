@@ -1,6 +1,7 @@
 //! The assembled model: symbolic phase at construction, numeric phase per evaluation.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use nalgebra::{DVector, UnitQuaternion, Vector3};
 use strand_rod::element::{
@@ -59,9 +60,11 @@ struct Element {
 pub struct Model {
     system: System,
     dofs: Dofs,
-    pattern: HessianPattern,
-    elements: Vec<Element>,
-    scatter: Vec<ScatterBlock>,
+    /// Shared by the models of one design moved along its parameters
+    /// ([`Model::try_new_like`]).
+    pattern: Arc<HessianPattern>,
+    elements: Arc<Vec<Element>>,
+    scatter: Arc<Vec<ScatterBlock>>,
     /// Per rod and vertex: whether the vertex moves with a free body or a clip joint
     /// (its loads then act through a `PointLoad` element).
     moving_vertex: Vec<Vec<bool>>,
@@ -98,137 +101,7 @@ impl Model {
     pub fn try_new(system: System) -> Result<Self, SystemError> {
         system.validate()?;
         let dofs = Dofs::new(&system);
-        let mut elements = Vec::new();
-        let mut push = |kind, locals: [LocalBlock; 3]| {
-            let mut globals = Vec::new();
-            for local in &locals {
-                for g in local.globals(&dofs, &system) {
-                    if !globals.contains(&g) {
-                        globals.push(g);
-                    }
-                }
-            }
-            let direct = locals.iter().all(LocalBlock::is_direct);
-            elements.push(Element {
-                kind,
-                locals,
-                globals,
-                direct,
-                scatter: 0..0,
-            });
-        };
-        for (r, spec) in system.rods.iter().enumerate() {
-            let n = spec.rod.segments();
-            let vertex_block = |j: usize| vertex_local(&system, &dofs, r, j);
-            let frame_block = |at_end: bool| boundary_local(&system, r, at_end);
-            for e in 0..n {
-                let locals = [
-                    vertex_block(e),
-                    vertex_block(e + 1),
-                    LocalBlock::Free(dofs.edge(r, e)),
-                ];
-                push(ElementKind::Edge { rod: r, edge: e }, locals);
-            }
-            for j in 0..=n {
-                let locals = match j {
-                    0 => match frame_block(false) {
-                        Some(a) => [a, LocalBlock::Free(dofs.edge(r, 0)), LocalBlock::Fixed],
-                        None => continue,
-                    },
-                    j if j == n => match frame_block(true) {
-                        Some(b) => [LocalBlock::Free(dofs.edge(r, n - 1)), b, LocalBlock::Fixed],
-                        None => continue,
-                    },
-                    j => match dofs.clip_at(r, j) {
-                        Some(clip) => {
-                            let frame = clip_frame_local(&system, &dofs, clip);
-                            let before = [
-                                LocalBlock::Free(dofs.edge(r, j - 1)),
-                                frame,
-                                LocalBlock::Fixed,
-                            ];
-                            let after =
-                                [frame, LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed];
-                            push(
-                                ElementKind::ClipHalf {
-                                    rod: r,
-                                    vertex: j,
-                                    clip,
-                                    after: false,
-                                },
-                                before,
-                            );
-                            push(
-                                ElementKind::ClipHalf {
-                                    rod: r,
-                                    vertex: j,
-                                    clip,
-                                    after: true,
-                                },
-                                after,
-                            );
-                            if let local @ LocalBlock::ClipPoint { .. } = vertex_block(j) {
-                                push(
-                                    ElementKind::PointLoad { rod: r, vertex: j },
-                                    [local, LocalBlock::Fixed, LocalBlock::Fixed],
-                                );
-                            }
-                            continue;
-                        }
-                        None => [
-                            LocalBlock::Free(dofs.edge(r, j - 1)),
-                            LocalBlock::Free(dofs.edge(r, j)),
-                            LocalBlock::Fixed,
-                        ],
-                    },
-                };
-                push(ElementKind::Vertex { rod: r, vertex: j }, locals);
-            }
-            for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
-                let edge = if at_end { n - 1 } else { 0 };
-                if end.load.moment != Vector3::zeros() {
-                    let locals = [
-                        LocalBlock::Free(dofs.edge(r, edge)),
-                        LocalBlock::Fixed,
-                        LocalBlock::Fixed,
-                    ];
-                    push(ElementKind::EndMoment { rod: r, at_end }, locals);
-                }
-                let vertex = if at_end { n } else { 0 };
-                if let local @ LocalBlock::BodyPoint { .. } = vertex_block(vertex) {
-                    push(
-                        ElementKind::PointLoad { rod: r, vertex },
-                        [local, LocalBlock::Fixed, LocalBlock::Fixed],
-                    );
-                }
-            }
-        }
-        for (b, body) in system.bodies.iter().enumerate() {
-            if !body.fixed {
-                let local = LocalBlock::BodyPoint {
-                    body: b,
-                    lever: body.center_of_mass,
-                };
-                push(
-                    ElementKind::BodyWeight { body: b },
-                    [local, LocalBlock::Fixed, LocalBlock::Fixed],
-                );
-            }
-        }
-        for (c, clip) in system.clips.iter().enumerate() {
-            if let (Joint::Revolute { .. } | Joint::Prismatic { .. }, Some(block)) =
-                (clip.joint, dofs.clip(c))
-            {
-                push(
-                    ElementKind::JointPadding,
-                    [
-                        LocalBlock::Free(block),
-                        LocalBlock::Fixed,
-                        LocalBlock::Fixed,
-                    ],
-                );
-            }
-        }
+        let mut elements = elements_of(&system, &dofs);
         let pattern = HessianPattern::new(
             dofs.block_count(),
             elements.iter().map(|e| e.globals.as_slice()),
@@ -254,27 +127,62 @@ impl Model {
             scatter.extend(pattern.scatter(&blocks));
             element.scatter = start..scatter.len();
         }
-        let moving_vertex = system
-            .rods
-            .iter()
-            .enumerate()
-            .map(|(r, spec)| {
-                (0..spec.rod.vertex_count())
-                    .map(|j| {
-                        matches!(
-                            vertex_local(&system, &dofs, r, j),
-                            LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. }
-                        )
-                    })
-                    .collect()
-            })
-            .collect();
+        let moving_vertex = moving_vertices(&system, &dofs);
         Ok(Self {
             system,
             dofs,
-            pattern,
-            elements,
-            scatter,
+            pattern: Arc::new(pattern),
+            elements: Arc::new(elements),
+            scatter: Arc::new(scatter),
+            moving_vertex,
+        })
+    }
+
+    /// Validates `system` and performs the symbolic phase like [`Model::try_new`],
+    /// reusing `like`'s Hessian pattern and scatter map where `system` has the same
+    /// unknowns and elements coupling the same blocks (a design moved along a
+    /// parameter: the same rods, segments, bodies and clips with other lengths,
+    /// positions, masses or stiffnesses). The result is the model `try_new` builds.
+    pub fn try_new_like(system: System, like: &Model) -> Result<Self, SystemError> {
+        system.validate()?;
+        let dofs = Dofs::new(&system);
+        // The elements depend on the system's values only through the bodies' centres
+        // of mass and ports (levers and frame offsets).
+        let same_bodies = system.bodies.len() == like.system.bodies.len()
+            && system.bodies.iter().zip(&like.system.bodies).all(|(a, b)| {
+                a.center_of_mass == b.center_of_mass && a.ports == b.ports && a.fixed == b.fixed
+            });
+        if same_bodies && dofs.same_numbering(&like.dofs) {
+            return Ok(Self {
+                system,
+                dofs,
+                pattern: Arc::clone(&like.pattern),
+                elements: Arc::clone(&like.elements),
+                scatter: Arc::clone(&like.scatter),
+                moving_vertex: like.moving_vertex.clone(),
+            });
+        }
+        let mut elements = elements_of(&system, &dofs);
+        let same = dofs.len() == like.dofs.len()
+            && dofs.block_count() == like.dofs.block_count()
+            && elements.len() == like.elements.len()
+            && elements
+                .iter()
+                .zip(like.elements.iter())
+                .all(|(a, b)| a.direct == b.direct && a.globals == b.globals);
+        if !same {
+            return Self::try_new(system);
+        }
+        for (element, base) in elements.iter_mut().zip(like.elements.iter()) {
+            element.scatter = base.scatter.clone();
+        }
+        let moving_vertex = moving_vertices(&system, &dofs);
+        Ok(Self {
+            system,
+            dofs,
+            pattern: Arc::clone(&like.pattern),
+            elements: Arc::new(elements),
+            scatter: Arc::clone(&like.scatter),
             moving_vertex,
         })
     }
@@ -364,10 +272,11 @@ impl Model {
         }
         out.has_hessian = with_hessian;
         let boundary = self.all_boundary_frames(state);
-        for element in &self.elements {
+        for element in self.elements.iter() {
             match element.kind {
                 ElementKind::Edge { rod, edge } => {
                     let d = match stresses {
+                        _ if !with_hessian => self.edge_derivatives(state, rod, edge, false),
                         Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
                         None => self.edge_derivatives(state, rod, edge, with_hessian),
                     };
@@ -392,7 +301,12 @@ impl Model {
                     clip,
                     after,
                 } => {
-                    let d = bend_twist(&self.clip_half(state, rod, vertex, clip, after).element());
+                    let half = self.clip_half(state, rod, vertex, clip, after);
+                    let d = if with_hessian {
+                        bend_twist(&half.element())
+                    } else {
+                        bend_twist_gradient(&half.element())
+                    };
                     self.accumulate(state, out, element, &d, with_hessian);
                 }
                 ElementKind::JointPadding => {
@@ -413,7 +327,7 @@ impl Model {
     pub fn energy(&self, state: &SystemState) -> f64 {
         let boundary = self.all_boundary_frames(state);
         let mut energy = 0.0;
-        for element in &self.elements {
+        for element in self.elements.iter() {
             energy += match element.kind {
                 ElementKind::Edge { rod, edge } => {
                     let spec = &self.system.rods[rod];
@@ -864,6 +778,160 @@ impl Model {
         }
         (rotation, translation)
     }
+}
+
+/// The elements of `system` numbered by `dofs`, without their scatter ranges.
+fn elements_of(system: &System, dofs: &Dofs) -> Vec<Element> {
+    let mut elements = Vec::new();
+    let mut push = |kind, locals: [LocalBlock; 3]| {
+        let mut globals = Vec::new();
+        for local in &locals {
+            for g in local.globals(dofs, system) {
+                if !globals.contains(&g) {
+                    globals.push(g);
+                }
+            }
+        }
+        let direct = locals.iter().all(LocalBlock::is_direct);
+        elements.push(Element {
+            kind,
+            locals,
+            globals,
+            direct,
+            scatter: 0..0,
+        });
+    };
+    for (r, spec) in system.rods.iter().enumerate() {
+        let n = spec.rod.segments();
+        let vertex_block = |j: usize| vertex_local(system, dofs, r, j);
+        let frame_block = |at_end: bool| boundary_local(system, r, at_end);
+        for e in 0..n {
+            let locals = [
+                vertex_block(e),
+                vertex_block(e + 1),
+                LocalBlock::Free(dofs.edge(r, e)),
+            ];
+            push(ElementKind::Edge { rod: r, edge: e }, locals);
+        }
+        for j in 0..=n {
+            let locals = match j {
+                0 => match frame_block(false) {
+                    Some(a) => [a, LocalBlock::Free(dofs.edge(r, 0)), LocalBlock::Fixed],
+                    None => continue,
+                },
+                j if j == n => match frame_block(true) {
+                    Some(b) => [LocalBlock::Free(dofs.edge(r, n - 1)), b, LocalBlock::Fixed],
+                    None => continue,
+                },
+                j => match dofs.clip_at(r, j) {
+                    Some(clip) => {
+                        let frame = clip_frame_local(system, dofs, clip);
+                        let before = [
+                            LocalBlock::Free(dofs.edge(r, j - 1)),
+                            frame,
+                            LocalBlock::Fixed,
+                        ];
+                        let after = [frame, LocalBlock::Free(dofs.edge(r, j)), LocalBlock::Fixed];
+                        push(
+                            ElementKind::ClipHalf {
+                                rod: r,
+                                vertex: j,
+                                clip,
+                                after: false,
+                            },
+                            before,
+                        );
+                        push(
+                            ElementKind::ClipHalf {
+                                rod: r,
+                                vertex: j,
+                                clip,
+                                after: true,
+                            },
+                            after,
+                        );
+                        if let local @ LocalBlock::ClipPoint { .. } = vertex_block(j) {
+                            push(
+                                ElementKind::PointLoad { rod: r, vertex: j },
+                                [local, LocalBlock::Fixed, LocalBlock::Fixed],
+                            );
+                        }
+                        continue;
+                    }
+                    None => [
+                        LocalBlock::Free(dofs.edge(r, j - 1)),
+                        LocalBlock::Free(dofs.edge(r, j)),
+                        LocalBlock::Fixed,
+                    ],
+                },
+            };
+            push(ElementKind::Vertex { rod: r, vertex: j }, locals);
+        }
+        for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
+            let edge = if at_end { n - 1 } else { 0 };
+            if end.load.moment != Vector3::zeros() {
+                let locals = [
+                    LocalBlock::Free(dofs.edge(r, edge)),
+                    LocalBlock::Fixed,
+                    LocalBlock::Fixed,
+                ];
+                push(ElementKind::EndMoment { rod: r, at_end }, locals);
+            }
+            let vertex = if at_end { n } else { 0 };
+            if let local @ LocalBlock::BodyPoint { .. } = vertex_block(vertex) {
+                push(
+                    ElementKind::PointLoad { rod: r, vertex },
+                    [local, LocalBlock::Fixed, LocalBlock::Fixed],
+                );
+            }
+        }
+    }
+    for (b, body) in system.bodies.iter().enumerate() {
+        if !body.fixed {
+            let local = LocalBlock::BodyPoint {
+                body: b,
+                lever: body.center_of_mass,
+            };
+            push(
+                ElementKind::BodyWeight { body: b },
+                [local, LocalBlock::Fixed, LocalBlock::Fixed],
+            );
+        }
+    }
+    for (c, clip) in system.clips.iter().enumerate() {
+        if let (Joint::Revolute { .. } | Joint::Prismatic { .. }, Some(block)) =
+            (clip.joint, dofs.clip(c))
+        {
+            push(
+                ElementKind::JointPadding,
+                [
+                    LocalBlock::Free(block),
+                    LocalBlock::Fixed,
+                    LocalBlock::Fixed,
+                ],
+            );
+        }
+    }
+    elements
+}
+
+/// Per rod and vertex: whether the vertex moves with a free body or a clip joint.
+fn moving_vertices(system: &System, dofs: &Dofs) -> Vec<Vec<bool>> {
+    system
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(r, spec)| {
+            (0..spec.rod.vertex_count())
+                .map(|j| {
+                    matches!(
+                        vertex_local(system, dofs, r, j),
+                        LocalBlock::BodyPoint { .. } | LocalBlock::ClipPoint { .. }
+                    )
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// How vertex `j` of rod `r` enters: its own block, fixed, or a point of a free body.

@@ -138,6 +138,7 @@ impl Case {
             moved_meshes: &meshes,
             warm,
             clip_vertices: None,
+            like: None,
         };
         self.build_file(&file, segments, extras)
             .map_err(|e| at_pose(e, &at))

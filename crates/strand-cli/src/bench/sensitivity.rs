@@ -89,11 +89,12 @@ pub fn run(case: &Path, repeats: usize) -> Result<SensitivityBench, Box<dyn std:
         if !solution.report.converged {
             return Err(format!("{}: the case did not converge", case.origin).into());
         }
-        let design = CaseDesign::new(&case, params.clone());
+        // As `strand sensitivity` does: the design's builds start from the equilibrium.
+        let design = CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
         let started = Instant::now();
         Sensitivities::compute(&design, &solution, &settings)?;
         state.push(started.elapsed().as_secs_f64() * 1e3);
-        let design = CaseDesign::new(&case, params.clone());
+        let design = CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
         let started = Instant::now();
         let table = output_table(&design, &solution, &settings)?;
         outputs.push(started.elapsed().as_secs_f64() * 1e3);

@@ -103,6 +103,9 @@ fn stretch_shear_derivatives() {
                 };
                 let d = stretch_shear(&e);
                 assert!((d.energy - e.energy()).abs() < 1e-12);
+                // The gradient-only evaluation gives the same numbers, bit for bit.
+                let g = stretch_shear_gradient(&e);
+                assert_eq!((g.energy, g.gradient), (d.energy, d.gradient));
                 d
             },
             10.0,
@@ -137,6 +140,8 @@ fn bend_twist_derivatives() {
                 };
                 let d = bend_twist(&e);
                 assert!((d.energy - e.energy()).abs() < 1e-12);
+                let g = bend_twist_gradient(&e);
+                assert_eq!((g.energy, g.gradient), (d.energy, d.gradient));
                 d
             },
             10.0,

@@ -31,9 +31,11 @@
 //! the linearised KKT system to the accuracy of that directional derivative.
 //!
 //! **How `∂/∂p` is computed:** by central differences of `Φ` in `p` at a fixed state
-//! (a [`Design`] rebuilds the model at `p ± h` and `p ± 2h`; the state keeps its
-//! unknowns, and the held vertices follow their supports), extrapolated
-//! (Richardson), with `h` from [`Design::step`] times
+//! (a [`Design`] builds the model at `p ± h` and `p ± 2h` — a case design by moving its
+//! base model along the parameter where the model's numbers are affine in it, see
+//! `strand_case::CaseDesign`; the state keeps its unknowns, and the held vertices
+//! follow their supports), extrapolated (Richardson; one central difference for a
+//! parameter that [`Design::enters_linearly`]), with `h` from [`Design::step`] times
 //! [`SensitivitySettings::relative_step`]. The truncation error is `O(h⁴)` and the
 //! round-off `ε·C/h` (`C` the axial stiffness: the gradient's round-off): at the
 //! default `h` (1e-4 of the parameter's scale) both are far below 1e-6 of the
@@ -88,6 +90,14 @@ pub trait Design {
     /// The design at `offsets` (one per parameter, in each parameter's unit) from the
     /// base design.
     fn build(&self, offsets: &[f64]) -> Result<Self::Built, Self::Error>;
+
+    /// Whether parameter `parameter` enters the gradient linearly at a fixed state (a
+    /// load, a mass, gravity, a stiffness): its difference is then exact at any step,
+    /// and `∂Φ/∂p` takes one central difference instead of the extrapolated two
+    /// ([`SensitivitySettings::richardson`]). Default: `false`.
+    fn enters_linearly(&self, _parameter: usize) -> bool {
+        false
+    }
 }
 
 /// A built design: a model and the inequality constraints beyond joint limits.

@@ -178,7 +178,8 @@ impl Sensitivities {
         let n = model.dofs().len();
         let zero_v = vec![0.0; n];
         let zero_w = vec![0.0; self.active.len()];
-        let rhs = self.directional(design, base, j, h, &zero_v, &zero_w, settings.richardson)?;
+        let richardson = settings.richardson && !design.enters_linearly(j);
+        let rhs = self.directional(design, base, j, h, &zero_v, &zero_w, richardson)?;
         let (mut v, mut w) = factor.solve(&rhs);
         let mut best = (v.clone(), w.clone(), f64::INFINITY);
         let mut refinements = 0;

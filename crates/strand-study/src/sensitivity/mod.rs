@@ -108,7 +108,9 @@ pub fn sensitivities(case: &Case, names: &[String], solution: &Solution) -> Resu
             significant(solution.report.residual.combined_n, 3)
         )));
     }
-    let design = CaseDesign::new(case, params.iter().map(|(p, _)| p.clone()).collect());
+    // The steps start from the equilibrium: no guess of the case is computed for them.
+    let design = CaseDesign::new(case, params.iter().map(|(p, _)| p.clone()).collect())
+        .starting_from(&solution.state);
     let table = output_table(&design, solution, &SensitivitySettings::default())?;
     let outputs = table
         .outputs

@@ -91,17 +91,21 @@ pub fn output_table(
                 });
                 outputs
                     .iter()
-                    .map(|b| {
-                        here.iter().find(|o| o.name == b.name).map_or(
-                            Sample {
-                                value: f64::NAN,
-                                arg: usize::MAX,
-                            },
-                            |o| Sample {
-                                value: o.value,
-                                arg: o.arg,
-                            },
-                        )
+                    .enumerate()
+                    .map(|(k, b)| {
+                        // The same output is almost always at the same index.
+                        let same = here.get(k).filter(|o| o.name == b.name);
+                        same.or_else(|| here.iter().find(|o| o.name == b.name))
+                            .map_or(
+                                Sample {
+                                    value: f64::NAN,
+                                    arg: usize::MAX,
+                                },
+                                |o| Sample {
+                                    value: o.value,
+                                    arg: o.arg,
+                                },
+                            )
                     })
                     .collect()
             })

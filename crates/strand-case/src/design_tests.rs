@@ -1,0 +1,205 @@
+//! Tests of [`crate::CaseDesign`]'s affine path: the base model moved along a
+//! parameter is the model the case builder builds there, for every parameter kind it
+//! covers; frame turns are left to the builder; and the sensitivities of N parameters
+//! run the builder a fixed number of times per parameter.
+
+use strand_solve::sensitivity::{Design, Sensitivities, SensitivitySettings};
+use strand_system::Model;
+
+use crate::{Case, CaseDesign, DesignParameter};
+
+fn case(name: &str) -> Case {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../cases")
+        .join(name);
+    Case::from_path(&path).unwrap()
+}
+
+fn param(item: &str, component: Option<usize>, scale: f64) -> DesignParameter {
+    DesignParameter {
+        item: item.into(),
+        component,
+        scale,
+    }
+}
+
+/// The gradient of `model` at `state` (its held vertices on its supports).
+fn gradient(model: &Model, state: &strand_system::SystemState) -> Vec<f64> {
+    let mut state = state.clone();
+    model.enforce_supports(&mut state);
+    let mut eval = model.new_evaluation();
+    model.evaluate(&state, &mut eval, false);
+    eval.gradient
+}
+
+/// For every parameter of `params` on `case`: the design moved along it (at the
+/// sensitivities' steps and one off the probes' grid) against a fresh design that
+/// builds only through the case builder — the same real numbers to 1e-12 of their
+/// size, the same gradient at the base state to 1e-9 of its largest entry, the same
+/// environment.
+fn affine_path_matches_the_builder(case: &Case, params: &[DesignParameter]) {
+    for p in params {
+        let design = CaseDesign::new(case, vec![p.clone()]);
+        assert!(design.is_affine(0).unwrap(), "{}: not affine", p.item);
+        let base = design.build(&[0.0]).unwrap();
+        let state = &base.built.initial;
+        let clip_vertices: Vec<usize> = base
+            .built
+            .model
+            .system()
+            .clips
+            .iter()
+            .map(|c| c.vertex)
+            .collect();
+        for t in [1.0, -1.0, 2.0, -2.0, 0.37, 1e-2] {
+            let offset = t * 1e-4 * p.scale;
+            let fast = design.build(&[offset]).unwrap();
+            // A design that has never probed: every build runs the case builder.
+            let reference = CaseDesign::new(case, vec![p.clone()]).starting_from(state);
+            let before = reference.full_builds();
+            let full = {
+                let changes = reference.changes(&[offset]);
+                case.build_with_changes_reusing("full", &changes, state, Some(&clip_vertices), None)
+                    .unwrap()
+            };
+            assert_eq!(reference.full_builds(), before);
+            let (a, b) = (
+                fast.built.model.system().reals(),
+                full.model.system().reals(),
+            );
+            assert_eq!(a.len(), b.len(), "{}", p.item);
+            let moved = a
+                .iter()
+                .zip(&base.built.model.system().reals())
+                .any(|(x, y)| x != y);
+            assert!(moved, "{} at {offset}: the model did not move", p.item);
+            for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+                let size = x.abs().max(y.abs());
+                assert!(
+                    (x - y).abs() <= 1e-12 * size,
+                    "{} at {offset}: real {k}: {x} (affine) vs {y} (builder)",
+                    p.item
+                );
+            }
+            let (ga, gb) = (
+                gradient(&fast.built.model, state),
+                gradient(&full.model, state),
+            );
+            let largest = gb.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (x, y) in ga.iter().zip(&gb) {
+                assert!(
+                    (x - y).abs() <= 1e-9 * largest,
+                    "{} at {offset}: gradient {x} vs {y} (largest {largest})",
+                    p.item
+                );
+            }
+            assert_eq!(
+                fast.built.environment.len(),
+                full.environment.len(),
+                "{}",
+                p.item
+            );
+        }
+    }
+}
+
+#[test]
+fn the_affine_path_is_the_builders_model_for_every_kind_it_covers() {
+    // Rod length, junction mass, connector position, port position, gravity, a tube's
+    // Young's modulus.
+    affine_path_matches_the_builder(
+        &case("cooler_hose.ron"),
+        &[
+            param("rods.hose2.length", None, 1000.0),
+            param("junctions.tee.mass", None, 100.0),
+            param("connectors.oil_cooler.position", Some(2), 1000.0),
+            param("junctions.tee.ports.hose3.position", Some(0), 1000.0),
+            param("gravity", Some(2), 10.0),
+            param("sections.hose_small.youngs_modulus", None, 5e8),
+        ],
+    );
+    // Clip stations and clip base positions; a length of a rod with clips.
+    affine_path_matches_the_builder(
+        &case("harness_clips.ron"),
+        &[
+            param("clips.grommet.at", None, 1000.0),
+            param("clips.ball.base.position", Some(1), 1000.0),
+            param("rods.left.length", None, 1000.0),
+        ],
+    );
+}
+
+#[test]
+fn frame_turns_and_mesh_positions_are_left_to_the_builder() {
+    let cooler = case("cooler_hose.ron");
+    let turns = [
+        param("connectors.oil_cooler.direction", Some(0), 572.96),
+        param("junctions.tee.ports.hose2.direction", Some(2), 572.96),
+    ];
+    for p in turns {
+        let design = CaseDesign::new(&cooler, vec![p.clone()]);
+        assert!(!design.is_affine(0).unwrap(), "{}", p.item);
+        // Every step then runs the builder.
+        let before = design.full_builds();
+        design.build(&[1e-2]).unwrap();
+        assert_eq!(design.full_builds(), before + 1, "{}", p.item);
+    }
+    let contact = case("cooler_hose_contact.ron");
+    let mesh = contact.file.environment.first().map(|m| m.name.clone());
+    if let Some(name) = mesh {
+        let design = CaseDesign::new(
+            &contact,
+            vec![param(
+                &format!("environment.{name}.position"),
+                Some(2),
+                1000.0,
+            )],
+        );
+        assert!(!design.is_affine(0).unwrap());
+    }
+}
+
+/// Full builds of the cooler hose's sensitivities with respect to its first `count`
+/// parameters (lengths, T mass, connector heights and x positions).
+fn builds_for(count: usize) -> (usize, usize) {
+    let case = case("cooler_hose.ron");
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    assert!(solution.report.converged);
+    let mut params: Vec<DesignParameter> = ["hose1", "hose2", "hose3"]
+        .iter()
+        .map(|r| param(&format!("rods.{r}.length"), None, 1000.0))
+        .collect();
+    params.push(param("junctions.tee.mass", None, 100.0));
+    for c in [2, 0] {
+        for n in ["radiator_outlet", "oil_cooler", "engine_stub"] {
+            params.push(param(&format!("connectors.{n}.position"), Some(c), 1000.0));
+        }
+    }
+    params.truncate(count);
+    let design = CaseDesign::new(&case, params).starting_from(&solution.state);
+    let sens = Sensitivities::compute(&design, &solution, &SensitivitySettings::default()).unwrap();
+    assert_eq!(sens.parameters.len(), count);
+    // The first-order path of every parameter as the outputs' differences walk it.
+    for j in 0..count {
+        for t in [1.0, -1.0, 2.0, -2.0, 0.1, 0.01] {
+            let mut offsets = vec![0.0; count];
+            offsets[j] = t * sens.parameters[j].output_step;
+            design.build(&offsets).unwrap();
+        }
+    }
+    (design.full_builds(), count)
+}
+
+#[test]
+fn sensitivities_run_the_case_builder_twice_per_parameter() {
+    // One base build and two probes per parameter, however many steps the
+    // differences take (before: four builds per parameter for the right-hand sides,
+    // twelve more per parameter for the outputs).
+    for count in [3, 10] {
+        let (builds, n) = builds_for(count);
+        assert_eq!(builds, 1 + 2 * n, "{n} parameters");
+    }
+}
