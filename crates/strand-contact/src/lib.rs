@@ -33,7 +33,8 @@ pub use mesh::{
 pub mod gaps;
 
 pub use gaps::{
-    Gap, GapError, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance, rod_rod_gaps,
+    Gap, GapError, MeshIndex, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance,
+    rod_rod_gaps,
 };
 
 pub mod bench;

@@ -1,6 +1,7 @@
 //! Contacts and clearances of a solved case for `result.json`.
 
-use strand_contact::Obstacle;
+use strand_contact::gaps::Aabb;
+use strand_contact::{MeshIndex, Obstacle};
 use strand_solve::Solution;
 use strand_solve::contact::Contact;
 use strand_system::Model;
@@ -145,6 +146,8 @@ fn vertex_clearances(
     search_m: f64,
 ) {
     let meshes = contact.meshes();
+    // Each rod asks only the meshes whose boxes come within the search of its own.
+    let index = MeshIndex::new(meshes);
     for ((rod, spec), state) in doc
         .rods
         .iter_mut()
@@ -156,14 +159,20 @@ fn vertex_clearances(
             continue;
         }
         let radius = spec.rod.section().outer_radius;
-        rod.clearance_m = state
+        let points: Vec<nalgebra::Point3<f64>> = state
             .positions
             .iter()
-            .map(|p| {
-                let point = nalgebra::Point3::from(*p);
-                meshes
-                    .iter()
-                    .filter_map(|m| m.point_proximity(&point, search_m + radius))
+            .map(|p| nalgebra::Point3::from(*p))
+            .collect();
+        // 1 nm more: a mesh's box and a distance in its own frame differ by rounding.
+        let near = Aabb::of_points(&points, search_m + radius + 1e-9)
+            .map_or_else(Vec::new, |region| index.overlapping(&region));
+        rod.clearance_m = points
+            .iter()
+            .map(|point| {
+                near.iter()
+                    .map(|&k| &meshes[k])
+                    .filter_map(|m| m.point_proximity(point, search_m + radius))
                     .map(|near| near.distance)
                     .reduce(f64::min)
                     .map(|d| (d - radius).max(0.0))

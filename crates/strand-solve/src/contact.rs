@@ -9,7 +9,7 @@ use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 use nalgebra::{Point3, Vector3};
-use strand_contact::{Gap, Obstacle, ObstacleMesh, RodGeometry};
+use strand_contact::{Gap, MeshIndex, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::{Model, SystemState};
 
 use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
@@ -18,7 +18,10 @@ mod advance;
 mod curvature;
 mod exclusion;
 mod mesh_gaps;
+mod nearby;
 mod rod_minima;
+#[cfg(test)]
+mod scaling_tests;
 mod start;
 #[cfg(test)]
 mod tests;
@@ -51,6 +54,8 @@ impl Tag {
 #[derive(Clone)]
 pub struct Contact {
     meshes: Vec<Arc<ObstacleMesh>>,
+    /// The meshes' bounding boxes in a BVH: each rod asks only the meshes near it.
+    index: MeshIndex,
     margin_m: f64,
     /// Whether a step's reach towards the meshes is measured along its path
     /// (`Contact::mesh_advancement`) rather than from its start alone.
@@ -74,6 +79,7 @@ impl Contact {
     /// margin is passed through within one step.
     pub fn new(meshes: Vec<Arc<ObstacleMesh>>, margin_m: f64) -> Self {
         Self {
+            index: MeshIndex::new(&meshes),
             meshes,
             margin_m,
             sampled_advancement: true,
@@ -143,7 +149,8 @@ impl Contact {
         let rods = rod_geometries(model, &centrelines);
         let mut gaps = Vec::new();
         for (rod, geometry) in rods.iter().enumerate() {
-            for (index, mesh) in self.meshes.iter().enumerate() {
+            for index in self.meshes_near(geometry.vertices, geometry.radius + margin_m) {
+                let mesh = &self.meshes[index];
                 self.mesh_gaps(model, rod, geometry, index, mesh, margin_m, &mut gaps)?;
             }
         }

@@ -130,6 +130,9 @@ impl Contact {
         let mut fraction = f64::INFINITY;
         for (rod, (vertices, edges)) in centrelines.iter().zip(moves).enumerate() {
             let radius = model.system().rods[rod].rod.section().outer_radius;
+            // Every edge looks up to twice its move beyond its radius.
+            let farthest = edges.iter().copied().fold(0.0, f64::max);
+            let near = self.meshes_near(vertices, 2.0 * farthest + radius);
             for (edge, &moved) in edges.iter().enumerate() {
                 if moved <= half_margin {
                     if moved > 0.0 {
@@ -140,7 +143,8 @@ impl Contact {
                 // Clearance looked for up to twice the edge's move.
                 let mut clearance = 2.0 * moved;
                 let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-                for mesh in &self.meshes {
+                for mesh in near.iter().map(|&index| &self.meshes[index]) {
+                    super::nearby::count_mesh_pair();
                     if let Some(near) = mesh.segment_proximity(a, b, clearance + radius) {
                         clearance = (near.distance - radius).max(0.0);
                     }
@@ -186,16 +190,23 @@ impl Contact {
                 .zip(deltas)
                 .zip(moves)
                 .map(|((vertices, delta), edges)| {
+                    let shifted: Vec<Point3<f64>> =
+                        vertices.iter().zip(delta).map(|(v, d)| v + t * d).collect();
+                    let farthest = edges.iter().copied().fold(0.0, f64::max);
+                    let near =
+                        self.meshes_near(&shifted, farthest * (t_end - t) + f64::MIN_POSITIVE);
                     edges
                         .iter()
                         .enumerate()
                         .map(|(edge, &moved)| {
                             let reach = moved * (t_end - t) + f64::MIN_POSITIVE;
-                            let a = vertices[edge] + t * delta[edge];
-                            let b = vertices[edge + 1] + t * delta[edge + 1];
-                            self.meshes
-                                .iter()
-                                .filter_map(|mesh| mesh.segment_proximity(&a, &b, reach))
+                            let (a, b) = (&shifted[edge], &shifted[edge + 1]);
+                            near.iter()
+                                .map(|&index| &self.meshes[index])
+                                .filter_map(|mesh| {
+                                    super::nearby::count_mesh_pair();
+                                    mesh.segment_proximity(a, b, reach)
+                                })
                                 .map(|near| near.distance)
                                 .fold(reach, f64::min)
                         })

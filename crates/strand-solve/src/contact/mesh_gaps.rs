@@ -129,6 +129,7 @@ impl Contact {
     /// Whether segment `[a, b]` is within `reach` (m) of the mesh's bounding box: most
     /// features are far from most meshes, ruled out without a BVH search.
     fn in_reach(mesh: &ObstacleMesh, a: &Point3<f64>, b: &Point3<f64>, reach: f64) -> bool {
+        super::nearby::count_mesh_pair();
         let [low, high] = mesh.bounding_box();
         let outside = (0..3)
             .map(|k| {
