@@ -34,6 +34,18 @@ fn box_obj(lid: bool) -> String {
     text
 }
 
+/// [`case_text`]: a 400 mm hose of 20 edges routed straight from the origin to its end
+/// clamp at (400, 0, 0) mm, inside the box of [`box_obj`] (x −50..450 mm).
+fn straight_400mm_hose() -> String {
+    case_text(
+        400.0,
+        20,
+        "(400, 0, 0)",
+        "(1, 0, 0)",
+        "[(0, 0, 0), (400, 0, 0)]",
+    )
+}
+
 /// A case with one hose (radius 12.9 mm) clamped at `(0, 0, 0)` along +x and at
 /// `end` (mm) along `end_tangent`, `length` mm in `segments` edges, routed along
 /// `route`, with the environment mesh `obj` (OBJ text, mm).
@@ -138,13 +150,7 @@ fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
     // The closed box encloses the clamps: every start the solver can guess (hanging,
     // bowed, arched, straight) begins inside it. The user gave no route, so the hint
     // asks for one rather than to move it.
-    let text = case_text(
-        400.0,
-        20,
-        "(400, 0, 0)",
-        "(1, 0, 0)",
-        "[(0, 0, 0), (400, 0, 0)]",
-    );
+    let text = straight_400mm_hose();
     let unrouted = text.replace("route: Some([(0, 0, 0), (400, 0, 0)])", "route: None");
     assert_ne!(unrouted, text, "the route was not found");
     let results = check_and_solve(&unrouted, &box_obj(true));
@@ -161,13 +167,7 @@ fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
 
 #[test]
 fn a_hose_inside_a_closed_box_is_rejected_and_inside_an_open_box_accepted() {
-    let text = case_text(
-        400.0,
-        20,
-        "(400, 0, 0)",
-        "(1, 0, 0)",
-        "[(0, 0, 0), (400, 0, 0)]",
-    );
+    let text = straight_400mm_hose();
     let closed = check_and_solve(&text, &box_obj(true));
     let s = rejected(&closed, "rod 'hose' starts inside mesh 'part'");
     assert_eq!(s, 0.0, "the first vertex is inside");
@@ -197,13 +197,7 @@ fn mesh_diagnostics_are_in_result_json_and_in_the_terminal() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("part.obj"), DEFECTIVE).unwrap();
     let path = tmp.path().join("case.ron");
-    let text = case_text(
-        400.0,
-        20,
-        "(400, 0, 0)",
-        "(1, 0, 0)",
-        "[(0, 0, 0), (400, 0, 0)]",
-    );
+    let text = straight_400mm_hose();
     std::fs::write(&path, text).unwrap();
     let out = tmp.path().join("out");
     let (exit, stdout, stderr) = strand(&[

@@ -708,14 +708,27 @@ fn everyday_cables_over_floors_boxes_and_grooves_are_solved_honestly() {
 /// through ..."). A prolonged start that is not admissible is now not taken.
 #[test]
 fn a_coarse_start_through_the_floor_is_not_taken() {
-    let case = generate(1, 17, 3000);
+    let tmp = tempfile::tempdir().unwrap();
+    let case = replay(1, 17, (361, "floor"));
+    assert_converges_clear(tmp.path(), &case);
+}
+
+/// Case `index` of `seed` (generated up to 3000 segments), checked to be still the one
+/// a regression test was written for: its `(segments, environment)`.
+fn replay(seed: u64, index: usize, expected: (usize, &str)) -> Case {
+    let case = generate(seed, index, 3000);
     assert_eq!(
         (case.segments, case.environment.label()),
-        (361, "floor"),
+        expected,
         "the generator changed: find the case again"
     );
-    let tmp = tempfile::tempdir().unwrap();
-    let outcome = solve_and_check(&binary(), tmp.path(), &case, Duration::from_secs(120));
+    case
+}
+
+/// `strand solve` of `case` in `dir` exits 0 and the brute-force check finds no vertex
+/// or edge inside a triangle.
+fn assert_converges_clear(dir: &Path, case: &Case) {
+    let outcome = solve_and_check(&binary(), dir, case, Duration::from_secs(120));
     println!("{}\n{}", header(), outcome.row);
     assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
     assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
@@ -750,18 +763,10 @@ fn check(binary: &Path, dir: &Path, case: &Case) -> String {
 fn cables_that_no_bowed_guess_clears_start_straight_and_converge() {
     let tmp = tempfile::tempdir().unwrap();
     for (seed, index, segments, environment) in [(1, 8, 959, "groove60"), (2, 4, 403, "box")] {
-        let case = generate(seed, index, 3000);
-        assert_eq!(
-            (case.segments, case.environment.label()),
-            (segments, environment),
-            "the generator changed: find the case again"
-        );
+        let case = replay(seed, index, (segments, environment));
         let start = check(&binary(), tmp.path(), &case);
         assert!(start.contains("straight between the ends"), "{start}");
-        let outcome = solve_and_check(&binary(), tmp.path(), &case, Duration::from_secs(120));
-        println!("{}\n{}", header(), outcome.row);
-        assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
-        assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
+        assert_converges_clear(tmp.path(), &case);
     }
 }
 
@@ -772,15 +777,7 @@ fn cables_that_no_bowed_guess_clears_start_straight_and_converge() {
 /// iteration now steps with the plain model: it converges (224 iterations).
 #[test]
 fn a_limp_cable_sliding_into_a_groove_converges() {
-    let case = generate(1, 7, 3000);
-    assert_eq!(
-        (case.segments, case.environment.label()),
-        (409, "groove60"),
-        "the generator changed: find the case again"
-    );
     let tmp = tempfile::tempdir().unwrap();
-    let outcome = solve_and_check(&binary(), tmp.path(), &case, Duration::from_secs(120));
-    println!("{}\n{}", header(), outcome.row);
-    assert!(outcome.violations.is_empty(), "{:?}", outcome.violations);
-    assert_eq!(outcome.exit, Some(0), "{}", outcome.row);
+    let case = replay(1, 7, (409, "groove60"));
+    assert_converges_clear(tmp.path(), &case);
 }
