@@ -489,8 +489,8 @@ struct Outcome {
     seconds: f64,
 }
 
-/// Writes `case` (RON and OBJ) into `dir`, solves it with `binary` and checks it.
-fn solve_and_check(binary: &Path, dir: &Path, case: &Case, timeout: Duration) -> Outcome {
+/// Writes `case`'s RON and OBJ files into `dir`: the RON file's path.
+fn write_case(dir: &Path, case: &Case) -> PathBuf {
     let ron_path = dir.join(format!("{}.ron", case.name));
     std::fs::write(&ron_path, &case.ron).unwrap();
     std::fs::write(
@@ -498,6 +498,12 @@ fn solve_and_check(binary: &Path, dir: &Path, case: &Case, timeout: Duration) ->
         obj_text(&case.triangles),
     )
     .unwrap();
+    ron_path
+}
+
+/// Writes `case` (RON and OBJ) into `dir`, solves it with `binary` and checks it.
+fn solve_and_check(binary: &Path, dir: &Path, case: &Case, timeout: Duration) -> Outcome {
+    let ron_path = write_case(dir, case);
     let out = dir.join(format!("out_{}", case.name));
     let (exit, timed_out, stderr, seconds) = run(binary, &ron_path, &out, timeout);
     let mut violations = Vec::new();
@@ -736,13 +742,7 @@ fn assert_converges_clear(dir: &Path, case: &Case) {
 
 /// `strand check` on `case` written into `dir`: its stdout (the start it takes).
 fn check(binary: &Path, dir: &Path, case: &Case) -> String {
-    let ron_path = dir.join(format!("{}.ron", case.name));
-    std::fs::write(&ron_path, &case.ron).unwrap();
-    std::fs::write(
-        dir.join(format!("{}.obj", case.name)),
-        obj_text(&case.triangles),
-    )
-    .unwrap();
+    let ron_path = write_case(dir, case);
     let output = Command::new(binary)
         .arg("check")
         .arg(&ron_path)

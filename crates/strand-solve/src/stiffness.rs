@@ -14,7 +14,7 @@ use strand_system::{EdgeStresses, Model, System, SystemState};
 
 use crate::constraints::Constraints;
 use crate::continuation::{Ramp, solve_at};
-use crate::{SolveError, SolverSettings};
+use crate::{SolveError, SolveReport, SolverSettings};
 
 /// The largest `C·h²/EI` of any rod of `system` (its stiffest strain component, its
 /// softest bending or twisting component and its shortest edge).
@@ -184,20 +184,10 @@ pub(crate) fn stiffen(
             stresses.as_ref(),
         )?;
         iterations += solution.report.iterations;
-        if std::env::var_os("STRAND_TRACE").is_some() {
-            eprintln!(
-                "strand-solve: stiffening step {steps}: C h²/EI capped at {target:.1e}: {} ({:?}) in {} iterations, residual {:.2e} N (floor {:.2e} N)",
-                if solution.report.converged {
-                    "converged"
-                } else {
-                    "failed"
-                },
-                solution.report.termination,
-                solution.report.iterations,
-                solution.report.residual.combined_n,
-                solution.report.residual_floor_n
-            );
-        }
+        trace(
+            &format!("stiffening step {steps}: C h²/EI capped at {target:.1e}"),
+            &solution.report,
+        );
         if solution.report.converged {
             if !first && solution.report.iterations <= settings.stiffness_easy_iterations {
                 growth = (growth * growth).min(settings.stiffness_max_growth);
@@ -322,19 +312,10 @@ fn limp_start(
         ..start_settings.clone()
     };
     let solution = solve_at(&soft_model, constraints, initial.clone(), &settings)?;
-    if std::env::var_os("STRAND_TRACE").is_some() {
-        eprintln!(
-            "strand-solve: limp start at load factor {factor:.2e}: {} ({:?}) in {} iterations, residual {:.2e} N",
-            if solution.report.converged {
-                "converged"
-            } else {
-                "failed"
-            },
-            solution.report.termination,
-            solution.report.iterations,
-            solution.report.residual.combined_n,
-        );
-    }
+    trace(
+        &format!("limp start at load factor {factor:.2e}"),
+        &solution.report,
+    );
     Ok(Some(solution))
 }
 
@@ -357,6 +338,25 @@ fn solve_step(
         solver = solver.with_constraints(c);
     }
     solver.solve(state, settings)
+}
+
+/// With `STRAND_TRACE` set, one line on standard error for the continuation step
+/// `what`: how its solve ended, in how many iterations, its residual and floor (N).
+fn trace(what: &str, report: &SolveReport) {
+    if std::env::var_os("STRAND_TRACE").is_some() {
+        eprintln!(
+            "strand-solve: {what}: {} ({:?}) in {} iterations, residual {:.2e} N (floor {:.2e} N)",
+            if report.converged {
+                "converged"
+            } else {
+                "failed"
+            },
+            report.termination,
+            report.iterations,
+            report.residual.combined_n,
+            report.residual_floor_n
+        );
+    }
 }
 
 #[cfg(test)]
