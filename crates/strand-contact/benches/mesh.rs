@@ -1,9 +1,11 @@
 //! Mesh benchmarks (issue 11): building the BVH of generated, seeded surfaces of 1k and
-//! 1M triangles, loading a 1M-triangle OBJ cold (read, parse, build) and through the
-//! on-disk mesh cache (hash the OBJ, read the cache file), and nearest point queries of
-//! segments against 1k and 1M triangles.
+//! 1M triangles, loading 1M- and 4M-triangle OBJ files cold (read, parse, build) and
+//! through the on-disk mesh cache (hash the OBJ, read the cache file), and nearest
+//! point queries of segments against 1k and 1M triangles.
 //!
-//! `cargo bench -p strand-contact --bench mesh` (prints the memory per triangle too).
+//! `cargo bench -p strand-contact --bench mesh` (prints the memory per triangle too;
+//! `taskset -c 0` for one core). The OBJ files (36 MB and 150 MB) are written to a
+//! temporary folder.
 
 // criterion's macros generate undocumented functions.
 #![allow(missing_docs)]
@@ -11,12 +13,15 @@
 use std::hint::black_box;
 use std::path::Path;
 
+#[path = "../tests/support/wavy_surface.rs"]
+mod wavy_surface;
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_contact::bench::wavy_surface;
 use strand_contact::{MeshCacheSettings, MeshCacheUse, ObstacleMesh};
+use wavy_surface::wavy_surface;
 
 /// A wavy 1 m square of about `triangles` triangles, every vertex jittered by a seeded
 /// ±0.1 mm (so no two rows are alike).
@@ -88,30 +93,34 @@ fn build_and_query(c: &mut Criterion) {
 }
 
 fn load(c: &mut Criterion) {
-    let dir = tempfile::tempdir().unwrap();
-    let obj = dir.path().join("surface_1M.obj");
-    let (vertices, faces) = surface(1_000_000);
-    write_obj(&obj, &vertices, &faces);
-    let pose = Isometry3::identity();
-    let cache = MeshCacheSettings::in_directory(dir.path().join("cache"), 0);
-    let mut group = c.benchmark_group("mesh load 1M");
-    group.sample_size(10);
-    group.bench_function("cold (read, parse, build)", |b| {
-        b.iter(|| ObstacleMesh::load(&obj, 1e-3, &pose).unwrap())
-    });
-    let written = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
-    assert!(matches!(written.cache_use(), MeshCacheUse::Written { .. }));
-    group.bench_function(
-        "cached (read the OBJ for its hash, read the cache file)",
-        |b| {
-            b.iter(|| {
-                let mesh = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
-                assert!(mesh.cache_use().is_hit());
-                mesh
-            })
-        },
-    );
-    group.finish();
+    for (label, triangles) in [("1M", 1_000_000), ("4M", 4_000_000)] {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = dir.path().join(format!("surface_{label}.obj"));
+        let (vertices, faces) = surface(triangles);
+        write_obj(&obj, &vertices, &faces);
+        drop((vertices, faces));
+        let pose = Isometry3::identity();
+        let cache = MeshCacheSettings::in_directory(dir.path().join("cache"), 0);
+        let mut group = c.benchmark_group(format!("mesh load {label}"));
+        group.sample_size(10);
+        group.bench_function("cold (read, parse, build)", |b| {
+            b.iter(|| ObstacleMesh::load(&obj, 1e-3, &pose).unwrap())
+        });
+        let written = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
+        assert!(matches!(written.cache_use(), MeshCacheUse::Written { .. }));
+        drop(written);
+        group.bench_function(
+            "cached (read the OBJ for its hash, read the cache file)",
+            |b| {
+                b.iter(|| {
+                    let mesh = ObstacleMesh::load_cached(&obj, 1e-3, &pose, &cache).unwrap();
+                    assert!(mesh.cache_use().is_hit());
+                    mesh
+                })
+            },
+        );
+        group.finish();
+    }
 }
 
 criterion_group!(benches, build_and_query, load);

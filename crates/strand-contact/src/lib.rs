@@ -36,5 +36,3 @@ pub use gaps::{
     Gap, GapError, MeshIndex, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance,
     rod_rod_gaps,
 };
-
-pub mod bench;

@@ -2,15 +2,18 @@
 //! a rod over a floor (closed form), the documented linearisation against finite
 //! differences, and the reports of rods starting inside obstacles.
 
+#[path = "support/wavy_surface.rs"]
+mod wavy_surface;
+
 use nalgebra::{Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_contact::bench::wavy_surface;
 use strand_contact::gaps::{Aabb, overlapping_pairs};
 use strand_contact::{
     GapError, Obstacle, ObstacleMesh, RodGeometry, closest_segment_segment, mesh_gaps,
     require_clearance, rod_rod_gaps,
 };
+use wavy_surface::wavy_surface;
 
 type P = Point3<f64>;
 

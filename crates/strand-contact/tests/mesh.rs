@@ -1,13 +1,16 @@
 //! Environment meshes: BVH queries against brute force over all triangles, interval
 //! midpoints across triangles, validation and OBJ loading errors.
 
+#[path = "support/wavy_surface.rs"]
+mod wavy_surface;
+
 use std::io::Write;
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_contact::bench::wavy_surface;
 use strand_contact::{MeshError, ObstacleMesh, closest_segment_triangle};
+use wavy_surface::wavy_surface;
 
 type P = Point3<f64>;
 

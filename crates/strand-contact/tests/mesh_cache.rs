@@ -2,14 +2,17 @@
 //! fresh build does; a changed file, a corrupt or truncated cache file and concurrent
 //! builders are handled; a cache folder that cannot be written never fails a load.
 
+#[path = "support/wavy_surface.rs"]
+mod wavy_surface;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use strand_contact::bench::wavy_surface;
 use strand_contact::{MeshCacheSettings, MeshCacheUse, ObstacleMesh};
+use wavy_surface::wavy_surface;
 
 /// An OBJ (mm) of a wavy surface, a closed box floating above it, a degenerate
 /// triangle, a duplicate vertex and a non-manifold fin: every diagnostic is non-zero.

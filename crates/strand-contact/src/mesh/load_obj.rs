@@ -1,11 +1,15 @@
-//! Loading an environment mesh from a Wavefront OBJ file (tobj).
+//! Loading an environment mesh from a Wavefront OBJ file: the plain subset read in
+//! parallel ([`super::plain_obj`]), everything else by tobj, with the same result.
 
 use std::io::Cursor;
 use std::path::Path;
 
 use nalgebra::{Isometry3, Point3};
 
+use rayon::prelude::*;
+
 use super::from_triangles::build;
+use super::plain_obj::{ObjTriangles, read_plain_obj};
 use super::{MeshError, ObstacleMesh};
 
 impl ObstacleMesh {
@@ -43,6 +47,34 @@ pub(crate) fn obj_mesh(
 ) -> Result<ObstacleMesh, MeshError> {
     let label = path.display().to_string();
     check_placement(&label, scale_to_metres, pose)?;
+    let parsed = match read_plain_obj(bytes) {
+        Some(parsed) => parsed,
+        None => tobj_triangles(path, bytes)?,
+    };
+    if let Some(&file) = parsed
+        .positions
+        .iter()
+        .find(|p| !p.iter().all(|x| x.is_finite()))
+    {
+        return Err(non_finite_vertex(&label, bytes, Point3::from(file)));
+    }
+    let vertices: Vec<Point3<f64>> = parsed
+        .positions
+        .par_iter()
+        .map(|&file| pose * Point3::from(Point3::from(file).coords * scale_to_metres))
+        .collect();
+    build(name_of(path), vertices, &parsed.triangles).map_err(|e| match e {
+        MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
+            mesh: label,
+            detail,
+        },
+        other => other,
+    })
+}
+
+/// The vertices and triangles of an OBJ file as tobj reads it: every model's
+/// positions, the models merged in file order.
+pub(crate) fn tobj_triangles(path: &Path, bytes: &[u8]) -> Result<ObjTriangles, MeshError> {
     let options = load_options();
     let no_materials = |_: &Path| -> tobj::MTLLoadResult { Ok((Vec::new(), Default::default())) };
     let (models, _materials) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, no_materials)
@@ -50,34 +82,24 @@ pub(crate) fn obj_mesh(
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
-
-    let mut vertices = Vec::new();
+    let mut positions = Vec::new();
     let mut triangles = Vec::new();
     for model in &models {
         let mesh = &model.mesh;
-        let offset = u32::try_from(vertices.len()).map_err(|_| MeshError::Parse {
+        let offset = u32::try_from(positions.len()).map_err(|_| MeshError::Parse {
             path: path.to_path_buf(),
             message: "more than 2^32 vertices".to_string(),
         })?;
-        for xyz in mesh.positions.chunks_exact(3) {
-            let file = Point3::new(xyz[0], xyz[1], xyz[2]);
-            if !file.iter().all(|x| x.is_finite()) {
-                return Err(non_finite_vertex(&label, bytes, file));
-            }
-            vertices.push(pose * Point3::from(file.coords * scale_to_metres));
-        }
+        positions.extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
         triangles.extend(
             mesh.indices
                 .chunks_exact(3)
                 .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
         );
     }
-    build(name_of(path), vertices, &triangles).map_err(|e| match e {
-        MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
-            mesh: label,
-            detail,
-        },
-        other => other,
+    Ok(ObjTriangles {
+        positions,
+        triangles,
     })
 }
 

@@ -21,13 +21,13 @@ mod load_obj;
 mod local_contacts;
 mod obstacle_mesh;
 mod placed;
+mod plain_obj;
 mod segment_box;
 mod segment_proximity;
 pub mod stl;
 mod topology;
 mod triangle_tree;
 
-pub(crate) use convert::to_glam;
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;

@@ -7,7 +7,7 @@
 //! each), triangles (`3 u32`), cluster order (`u32`), smooth patch of each triangle
 //! (`u32`) and parry's BVH (bincode). All numbers little-endian. The checksum is the
 //! xxh3-64 hash of the xxh3-64 hashes of the diagnostics and of each section (with its
-//! length): each part hashed in one pass as it is read.
+//! length), the sections hashed on one core while the BVH is decoded on another.
 
 use std::io::Read;
 
@@ -144,10 +144,33 @@ pub(crate) fn decode(
     let order: Vec<u32> = r.section()?;
     let patch: Vec<u32> = r.section()?;
     let bvh_bytes: Vec<u8> = r.section()?;
-    if r.left != 0 || xxh3_64(&r.digests) != checksum {
+    if r.left != 0 {
+        return Err("longer than its sections (corrupt)".to_string());
+    }
+    // Decoding the BVH (the slowest part) and hashing the sections are independent:
+    // one core each. The BVH is used only if the checksum matches.
+    let sections: [&[u8]; 5] = [
+        bytemuck::cast_slice(&vertices),
+        bytemuck::cast_slice(&indices),
+        bytemuck::cast_slice(&order),
+        bytemuck::cast_slice(&patch),
+        &bvh_bytes,
+    ];
+    let (bvh, digests) = rayon::join(
+        || bincode::deserialize::<Bvh>(&bvh_bytes),
+        || {
+            let mut digests = r.digests;
+            for section in sections {
+                digests.extend_from_slice(&(section.len() as u64).to_le_bytes());
+                digests.extend_from_slice(&xxh3_64(section).to_le_bytes());
+            }
+            digests
+        },
+    );
+    if xxh3_64(&digests) != checksum {
         return Err("checksum mismatch (corrupt)".to_string());
     }
-    let bvh: Bvh = bincode::deserialize(&bvh_bytes).map_err(|e| format!("BVH: {e}"))?;
+    let bvh = bvh.map_err(|e| format!("BVH: {e}"))?;
     let triangles = indices.len();
     let consistent = counts[0] == triangles
         && counts[3] == vertices.len()
@@ -219,7 +242,8 @@ impl<R: Read> Reader<'_, R> {
         Ok(u64::from_le_bytes(word))
     }
 
-    /// A section (its length in bytes, then plain numbers), read into its array.
+    /// A section (its length in bytes, then plain numbers), read into its array (its
+    /// hash is taken by the caller).
     fn section<T: bytemuck::Pod>(&mut self) -> Result<Vec<T>, String> {
         let bytes = self.u64()?;
         let size = std::mem::size_of::<T>() as u64;
@@ -228,9 +252,6 @@ impl<R: Read> Reader<'_, R> {
         }
         let mut out = vec![T::zeroed(); (bytes / size) as usize];
         self.fill(bytemuck::cast_slice_mut(&mut out))?;
-        self.digests.extend_from_slice(&bytes.to_le_bytes());
-        self.digests
-            .extend_from_slice(&xxh3_64(bytemuck::cast_slice(&out)).to_le_bytes());
         Ok(out)
     }
 }

@@ -1,55 +1,76 @@
 //! The content address of a built mesh.
 
-use nalgebra::Isometry3;
 use std::fs::File;
-use std::io::Read;
+use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
-use xxhash_rust::xxh3::{Xxh3, xxh3_64, xxh3_128_with_seed};
+use nalgebra::Isometry3;
+use rayon::prelude::*;
+use xxhash_rust::xxh3::{xxh3_64, xxh3_128, xxh3_128_with_seed};
 
 use crate::mesh::{DEGENERATE_RELATIVE_AREA, SLIVER_RELATIVE_AREA, SMOOTH_PATCH_ANGLE_RAD};
 
 /// Version of the cache file layout; changed whenever the layout or the meaning of the
 /// stored data changes.
-pub(crate) const FORMAT_VERSION: u32 = 1;
+pub(crate) const FORMAT_VERSION: u32 = 2;
 
-/// The key of a built mesh: a 128-bit xxh3 hash of the file bytes, seeded by the 64-bit
-/// xxh3 hash of everything else the built data depends on (see [`crate::mesh_cache`]).
+/// The key of a built mesh: a 128-bit xxh3 hash, seeded by the 64-bit xxh3 hash of
+/// everything else the built data depends on (see [`crate::mesh_cache`]), of the
+/// 128-bit xxh3 hashes of the file's pieces of 8 MiB (so that the pieces of a large
+/// file are hashed on all cores).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CacheKey(pub u128);
+
+/// Bytes of a mesh file hashed as one piece of its [`CacheKey`] (8 MiB).
+pub(crate) const PIECE_BYTES: usize = 8 << 20;
 
 impl CacheKey {
     /// The key of the mesh file content `bytes` placed by `scale_to_metres` and `pose`
     /// (as in [`crate::ObstacleMesh::load`]).
     pub fn of(bytes: &[u8], scale_to_metres: f64, pose: &Isometry3<f64>) -> Self {
-        let seed = seed(bytes.len() as u64, scale_to_metres, pose);
-        Self(xxh3_128_with_seed(bytes, seed))
+        let pieces: Vec<u128> = bytes.par_chunks(PIECE_BYTES).map(xxh3_128).collect();
+        Self::of_pieces(&pieces, bytes.len() as u64, scale_to_metres, pose)
     }
 
-    /// The key of the mesh file `path` (its content hashed as it is read through a
-    /// small buffer: nothing is kept), the same as [`CacheKey::of`] its bytes.
+    /// The key of the mesh file `path`, the same as [`CacheKey::of`] its bytes: its
+    /// pieces read and hashed in parallel, each through its own file handle (nothing
+    /// is kept).
     pub fn of_file(
         path: &Path,
         scale_to_metres: f64,
         pose: &Isometry3<f64>,
     ) -> std::io::Result<Self> {
-        let mut file = File::open(path)?;
-        let length = file.metadata()?.len();
-        let mut hasher = Xxh3::with_seed(seed(length, scale_to_metres, pose));
-        let mut buffer = vec![0u8; 1 << 20];
-        let mut read = 0u64;
-        loop {
-            let n = file.read(&mut buffer)?;
-            if n == 0 {
-                break;
-            }
-            hasher.update(&buffer[..n]);
-            read += n as u64;
-        }
-        if read != length {
+        let length = std::fs::metadata(path)?.len();
+        let count = length.div_ceil(PIECE_BYTES as u64);
+        let pieces: std::io::Result<Vec<u128>> = (0..count)
+            .into_par_iter()
+            .map(|k| {
+                let start = k * PIECE_BYTES as u64;
+                let size = (length - start).min(PIECE_BYTES as u64) as usize;
+                let mut file = File::open(path)?;
+                file.seek(SeekFrom::Start(start))?;
+                let mut piece = vec![0u8; size];
+                file.read_exact(&mut piece)?;
+                Ok(xxh3_128(&piece))
+            })
+            .collect();
+        let pieces = pieces?;
+        if std::fs::metadata(path)?.len() != length {
             return Err(std::io::Error::other("the file changed while it was read"));
         }
-        Ok(Self(hasher.digest128()))
+        Ok(Self::of_pieces(&pieces, length, scale_to_metres, pose))
+    }
+
+    /// The key from the hashes of a file's pieces.
+    fn of_pieces(
+        pieces: &[u128],
+        length: u64,
+        scale_to_metres: f64,
+        pose: &Isometry3<f64>,
+    ) -> Self {
+        let seed = seed(length, scale_to_metres, pose);
+        let bytes: Vec<u8> = pieces.iter().flat_map(|h| h.to_le_bytes()).collect();
+        Self(xxh3_128_with_seed(&bytes, seed))
     }
 
     /// The cache file name for this key, `<32 hex digits>.strandmesh`.
@@ -113,12 +134,20 @@ mod tests {
     fn the_key_of_a_file_read_in_pieces_is_the_key_of_its_bytes() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("big.obj");
-        // Over two read buffers, not a multiple of either the buffer or xxh3's stripes.
-        let bytes: Vec<u8> = (0..2_500_037u32).map(|i| (i * 7919 % 251) as u8).collect();
+        // Over two pieces, not a multiple of either the piece or xxh3's stripes.
+        let bytes: Vec<u8> = (0..(2 * PIECE_BYTES as u32 + 500_037))
+            .map(|i| (i * 7919 % 251) as u8)
+            .collect();
         std::fs::write(&path, &bytes).unwrap();
         let pose = Isometry3::translation(0.1, 0.2, 0.3);
         let key = CacheKey::of_file(&path, 1e-3, &pose).unwrap();
         assert_eq!(key, CacheKey::of(&bytes, 1e-3, &pose));
         assert_ne!(key, CacheKey::of(&bytes[1..], 1e-3, &pose));
+        // A change in any piece changes the key.
+        for at in [0, PIECE_BYTES, bytes.len() - 1] {
+            let mut changed = bytes.clone();
+            changed[at] ^= 1;
+            assert_ne!(key, CacheKey::of(&changed, 1e-3, &pose));
+        }
     }
 }
