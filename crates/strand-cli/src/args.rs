@@ -302,6 +302,14 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
         /// (builds, solves, tangents; wall and CPU).
         #[arg(long, conflicts_with_all = ["case", "segments", "grid", "contact"])]
         motion: bool,
+        /// Time the load of an environment mesh file (OBJ or STL) instead of CASE:
+        /// cold (read, parse, topology, BVH) and through a fresh mesh cache, medians
+        /// of --repeats loads, against the issue-11 targets per 1M triangles.
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["case", "segments", "grid", "contact", "motion", "sensitivity"])]
+        mesh: Option<PathBuf>,
+        /// File units to metres for --mesh (0.001: a file in mm).
+        #[arg(long, value_name = "S", requires = "mesh", default_value_t = 0.001)]
+        mesh_scale: f64,
         /// Number of convergence-map cases to run (with --grid).
         #[arg(long, value_name = "N", requires = "grid", default_value_t = crate::bench::grid::DEFAULT_CASES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=100_000))]
         cases: usize,

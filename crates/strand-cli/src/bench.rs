@@ -6,10 +6,12 @@
 //! system of each, and the table of iterations and times per case; [`contact`] the
 //! bundled contact cases (`strand bench --contact`); [`motion`] the engine-roll motion
 //! (`strand bench --motion`); [`sensitivity`] the cost of the sensitivities against the
-//! solve (`strand bench --sensitivity`).
+//! solve (`strand bench --sensitivity`); [`mesh`] the cold and cached load of a mesh file
+//! (`strand bench --mesh FILE`).
 
 pub mod contact;
 pub mod grid;
+pub mod mesh;
 pub mod motion;
 pub mod sensitivity;
 

@@ -216,6 +216,12 @@ pub(crate) fn execute(
             ..
         } => crate::bench::motion::run_and_print(Path::new("cases"), *repeats, out),
         Command::Bench {
+            mesh: Some(mesh),
+            mesh_scale,
+            repeats,
+            ..
+        } => crate::bench::mesh::run_and_print(mesh, *mesh_scale, *repeats, out),
+        Command::Bench {
             contact: true,
             repeats,
             ..

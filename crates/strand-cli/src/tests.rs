@@ -94,6 +94,40 @@ fn bench_grid_prints_a_line_per_case_and_the_summary() {
 }
 
 #[test]
+fn bench_mesh_reports_the_meshes_triangles_and_a_missing_file_by_name() {
+    // The engine-bay engine: the triangle count must be the mesh's own (no timing is
+    // checked), the cache folder must be gone afterwards.
+    let engine = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/engine_bay/engine.obj");
+    let mesh = strand_contact::ObstacleMesh::load(&engine, 0.001, &nalgebra::Isometry3::identity())
+        .unwrap();
+    let (exit, out, err) = strand(&[
+        "bench",
+        "--mesh",
+        engine.to_str().unwrap(),
+        "--repeats",
+        "2",
+    ]);
+    assert_eq!(exit, Exit::Success, "{err}");
+    let row = out.lines().nth(2).unwrap_or_default();
+    assert_eq!(
+        row.split_whitespace().next(),
+        Some(mesh.triangle_count().to_string().as_str()),
+        "{out}"
+    );
+    assert!(
+        out.contains("targets per 1M triangles: cold <= 400 ms"),
+        "{out}"
+    );
+    let folder = std::env::temp_dir().join(format!("strand-bench-mesh-{}", std::process::id()));
+    assert!(!folder.exists());
+    let (exit, _, err) = strand(&["bench", "--mesh", "no/such/mesh.obj", "--repeats", "1"]);
+    assert_eq!(exit, Exit::InvalidInput);
+    assert!(err.contains("no/such/mesh.obj"), "{err}");
+    let (exit, _, err) = strand(&["bench", "--mesh", "x.obj", "--grid"]);
+    assert_eq!(exit, Exit::InvalidInput, "{err}");
+}
+
+#[test]
 fn check_validates_without_writing() {
     let case = case_path("elastica_fig2.ron");
     let (exit, out, err) = strand(&["check", case.to_str().unwrap()]);

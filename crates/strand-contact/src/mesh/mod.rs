@@ -22,6 +22,7 @@ mod local_contacts;
 mod obstacle_mesh;
 mod placed;
 mod plain_obj;
+mod radix_sort;
 mod segment_box;
 mod segment_proximity;
 pub mod stl;

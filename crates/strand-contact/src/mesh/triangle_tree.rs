@@ -16,7 +16,9 @@ use nalgebra::Point3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as GlamVector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
-use rayon::slice::ParallelSliceMut;
+use rayon::prelude::*;
+
+use super::radix_sort::values_by_key;
 
 /// Triangles per BVH leaf (the last leaf may hold fewer).
 pub(crate) const CLUSTER_SIZE: usize = 4;
@@ -52,8 +54,8 @@ impl TriangleTree {
                 0.0
             }
         });
-        let mut keyed: Vec<(u64, u32)> = indices
-            .iter()
+        let keyed: Vec<(u64, u32)> = indices
+            .par_iter()
             .enumerate()
             .map(|(t, corners)| {
                 let [a, b, c] = corners.map(|i| vertices[i as usize]);
@@ -64,10 +66,10 @@ impl TriangleTree {
                 (morton(cell), t as u32)
             })
             .collect();
-        keyed.par_sort_unstable();
-        let order: Vec<u32> = keyed.into_iter().map(|(_, t)| t).collect();
+        // Keys given in triangle order: the order of sorting the (key, triangle) pairs.
+        let order = values_by_key(keyed);
         let leaves: Vec<Aabb> = order
-            .chunks(CLUSTER_SIZE)
+            .par_chunks(CLUSTER_SIZE)
             .map(|cluster| {
                 let mut mins = GlamVector::splat(f64::INFINITY);
                 let mut maxs = GlamVector::splat(f64::NEG_INFINITY);

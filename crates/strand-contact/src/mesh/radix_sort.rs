@@ -1,0 +1,72 @@
+//! A stable least-significant-digit radix sort of items by a `u64` key: the Morton
+//! order of a mesh's triangles in `O(n)` (six passes of 11 bits), where a comparison
+//! sort of a million `(key, index)` pairs took about 400M instructions, a tenth of a
+//! cold mesh load.
+
+/// Bits of the key sorted per pass.
+const DIGIT_BITS: u32 = 11;
+/// Buckets per pass.
+const BUCKETS: usize = 1 << DIGIT_BITS;
+
+/// The values of `items` (`(key, value)` pairs) ordered by key, ties in their given
+/// order: for items given in increasing value, the order of sorting the pairs.
+pub(crate) fn values_by_key(items: Vec<(u64, u32)>) -> Vec<u32> {
+    let highest = items.iter().fold(0u64, |bits, &(key, _)| bits | key);
+    let passes = (u64::BITS - highest.leading_zeros()).div_ceil(DIGIT_BITS);
+    let mut from = items;
+    let mut to = vec![(0u64, 0u32); from.len()];
+    for pass in 0..passes {
+        let shift = pass * DIGIT_BITS;
+        let digit = |key: u64| ((key >> shift) as usize) & (BUCKETS - 1);
+        let mut start = vec![0usize; BUCKETS];
+        for &(key, _) in &from {
+            start[digit(key)] += 1;
+        }
+        let mut sum = 0;
+        for slot in &mut start {
+            let count = *slot;
+            *slot = sum;
+            sum += count;
+        }
+        for &item in &from {
+            let slot = &mut start[digit(item.0)];
+            to[*slot] = item;
+            *slot += 1;
+        }
+        std::mem::swap(&mut from, &mut to);
+    }
+    from.into_iter().map(|(_, value)| value).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::*;
+
+    #[test]
+    fn the_order_is_that_of_sorting_the_pairs() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for (n, key_bits) in [
+            (0, 63),
+            (1, 63),
+            (5, 2),
+            (1000, 5),
+            (50_000, 63),
+            (50_000, 30),
+        ] {
+            let items: Vec<(u64, u32)> = (0..n)
+                .map(|t| (rng.random::<u64>() >> (64 - key_bits), t as u32))
+                .collect();
+            let mut sorted = items.clone();
+            sorted.sort_unstable();
+            let expected: Vec<u32> = sorted.into_iter().map(|(_, t)| t).collect();
+            assert_eq!(
+                values_by_key(items),
+                expected,
+                "{n} items of {key_bits} bits"
+            );
+        }
+    }
+}
