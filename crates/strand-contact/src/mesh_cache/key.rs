@@ -6,7 +6,7 @@ use std::path::Path;
 
 use nalgebra::Isometry3;
 use rayon::prelude::*;
-use xxhash_rust::xxh3::{xxh3_64, xxh3_128, xxh3_128_with_seed};
+use xxhash_rust::xxh3::{Xxh3, xxh3_64, xxh3_128, xxh3_128_with_seed};
 
 use crate::mesh::{DEGENERATE_RELATIVE_AREA, SLIVER_RELATIVE_AREA, SMOOTH_PATCH_ANGLE_RAD};
 
@@ -20,6 +20,9 @@ pub(crate) const FORMAT_VERSION: u32 = 2;
 /// file are hashed on all cores).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CacheKey(pub u128);
+
+/// Bytes read at a time while a piece of a mesh file is hashed (256 KiB).
+const READ_BUFFER_BYTES: usize = 256 << 10;
 
 /// Bytes of a mesh file hashed as one piece of its [`CacheKey`] (8 MiB).
 pub(crate) const PIECE_BYTES: usize = 8 << 20;
@@ -49,9 +52,17 @@ impl CacheKey {
                 let size = (length - start).min(PIECE_BYTES as u64) as usize;
                 let mut file = File::open(path)?;
                 file.seek(SeekFrom::Start(start))?;
-                let mut piece = vec![0u8; size];
-                file.read_exact(&mut piece)?;
-                Ok(xxh3_128(&piece))
+                // Through a small buffer: the piece is never held (nor paged in) whole.
+                let mut hasher = Xxh3::new();
+                let mut buffer = vec![0u8; READ_BUFFER_BYTES.min(size)];
+                let mut left = size;
+                while left > 0 {
+                    let part = &mut buffer[..left.min(READ_BUFFER_BYTES)];
+                    file.read_exact(part)?;
+                    hasher.update(part);
+                    left -= part.len();
+                }
+                Ok(hasher.digest128())
             })
             .collect();
         let pieces = pieces?;
