@@ -3,11 +3,18 @@
 //! contact. clarabel identifies the active set; the step on that set is then computed
 //! exactly with the sparse Cholesky factor of `H` (a Schur complement on the few active
 //! rows), so the multipliers — the contact forces and the stops' reactions — are exact
-//! to round-off rather than to the interior-point tolerance.
+//! to round-off rather than to the interior-point tolerance ([`exact`], refined per
+//! independent group of rows, [`groups`]).
+
+mod exact;
+mod groups;
+#[cfg(test)]
+mod scaling_tests;
+
+pub(crate) use exact::exact_step;
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
-use nalgebra::{DMatrix, DVector};
 use strand_system::HessianPattern;
 
 use crate::constraints::Row;
@@ -65,80 +72,6 @@ pub(crate) fn constrained_step(
         step: qp_step,
         multipliers: qp_multipliers,
     })
-}
-
-/// The step with the `active` rows held at zero: `d = d_N + Σ λ_j H⁻¹ a_j` with
-/// `(A H⁻¹ Aᵀ) λ = −value − A d_N`, refined as a primal–dual active set: a row with a
-/// negative multiplier leaves the set, the most violated other row joins it. `None` if
-/// the Schur complement is singular or the refinement does not settle.
-pub(crate) fn exact_step(
-    cholesky: &mut SparseCholesky,
-    rows: &[Row],
-    active: &[usize],
-    newton: &[f64],
-) -> Option<ConstrainedStep> {
-    let n = newton.len();
-    let mut active = active.to_vec();
-    let mut columns: Vec<(usize, Vec<f64>)> = Vec::new();
-    for _ in 0..2 * rows.len() + 4 {
-        // H⁻¹ a_i for the rows of the set (kept across refinements).
-        columns.retain(|(i, _)| active.contains(i));
-        for &i in &active {
-            if columns.iter().all(|(j, _)| *j != i) {
-                let mut w = vec![0.0; n];
-                for &(k, a) in &rows[i].gradient {
-                    w[k] += a;
-                }
-                cholesky.solve_in_place(&mut w);
-                columns.push((i, w));
-            }
-        }
-        columns.sort_by_key(|(i, _)| *i);
-        active.sort_unstable();
-        let m = active.len();
-        let dot =
-            |i: usize, w: &[f64]| rows[i].gradient.iter().map(|&(k, a)| a * w[k]).sum::<f64>();
-        let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
-        let rhs = DVector::from_fn(m, |r, _| -rows[active[r]].linearised(newton));
-        let multipliers = if m == 0 {
-            DVector::zeros(0)
-        } else {
-            schur.cholesky()?.solve(&rhs)
-        };
-        if let Some((r, _)) = multipliers
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.is_nan() || **l < 0.0)
-            .min_by(|a, b| a.1.total_cmp(b.1))
-        {
-            active.remove(r);
-            continue;
-        }
-        let mut step = newton.to_vec();
-        for ((_, w), &l) in columns.iter().zip(multipliers.iter()) {
-            for (s, x) in step.iter_mut().zip(w) {
-                *s += l * x;
-            }
-        }
-        let violated = (0..rows.len())
-            .filter(|i| !active.contains(i))
-            .map(|i| (i, rows[i].linearised(&step)))
-            .filter(|(_, v)| *v < -FEASIBILITY)
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some((i, _)) = violated {
-            active.push(i);
-            continue;
-        }
-        let mut all = vec![0.0; rows.len()];
-        for (&i, &l) in active.iter().zip(multipliers.iter()) {
-            all[i] = l;
-        }
-        return Some(ConstrainedStep {
-            step,
-            multipliers: all,
-        });
-    }
-    None
 }
 
 /// clarabel: `min ½ dᵀ P d + gᵀ d  s.t.  −A d + s = value, s ≥ 0`; returns the step and

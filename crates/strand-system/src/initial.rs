@@ -581,28 +581,35 @@ fn hermite_with_length(
         }
     }
     let normal = normal.normalize();
-    let curve = |bow: f64| -> Vec<Vector3<f64>> {
-        (0..=SAMPLES)
-            .map(|i| {
-                let t = i as f64 / SAMPLES as f64;
-                let (t2, t3) = (t * t, t * t * t);
-                a * (2.0 * t3 - 3.0 * t2 + 1.0)
-                    + t0 * scale * (t3 - 2.0 * t2 + t)
-                    + b * (-2.0 * t3 + 3.0 * t2)
-                    + t1 * scale * (t3 - t2)
-                    + normal * bow * (std::f64::consts::PI * t).sin().powi(2)
-            })
-            .collect()
+    // The bow-free curve and the bow's shape sin²(πt), sampled once: each bisection
+    // step then costs one pass of additions and norms (no sines, no allocation), with
+    // the same floating-point operations in the same order as evaluating the curve
+    // afresh.
+    let (base, shape): (Vec<Vector3<f64>>, Vec<f64>) = (0..=SAMPLES)
+        .map(|i| {
+            let t = i as f64 / SAMPLES as f64;
+            let (t2, t3) = (t * t, t * t * t);
+            let point = a * (2.0 * t3 - 3.0 * t2 + 1.0)
+                + t0 * scale * (t3 - 2.0 * t2 + t)
+                + b * (-2.0 * t3 + 3.0 * t2)
+                + t1 * scale * (t3 - t2);
+            (point, (std::f64::consts::PI * t).sin().powi(2))
+        })
+        .unzip();
+    let point = |bow: f64, i: usize| base[i] + normal * bow * shape[i];
+    let curve = |bow: f64| -> Vec<Vector3<f64>> { (0..=SAMPLES).map(|i| point(bow, i)).collect() };
+    let curve_length = |bow: f64| {
+        (1..=SAMPLES)
+            .map(|i| (point(bow, i) - point(bow, i - 1)).norm())
+            .sum::<f64>()
     };
-    let curve_length =
-        |points: &[Vector3<f64>]| points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>();
-    if curve_length(&curve(0.0)) >= length {
+    if curve_length(0.0) >= length {
         return curve(0.0);
     }
     let (mut lo, mut hi) = (0.0, length);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
-        if curve_length(&curve(mid)) < length {
+        if curve_length(mid) < length {
             lo = mid;
         } else {
             hi = mid;

@@ -7,13 +7,18 @@
 //!   inner loops);
 //! * [`faer_llt`]: faer's sparse Cholesky with a fill-reducing ordering, for systems of
 //!   several rods coupled by junctions, clips and bodies.
+//!
+//! The pattern's independent blocks ([`Components`]) are found once with it, so that
+//! solves for right-hand sides local to one block can be shared (see `sqp::exact`).
 
+mod components;
 mod envelope;
 mod faer_llt;
 
 use strand_system::HessianPattern;
 
 use crate::SolveError;
+pub(crate) use components::{Components, union_find_root};
 use envelope::EnvelopeCholesky;
 use faer_llt::FaerCholesky;
 
@@ -21,6 +26,7 @@ use faer_llt::FaerCholesky;
 pub struct SparseCholesky {
     backend: Backend,
     factored: bool,
+    components: Components,
 }
 
 enum Backend {
@@ -51,7 +57,13 @@ impl SparseCholesky {
         Ok(Self {
             backend,
             factored: false,
+            components: Components::of_pattern(pattern),
         })
+    }
+
+    /// The independent blocks of the pattern (connected components of its block graph).
+    pub(crate) fn components(&self) -> &Components {
+        &self.components
     }
 
     /// Number of stored entries of the factor `L`.
