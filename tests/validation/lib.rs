@@ -30,6 +30,7 @@ mod optimize;
 mod predeformed;
 mod report;
 mod sensitivity;
+mod sensitivity_local;
 mod start_checks;
 mod study;
 mod translation;

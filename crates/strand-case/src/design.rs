@@ -121,6 +121,81 @@ impl<'c> CaseDesign<'c> {
         Ok(self.direction(parameter)?.is_some())
     }
 
+    /// The design analysis: builds the base design and probes every parameter (two
+    /// full builds each, [`CaseDesign::is_affine`]), so that every later build of an
+    /// affine parameter moves the base model. Done once per design; the sensitivities
+    /// of an equilibrium then build nothing through the case builder, and
+    /// [`CaseDesign::recentred`] carries the probes to the next design point.
+    pub fn analyse(&self) -> Result<(), CaseError> {
+        for parameter in 0..self.parameters.len() {
+            self.direction(parameter)?;
+        }
+        Ok(())
+    }
+
+    /// The design of the same case and parameters centred at `centre` (one offset per
+    /// parameter from the case's values, item units), reusing this design's analysis
+    /// where it still holds: when every parameter is probed here, the new base has
+    /// this base's structure, and its real numbers are this base's moved by
+    /// `Σ_j (centre_j − self.centre_j) · direction_j` to [`AFFINE_TOLERANCE`] (the
+    /// real numbers are affine along the whole step, not only within the probes; a
+    /// parameter that is not affine must not have moved), the probes are taken over
+    /// and the new design builds only its base. Otherwise the new design probes
+    /// afresh on first use. The new base is built here (one full build, two without a
+    /// start, as [`CaseDesign::build`] does at zero offsets).
+    pub fn recentred(&self, centre: Vec<f64>) -> Result<CaseDesign<'c>, CaseError> {
+        let next = Self::centred_at(self.case, self.parameters.clone(), centre);
+        let directions: Option<Vec<Option<&[f64]>>> = self
+            .directions
+            .iter()
+            .map(|d| d.get().map(|d| d.as_deref()))
+            .collect();
+        let (Some((old, old_reals)), Some(directions)) = (self.base.get(), directions) else {
+            return Ok(next);
+        };
+        let (new, new_reals) = next.base()?;
+        let same_structure = new
+            .built
+            .model
+            .system()
+            .with_reals(old_reals)
+            .ok()
+            .is_some_and(|s| &s == old.built.model.system())
+            && same_beyond_reals(&old.built, &new.built);
+        let mut predicted = old_reals.clone();
+        for ((direction, c_new), c_old) in directions.iter().zip(&next.centre).zip(&self.centre) {
+            let step = c_new - c_old;
+            match direction {
+                Some(d) => predicted
+                    .iter_mut()
+                    .zip(*d)
+                    .for_each(|(x, d)| *x += step * d),
+                None if step != 0.0 => return Ok(next),
+                None => {}
+            }
+        }
+        let on_line = new_reals
+            .iter()
+            .zip(&predicted)
+            .zip(old_reals)
+            .all(|((x, p), o)| {
+                let size = x.abs().max(p.abs()).max(o.abs());
+                (x - p).abs() <= 3.0 * AFFINE_TOLERANCE * size
+            });
+        if same_structure && on_line && new_reals.len() == predicted.len() {
+            for (cell, direction) in next.directions.iter().zip(directions) {
+                let _ = cell.set(direction.map(<[f64]>::to_vec));
+            }
+        }
+        Ok(next)
+    }
+
+    /// Whether every parameter has been probed ([`CaseDesign::analyse`], or taken over
+    /// by [`CaseDesign::recentred`]).
+    pub fn is_analysed(&self) -> bool {
+        self.directions.iter().all(|d| d.get().is_some())
+    }
+
     /// The design at zero offsets (built on first use).
     fn base(&self) -> Result<&(DesignedCase, Vec<f64>), CaseError> {
         if let Some(base) = self.base.get() {
@@ -325,22 +400,7 @@ fn affine_direction(
     h: f64,
 ) -> Option<Vec<f64>> {
     let (b, m, p) = (&base.built, &minus.built, &plus.built);
-    let same_environment = |o: &BuiltCase| {
-        o.environment.len() == b.environment.len()
-            && o.environment
-                .iter()
-                .zip(&b.environment)
-                .all(|(x, y)| std::sync::Arc::ptr_eq(x, y))
-    };
-    let same_rest = |o: &BuiltCase| {
-        same_environment(o)
-            && o.connector_names == b.connector_names
-            && o.min_bend_radius == b.min_bend_radius
-            && o.min_clearance == b.min_clearance
-            && o.connector_limits == b.connector_limits
-            && o.sections == b.sections
-    };
-    if !(same_rest(m) && same_rest(p)) {
+    if !(same_beyond_reals(b, m) && same_beyond_reals(b, p)) {
         return None;
     }
     let system = b.model.system();
@@ -362,6 +422,22 @@ fn affine_direction(
             .map(|(xp, xm)| (xp - xm) / (3.0 * h))
             .collect()
     })
+}
+
+/// Whether `o` has everything of `b` that is not the model's real numbers: the same
+/// environment meshes, connector names, limits and sections.
+fn same_beyond_reals(b: &BuiltCase, o: &BuiltCase) -> bool {
+    let same_environment = o.environment.len() == b.environment.len()
+        && o.environment
+            .iter()
+            .zip(&b.environment)
+            .all(|(x, y)| std::sync::Arc::ptr_eq(x, y));
+    same_environment
+        && o.connector_names == b.connector_names
+        && o.min_bend_radius == b.min_bend_radius
+        && o.min_clearance == b.min_clearance
+        && o.connector_limits == b.connector_limits
+        && o.sections == b.sections
 }
 
 /// The base design (its model's real numbers `base_reals`) with them moved by

@@ -203,3 +203,57 @@ fn sensitivities_run_the_case_builder_twice_per_parameter() {
         assert_eq!(builds, 1 + 2 * n, "{n} parameters");
     }
 }
+
+#[test]
+fn a_recentred_design_takes_over_the_probes_where_the_model_stays_affine() {
+    let cooler = case("cooler_hose.ron");
+    let params = vec![
+        param("rods.hose2.length", None, 1000.0),
+        param("junctions.tee.mass", None, 100.0),
+        param("connectors.oil_cooler.position", Some(2), 1000.0),
+    ];
+    let design = CaseDesign::new(&cooler, params.clone());
+    assert!(!design.is_analysed());
+    design.analyse().unwrap();
+    assert!(design.is_analysed());
+    // Every parameter moved at once, far beyond the probes' steps.
+    let next = design.recentred(vec![25.0, 0.3, -12.0]).unwrap();
+    assert!(next.is_analysed(), "the probes were not taken over");
+    let builds = next.full_builds();
+    let base = next.build(&[0.0; 3]).unwrap();
+    let state = &base.built.initial;
+    for (j, p) in params.iter().enumerate() {
+        for t in [1.0, -2.0, 0.37] {
+            let mut offsets = [0.0; 3];
+            offsets[j] = t * 1e-4 * p.scale;
+            let fast = next.build(&offsets).unwrap();
+            let full = cooler
+                .build_with_changes_reusing("full", &next.changes(&offsets), state, Some(&[]), None)
+                .unwrap();
+            let (a, b) = (
+                fast.built.model.system().reals(),
+                full.model.system().reals(),
+            );
+            assert_eq!(a.len(), b.len());
+            for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+                assert!(
+                    (x - y).abs() <= 1e-12 * x.abs().max(y.abs()),
+                    "{} at {offsets:?}: real {k}: {x} (taken-over probe) vs {y} (builder)",
+                    p.item
+                );
+            }
+        }
+    }
+    // Only the builds of the new base: every step moved the base model.
+    assert_eq!(next.full_builds(), builds);
+    // A frame's turn is not affine: where it moved, the new design probes afresh;
+    // where only the affine parameters moved, it takes the probes over.
+    let turning = vec![
+        param("rods.hose2.length", None, 1000.0),
+        param("connectors.oil_cooler.direction", Some(0), 572.96),
+    ];
+    let design = CaseDesign::new(&cooler, turning);
+    design.analyse().unwrap();
+    assert!(!design.recentred(vec![0.0, 5.0]).unwrap().is_analysed());
+    assert!(design.recentred(vec![10.0, 0.0]).unwrap().is_analysed());
+}

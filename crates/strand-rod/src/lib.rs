@@ -11,7 +11,8 @@
 //! - [`Rod`], [`RodState`]: reference geometry and a configuration;
 //! - [`nominal`]: pre-deformed (moulded) rods whose stress-free shape is a nominal
 //!   centreline ([`Rod::try_from_nominal`]);
-//! - [`sectional`]: sectional forces, moments and the first integrals of paper §3.
+//! - [`sectional`]: sectional forces, moments and the first integrals of paper §3;
+//!   [`sectional_at`]: force, moment and curvature of one vertex alone.
 //!
 //! Units are SI throughout: m, N, N·m, kg, rad. No I/O happens here.
 
@@ -20,6 +21,7 @@ pub mod nominal;
 mod rod;
 mod section;
 pub mod sectional;
+pub mod sectional_at;
 pub mod so3;
 
 pub use nominal::{NominalError, NominalRod, NominalShape};

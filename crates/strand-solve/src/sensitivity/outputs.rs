@@ -59,17 +59,8 @@ impl Sensitivities {
     }
 
     /// The derivatives of the outputs that `outputs` computes from a design and a
-    /// solution, with respect to parameter `parameter`, by the chain rule along the
-    /// first-order path: central differences of steps `h` and `2h`, extrapolated
-    /// (error `O(h⁴)`), at three steps `h`, `h/10`, `h/100` (`h` the parameter's
-    /// [`super::ParameterSensitivity::output_step`]). Per output, the largest step is
-    /// taken whose result the next smaller one confirms (to [`STEP_AGREEMENT`]);
-    /// otherwise the middle step when the smallest agrees with it better than with the
-    /// largest (the output is nonlinear at the scale of `h`: a rod near a limit
-    /// point), else the largest (the smaller steps see round-off of reactions summed
-    /// from stiff forces). One-sided where an output's arg on a side differs from its
-    /// arg at the base. `outputs` must return the same number of samples at every
-    /// point.
+    /// solution, with respect to parameter `parameter`: [`Sensitivities::derivative_at`]
+    /// with the same evaluation at every point of the path.
     pub fn derivative<D: Design>(
         &self,
         design: &D,
@@ -77,53 +68,103 @@ impl Sensitivities {
         parameter: usize,
         mut outputs: impl FnMut(&D::Built, &Solution) -> Vec<Sample>,
     ) -> Result<Vec<OutputDerivative>, SensitivityError> {
+        self.derivative_at(design, base, parameter, |built, at, _| outputs(built, at))
+    }
+
+    /// The derivatives of the outputs that `outputs` computes from a design, a
+    /// solution and the [`PathPlace`] of the point, with respect to parameter
+    /// `parameter`, by the chain rule along the first-order path: central differences
+    /// of steps `h` and `2h`, extrapolated (error `O(h⁴)`), at up to three steps `h`,
+    /// `h/10`, `h/100` (`h` the parameter's
+    /// [`super::ParameterSensitivity::output_step`]). Per output, the largest step is
+    /// taken whose result the next smaller one confirms (to [`STEP_AGREEMENT`]);
+    /// otherwise the middle step when the smallest agrees with it better than with the
+    /// largest (the output is nonlinear at the scale of `h`: a rod near a limit
+    /// point), else the largest (the smaller steps see round-off of reactions summed
+    /// from stiff forces). The smallest step is evaluated only when some output's
+    /// largest step is not confirmed by the middle one (the choice is then the same as
+    /// with all three). One-sided where an output's arg at a point differs from its
+    /// arg at the base; `outputs` may report the base's arg everywhere except at the
+    /// [`PathPlace::Outermost`] points (`±2h` of the largest step), where a jump of
+    /// the arg-max within the steps shows. `outputs` must return the same number of
+    /// samples at every point.
+    pub fn derivative_at<D: Design>(
+        &self,
+        design: &D,
+        base: &Solution,
+        parameter: usize,
+        mut outputs: impl FnMut(&D::Built, &Solution, PathPlace) -> Vec<Sample>,
+    ) -> Result<Vec<OutputDerivative>, SensitivityError> {
         let (built, at) = self.path_point(design, base, parameter, 0.0)?;
-        let centre = outputs(&built, &at);
+        let centre = outputs(&built, &at, PathPlace::Base);
         let count = centre.len();
-        let mut ladder: Vec<Vec<OutputDerivative>> = Vec::with_capacity(3);
-        for k in 0..3 {
+        let mut rung = |k: i32| -> Result<Vec<OutputDerivative>, SensitivityError> {
             let h = self.parameters[parameter].output_step * 0.1f64.powi(k);
             let mut samples = Vec::with_capacity(4);
             for t in [h, -h, 2.0 * h, -2.0 * h] {
+                let place = if k == 0 && t.abs() > 1.5 * h {
+                    PathPlace::Outermost
+                } else {
+                    PathPlace::Inner
+                };
                 let (built, solution) = self.path_point(design, base, parameter, t)?;
-                samples.push(outputs(&built, &solution));
+                samples.push(outputs(&built, &solution, place));
             }
-            ladder.push(
-                (0..count)
-                    .map(|j| {
-                        let value = |i: usize| samples[i].get(j).map_or(f64::NAN, |s| s.value);
-                        let fine = (value(0) - value(1)) / (2.0 * h);
-                        let coarse = (value(2) - value(3)) / (4.0 * h);
-                        OutputDerivative {
-                            derivative: (4.0 * fine - coarse) / 3.0,
-                            one_sided: samples
-                                .iter()
-                                .any(|s| s.get(j).is_none_or(|s| s.arg != centre[j].arg)),
-                        }
-                    })
-                    .collect(),
-            );
-        }
+            Ok((0..count)
+                .map(|j| {
+                    let value = |i: usize| samples[i].get(j).map_or(f64::NAN, |s| s.value);
+                    let fine = (value(0) - value(1)) / (2.0 * h);
+                    let coarse = (value(2) - value(3)) / (4.0 * h);
+                    OutputDerivative {
+                        derivative: (4.0 * fine - coarse) / 3.0,
+                        one_sided: samples
+                            .iter()
+                            .any(|s| s.get(j).is_none_or(|s| s.arg != centre[j].arg)),
+                    }
+                })
+                .collect())
+        };
+        let apart = |a: OutputDerivative, b: OutputDerivative| (a.derivative - b.derivative).abs();
+        let confirmed = |large: OutputDerivative, middle: OutputDerivative| {
+            apart(large, middle) <= STEP_AGREEMENT * middle.derivative.abs()
+        };
+        let (large, middle) = (rung(0)?, rung(1)?);
+        let small = if large.iter().zip(&middle).all(|(l, m)| confirmed(*l, *m)) {
+            None
+        } else {
+            Some(rung(2)?)
+        };
         Ok((0..count)
             .map(|j| {
-                let (large, middle, small) = (ladder[0][j], ladder[1][j], ladder[2][j]);
-                let apart =
-                    |a: OutputDerivative, b: OutputDerivative| (a.derivative - b.derivative).abs();
-                let scale = middle.derivative.abs();
-                let chosen = if apart(large, middle) <= STEP_AGREEMENT * scale {
-                    large
-                } else if apart(middle, small) < apart(large, middle) {
-                    middle
-                } else {
-                    large
+                let (large, middle) = (large[j], middle[j]);
+                let small = small.as_ref().map(|s| s[j]);
+                let chosen = match small {
+                    _ if confirmed(large, middle) => large,
+                    Some(small) if apart(middle, small) < apart(large, middle) => middle,
+                    _ => large,
                 };
                 OutputDerivative {
                     derivative: chosen.derivative,
-                    one_sided: large.one_sided || middle.one_sided || small.one_sided,
+                    one_sided: large.one_sided
+                        || middle.one_sided
+                        || small.is_some_and(|s| s.one_sided),
                 }
             })
             .collect())
     }
+}
+
+/// Where on the first-order path [`Sensitivities::derivative_at`] evaluates the
+/// outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathPlace {
+    /// The base equilibrium (`t = 0`).
+    Base,
+    /// The outermost points, `t = ±2h` of the largest step: where a jump of an
+    /// arg-max or arg-min within the steps is looked for.
+    Outermost,
+    /// Every other point (its args may be reported as the base's).
+    Inner,
 }
 
 /// Relative agreement of two steps' derivatives that confirms the larger step.

@@ -31,6 +31,9 @@ pub struct Evaluator<'c> {
     pub solves: usize,
     /// Newton iterations of those solves.
     pub iterations: usize,
+    /// The last point's design, whose analysis (the probes of its parameters) the
+    /// next point takes over where it still holds ([`CaseDesign::recentred`]).
+    last: Option<CaseDesign<'c>>,
 }
 
 /// Why a design point has no evaluation (the optimiser rejects the step there).
@@ -49,6 +52,7 @@ impl<'c> Evaluator<'c> {
             sensitivity,
             solves: 0,
             iterations: 0,
+            last: None,
         }
     }
 
@@ -67,7 +71,10 @@ impl<'c> Evaluator<'c> {
         offsets: &[f64],
         from: Option<&Evaluation>,
     ) -> Result<Result<Evaluation, Unsolved>, OptimizeError> {
-        let design = self.design(offsets);
+        let design = match &self.last {
+            Some(last) => last.recentred(offsets.to_vec())?,
+            None => self.design(offsets),
+        };
         let built = design.build(&vec![0.0; offsets.len()])?;
         let solved = match from {
             None => {
@@ -108,7 +115,10 @@ impl<'c> Evaluator<'c> {
             Err(e) => return Ok(Err(format!("the equilibrium could not be solved: {e}"))),
         };
         let table = match output_table(&design, &solution, &self.sensitivity) {
-            Ok(t) => t,
+            Ok(t) => {
+                self.last = Some(design);
+                t
+            }
             Err(StudyError::Sensitivity { source, .. }) => {
                 return Ok(Err(format!(
                     "the equilibrium cannot be differentiated: {source}"

@@ -3,6 +3,7 @@
 //! ([`strand_solve::sensitivity`]), written to `DIR/sensitivity.json` and
 //! `DIR/sensitivity.csv`.
 
+pub mod local;
 pub mod table;
 
 use std::path::Path;
@@ -14,7 +15,10 @@ use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter};
 use strand_solve::Solution;
 use strand_solve::sensitivity::SensitivitySettings;
 
-pub use table::{ENERGY, OutputTable, output_table, outputs_at};
+pub use local::LocalOutputs;
+pub use table::{
+    ENERGY, OutputEvaluation, OutputTable, output_table, output_table_with, outputs_at,
+};
 
 use crate::batch::spec::{base_unit, resolve};
 use crate::error::{Result, StudyError};

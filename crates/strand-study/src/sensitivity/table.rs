@@ -10,6 +10,7 @@ use strand_solve::sensitivity::{
     Design, Sample, Sensitivities, SensitivityError, SensitivitySettings,
 };
 
+use super::local::LocalOutputs;
 use crate::error::{Result, StudyError};
 
 /// Every output of a solved design with its derivative per parameter.
@@ -67,49 +68,58 @@ pub fn outputs_at(
 /// 1.3e-3 relative on the harness with its hinge on the stop (not understood yet).
 pub const ENERGY: &str = "energy_J";
 
+/// How [`output_table_with`] evaluates the outputs along the first-order path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum OutputEvaluation {
+    /// Each output from the elements it depends on ([`LocalOutputs`]) where the case
+    /// has a local plan, else the whole table (the default).
+    #[default]
+    Local,
+    /// The whole table ([`outputs_at`]) at every point: the reference the local
+    /// reading is tested against.
+    WholeTable,
+}
+
 /// The outputs of `design` at its converged `solution` (at zero offsets) and their
-/// derivatives with respect to every parameter of `design`.
+/// derivatives with respect to every parameter of `design` (outputs read locally
+/// where the case allows, [`OutputEvaluation::Local`]).
 pub fn output_table(
     design: &CaseDesign<'_>,
     solution: &Solution,
     settings: &SensitivitySettings,
+) -> Result<OutputTable> {
+    output_table_with(design, solution, settings, OutputEvaluation::Local)
+}
+
+/// [`output_table`] with the outputs along the path evaluated as `evaluation` says.
+pub fn output_table_with(
+    design: &CaseDesign<'_>,
+    solution: &Solution,
+    settings: &SensitivitySettings,
+    evaluation: OutputEvaluation,
 ) -> Result<OutputTable> {
     let count = design.parameter_count();
     let failed = |e: SensitivityError| StudyError::sensitivity(&design.case().origin, e);
     let sensitivities = Sensitivities::compute(design, solution, settings).map_err(failed)?;
     let base_built = design.build(&vec![0.0; count])?;
     let outputs = outputs_at(&base_built, solution, None)?;
+    let plan = match evaluation {
+        OutputEvaluation::Local => LocalOutputs::plan(&base_built, solution, &outputs),
+        OutputEvaluation::WholeTable => None,
+    };
     let mut derivatives = vec![vec![f64::NAN; count]; outputs.len()];
     let mut one_sided = vec![vec![false; count]; outputs.len()];
     for j in 0..count {
         let mut failure = None;
-        let d = sensitivities
-            .derivative(design, solution, j, |built, at| {
-                let here = outputs_at(built, at, Some(&outputs)).unwrap_or_else(|e| {
-                    failure = Some(e);
-                    Vec::new()
-                });
-                outputs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| {
-                        // The same output is almost always at the same index.
-                        let same = here.get(k).filter(|o| o.name == b.name);
-                        same.or_else(|| here.iter().find(|o| o.name == b.name))
-                            .map_or(
-                                Sample {
-                                    value: f64::NAN,
-                                    arg: usize::MAX,
-                                },
-                                |o| Sample {
-                                    value: o.value,
-                                    arg: o.arg,
-                                },
-                            )
-                    })
-                    .collect()
-            })
-            .map_err(failed)?;
+        let d = match &plan {
+            Some(plan) => sensitivities.derivative_at(design, solution, j, |built, at, place| {
+                plan.read(&built.built.model, at, place)
+            }),
+            None => sensitivities.derivative(design, solution, j, |built, at| {
+                whole_table_samples(built, at, &outputs, &mut failure)
+            }),
+        }
+        .map_err(failed)?;
         if let Some(e) = failure {
             return Err(e);
         }
@@ -124,4 +134,37 @@ pub fn output_table(
         one_sided,
         sensitivities,
     })
+}
+
+/// The whole table at a point, as samples in the order of the base's `outputs` (NaN
+/// where an output is missing there); the first error is kept in `failure`.
+fn whole_table_samples(
+    built: &DesignedCase,
+    at: &Solution,
+    outputs: &[OutputValue],
+    failure: &mut Option<StudyError>,
+) -> Vec<Sample> {
+    let here = outputs_at(built, at, Some(outputs)).unwrap_or_else(|e| {
+        *failure = Some(e);
+        Vec::new()
+    });
+    outputs
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            // The same output is almost always at the same index.
+            let same = here.get(k).filter(|o| o.name == b.name);
+            same.or_else(|| here.iter().find(|o| o.name == b.name))
+                .map_or(
+                    Sample {
+                        value: f64::NAN,
+                        arg: usize::MAX,
+                    },
+                    |o| Sample {
+                        value: o.value,
+                        arg: o.arg,
+                    },
+                )
+        })
+        .collect()
 }

@@ -1,0 +1,271 @@
+//! The output table read locally: each output of [`super::outputs_at`] computed from
+//! the few elements it depends on (a peak from the two edges and the curvature
+//! element at its base vertex, a reaction from its end's elements, a junction's pose
+//! from its state) instead of the whole result document. The derivatives along the
+//! first-order path ([`strand_solve::sensitivity::Sensitivities::derivative_at`])
+//! evaluate the outputs a dozen times per parameter; read locally, each evaluation
+//! costs a few elements instead of every rod's sectional quantities.
+//!
+//! A plan is made only where every output has a local reading that reproduces the
+//! whole table at the base exactly: rods' peaks and bend radii, connector and port
+//! reactions, free junctions' poses and the energy. A case with clips, contacts or
+//! clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
+
+use nalgebra::{UnitQuaternion, Vector3};
+use strand_case::DesignedCase;
+use strand_report::{OutputValue, magnitude};
+use strand_rod::sectional::sectional;
+use strand_rod::sectional_at::sectional_at;
+use strand_solve::Solution;
+use strand_solve::sensitivity::{PathPlace, Sample};
+use strand_system::Model;
+
+use super::ENERGY;
+
+/// What a local reading reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Reading {
+    /// `|f̄|` at a vertex of a rod, N.
+    Force { rod: usize, vertex: usize },
+    /// `|m|` at a vertex of a rod, N·m.
+    Moment { rod: usize, vertex: usize },
+    /// `1 / |K_⊥|` at a vertex of a rod, m.
+    BendRadius { rod: usize, vertex: usize },
+    /// A component of a reaction's force (N) or moment (N·m), in the order of
+    /// [`Model::reactions`].
+    Reaction {
+        index: usize,
+        moment: bool,
+        axis: usize,
+    },
+    /// A component of a body's position, m.
+    Position { body: usize, axis: usize },
+    /// A component of a body's rotation vector, rad.
+    Rotation { body: usize, axis: usize },
+    /// The total potential energy, J.
+    Energy,
+}
+
+/// The local readings of every output of a base table, in its order.
+#[derive(Clone, Debug)]
+pub struct LocalOutputs {
+    readings: Vec<Reading>,
+    /// The base's args (the vertex of a peak; 0 for a smooth output).
+    args: Vec<usize>,
+}
+
+/// Largest relative difference between a local reading and the whole table at the
+/// base that a plan accepts (the two compute the same numbers in the same order; the
+/// margin is for a different summation order only).
+pub const LOCAL_AGREEMENT: f64 = 1e-12;
+
+impl LocalOutputs {
+    /// The plan that reads `outputs` (the whole table of `built` at `solution`, from
+    /// [`super::outputs_at`] without pins) locally, or `None` where some output has no
+    /// local reading (clips, contacts, clearances) or a reading does not reproduce
+    /// its value at the base to [`LOCAL_AGREEMENT`].
+    pub fn plan(
+        built: &DesignedCase,
+        solution: &Solution,
+        outputs: &[OutputValue],
+    ) -> Option<Self> {
+        let model = &built.built.model;
+        let system = model.system();
+        if built.contact.is_some() || !system.clips.is_empty() {
+            return None;
+        }
+        let mut readings = Vec::with_capacity(outputs.len());
+        let mut next = 0;
+        let mut take = |name: &str, reading: &dyn Fn(usize) -> Reading| -> bool {
+            match outputs.get(next) {
+                Some(o) if o.name == name => {
+                    readings.push(reading(o.arg));
+                    next += 1;
+                    true
+                }
+                _ => false,
+            }
+        };
+        for (rod, spec) in system.rods.iter().enumerate() {
+            let name = &spec.name;
+            let peaks = take(&format!("{name}.peak_force_N"), &|vertex| Reading::Force {
+                rod,
+                vertex,
+            }) && take(&format!("{name}.peak_moment_Nm"), &|vertex| {
+                Reading::Moment { rod, vertex }
+            });
+            if !peaks {
+                return None;
+            }
+            // Absent where the rod is straight everywhere (no finite radius).
+            take(&format!("{name}.min_bend_radius_m"), &|vertex| {
+                Reading::BendRadius { rod, vertex }
+            });
+        }
+        // Reactions and bodies carry their document names (connectors renamed); their
+        // order is the document's, checked by the values below.
+        let mut rest = outputs[next..].iter();
+        for index in 0..model.reactions(&solution.state).len() {
+            for (moment, axis) in (0..6).map(|c| (c >= 3, c % 3)) {
+                let stem = if moment { ".moment_Nm." } else { ".force_N." };
+                let o = rest.next()?;
+                if !o
+                    .name
+                    .ends_with(&format!("{stem}{}", ["x", "y", "z"][axis]))
+                {
+                    return None;
+                }
+                readings.push(Reading::Reaction {
+                    index,
+                    moment,
+                    axis,
+                });
+            }
+        }
+        for (body, spec) in system.bodies.iter().enumerate() {
+            if spec.fixed {
+                continue;
+            }
+            for component in 0..6 {
+                let axis = component % 3;
+                let (stem, reading) = if component < 3 {
+                    ("position_m", Reading::Position { body, axis })
+                } else {
+                    ("rotation_vector_rad", Reading::Rotation { body, axis })
+                };
+                let o = rest.next()?;
+                if o.name != format!("{}.{stem}.{}", spec.name, ["x", "y", "z"][axis]) {
+                    return None;
+                }
+                readings.push(reading);
+            }
+        }
+        if rest.next()?.name != ENERGY || rest.next().is_some() {
+            return None;
+        }
+        readings.push(Reading::Energy);
+        let plan = Self {
+            readings,
+            args: outputs.iter().map(|o| o.arg).collect(),
+        };
+        let local = plan.read(model, solution, PathPlace::Base);
+        let agrees = local.iter().zip(outputs).all(|(l, o)| {
+            let scale = l.value.abs().max(o.value.abs());
+            (l.value - o.value).abs() <= LOCAL_AGREEMENT * scale && l.arg == o.arg
+        });
+        agrees.then_some(plan)
+    }
+
+    /// The outputs of `model` at `solution`, read at the base's args; at the
+    /// [`PathPlace::Outermost`] points each peak's and minimum's own arg is found
+    /// from the whole rod (elsewhere the base's is reported).
+    pub fn read(&self, model: &Model, solution: &Solution, place: PathPlace) -> Vec<Sample> {
+        let system = model.system();
+        let state = &solution.state;
+        let frames: Vec<_> = (0..system.rods.len())
+            .map(|r| model.boundary_frames(r, state))
+            .collect();
+        let needs_reactions = self
+            .readings
+            .iter()
+            .any(|r| matches!(r, Reading::Reaction { .. }));
+        let reactions = if needs_reactions {
+            model.reactions(state)
+        } else {
+            Vec::new()
+        };
+        let whole: Vec<_> = match place {
+            PathPlace::Outermost => system
+                .rods
+                .iter()
+                .enumerate()
+                .map(|(r, spec)| Some(sectional(&spec.rod, &state.rods[r], &frames[r])))
+                .collect(),
+            _ => vec![None; system.rods.len()],
+        };
+        let at = |rod: usize, vertex: usize| {
+            sectional_at(
+                &system.rods[rod].rod,
+                &state.rods[rod],
+                &frames[rod],
+                vertex,
+            )
+        };
+        let norm = |v: &Vector3<f64>| magnitude(&[v.x, v.y, v.z]);
+        let radius = |k: &Vector3<f64>| 1.0 / k.x.hypot(k.y);
+        self.readings
+            .iter()
+            .zip(&self.args)
+            .map(|(reading, &arg)| {
+                let (value, found) = match *reading {
+                    Reading::Force { rod, vertex } => (
+                        norm(&at(rod, vertex).force),
+                        whole[rod]
+                            .as_ref()
+                            .map(|s| largest(s.forces.iter().map(norm))),
+                    ),
+                    Reading::Moment { rod, vertex } => (
+                        norm(&at(rod, vertex).moment),
+                        whole[rod]
+                            .as_ref()
+                            .map(|s| largest(s.moments.iter().map(norm))),
+                    ),
+                    Reading::BendRadius { rod, vertex } => (
+                        radius(&at(rod, vertex).curvature),
+                        whole[rod]
+                            .as_ref()
+                            .map(|s| smallest(s.curvatures.iter().map(radius))),
+                    ),
+                    Reading::Reaction {
+                        index,
+                        moment,
+                        axis,
+                    } => {
+                        let r = &reactions[index];
+                        ((if moment { r.moment } else { r.force })[axis], None)
+                    }
+                    Reading::Position { body, axis } => (state.bodies[body].position[axis], None),
+                    Reading::Rotation { body, axis } => {
+                        (rotation_vector(&state.bodies[body].orientation)[axis], None)
+                    }
+                    Reading::Energy => (model.energy(state), None),
+                };
+                Sample {
+                    value,
+                    arg: found.unwrap_or(arg),
+                }
+            })
+            .collect()
+    }
+}
+
+/// The vertex of the largest value (the first on ties; NaN wins), as the whole table
+/// finds a peak.
+fn largest(values: impl Iterator<Item = f64>) -> usize {
+    let mut best = (f64::NEG_INFINITY, 0);
+    for (j, m) in values.enumerate() {
+        if m > best.0 || m.is_nan() && !best.0.is_nan() {
+            best = (m, j);
+        }
+    }
+    best.1
+}
+
+/// The vertex of the smallest value (the first on ties), as the whole table finds
+/// the smallest bend radius.
+fn smallest(values: impl Iterator<Item = f64>) -> usize {
+    let mut best = (f64::INFINITY, 0);
+    for (j, r) in values.enumerate() {
+        if r < best.0 {
+            best = (r, j);
+        }
+    }
+    best.1
+}
+
+/// The rotation vector (rad) of `q`, as the whole table writes a junction's rotation
+/// (through the document's quaternion).
+fn rotation_vector(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let q = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.i, q.j, q.k));
+    q.scaled_axis()
+}
