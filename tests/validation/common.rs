@@ -87,3 +87,54 @@ pub fn strand(args: &[&str]) -> (strand_cli::Exit, String, String) {
         String::from_utf8(err).unwrap(),
     )
 }
+
+/// Solves again from `start` with a full BVH search of every feature at every
+/// evaluation (`ProximitySettings::full_queries`) and asserts that the incremental
+/// proximity of `contact` gave the same answer: the same convergence and iterations,
+/// the same contact rows carrying force (by key) and vertex positions within 1e-9 m.
+pub fn assert_same_as_full_queries(
+    model: &strand_system::Model,
+    contact: &strand_solve::contact::Contact,
+    start: strand_system::SystemState,
+    settings: &SolverSettings,
+    solution: &Solution,
+    label: &str,
+) {
+    use strand_solve::contact::ProximitySettings;
+    assert!(contact.proximity().incremental, "{label}: not incremental");
+    let full = contact
+        .clone()
+        .with_proximity(ProximitySettings::full_queries());
+    let reference = strand_solve::solve_constrained(model, &full, start, settings).unwrap();
+    let active = |s: &Solution| {
+        let mut keys: Vec<_> = s
+            .constraints
+            .iter()
+            .filter(|(_, force)| *force > 0.0)
+            .map(|(row, _)| row.key)
+            .collect();
+        keys.sort();
+        keys
+    };
+    assert_eq!(
+        solution.report.converged, reference.report.converged,
+        "{label}: convergence differs from full queries"
+    );
+    assert_eq!(
+        solution.report.iterations, reference.report.iterations,
+        "{label}: iterations differ from full queries"
+    );
+    assert_eq!(
+        active(solution),
+        active(&reference),
+        "{label}: active contacts differ from full queries"
+    );
+    let mut largest = 0.0f64;
+    for (a, b) in solution.state.rods.iter().zip(&reference.state.rods) {
+        for (p, q) in a.positions.iter().zip(&b.positions) {
+            largest = largest.max((p - q).norm());
+        }
+    }
+    println!("{label}: incremental vs full queries: positions differ by {largest:.1e} m");
+    assert!(largest <= 1e-9, "{label}: positions differ by {largest} m");
+}

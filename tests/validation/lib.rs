@@ -28,6 +28,7 @@ mod motion;
 mod moulded_clips;
 mod optimize;
 mod predeformed;
+mod proximity;
 mod report;
 mod sensitivity;
 mod sensitivity_local;

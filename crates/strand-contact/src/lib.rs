@@ -27,8 +27,9 @@ pub mod mesh_cache;
 pub use mesh_cache::{MeshCacheSettings, MeshCacheUse};
 
 pub use mesh::{
-    LocalContact, MeshDiagnostics, MeshError, MeshFormat, ObstacleMesh, Proximity,
-    SMOOTH_PATCH_ANGLE_RAD, STL_WELD_RELATIVE_TOLERANCE, write_ascii_stl, write_binary_stl,
+    LocalContact, MeshDiagnostics, MeshError, MeshFormat, ObstacleMesh, Proximity, QueryWork,
+    SMOOTH_PATCH_ANGLE_RAD, STL_WELD_RELATIVE_TOLERANCE, query_work, write_ascii_stl,
+    write_binary_stl,
 };
 pub mod gaps;
 

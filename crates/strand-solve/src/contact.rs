@@ -19,6 +19,9 @@ mod curvature;
 mod exclusion;
 mod mesh_gaps;
 mod nearby;
+mod proximity_cache;
+#[cfg(test)]
+mod proximity_tests;
 mod rod_minima;
 #[cfg(test)]
 mod scaling_tests;
@@ -28,6 +31,8 @@ mod tests;
 
 use curvature::Feature;
 use exclusion::Exclusion;
+use proximity_cache::ProximityCache;
+pub use proximity_cache::ProximitySettings;
 
 /// What tells the gaps of one rod feature (vertex or edge) against one obstacle
 /// apart, for the row keys: the mesh's smooth patch (0 for a rod) and which end of a
@@ -60,6 +65,10 @@ pub struct Contact {
     /// Whether a step's reach towards the meshes is measured along its path
     /// (`Contact::mesh_advancement`) rather than from its start alone.
     sampled_advancement: bool,
+    /// How the meshes are asked for the triangles near each rod feature.
+    proximity: ProximitySettings,
+    /// Each feature's candidate triangles from its last search (incremental proximity).
+    kept: ProximityCache,
 }
 
 /// One contact pair at a state, with its force.
@@ -83,7 +92,23 @@ impl Contact {
             meshes,
             margin_m,
             sampled_advancement: true,
+            proximity: ProximitySettings::default(),
+            kept: ProximityCache::default(),
         }
+    }
+
+    /// The same contact asking the meshes as `settings` say (incremental proximity by
+    /// default; [`ProximitySettings::full_queries`] searches every feature's triangles
+    /// at every evaluation, for comparison). The contacts are the same either way.
+    pub fn with_proximity(mut self, settings: ProximitySettings) -> Self {
+        self.proximity = settings;
+        self.kept = ProximityCache::default();
+        self
+    }
+
+    /// How the meshes are asked for the triangles near each rod feature.
+    pub fn proximity(&self) -> &ProximitySettings {
+        &self.proximity
     }
 
     /// The same contact with the step's reach towards the meshes measured from the
@@ -148,12 +173,18 @@ impl Contact {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
         let mut gaps = Vec::new();
+        let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
+        let mut lists = self.proximity.incremental.then(|| self.kept.begin(slack_m));
         for (rod, geometry) in rods.iter().enumerate() {
             for index in self.meshes_near(geometry.vertices, geometry.radius + margin_m) {
                 let mesh = &self.meshes[index];
-                self.mesh_gaps(model, rod, geometry, index, mesh, margin_m, &mut gaps)?;
+                let lists = lists.as_mut();
+                self.mesh_gaps(
+                    model, rod, geometry, index, mesh, margin_m, lists, &mut gaps,
+                )?;
             }
         }
+        drop(lists);
         // Arc lengths once per evaluation, not per candidate pair.
         let exclusion = Exclusion::new(model, state);
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {

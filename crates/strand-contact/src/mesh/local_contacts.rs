@@ -9,15 +9,14 @@
 //! patch, so a point on a floor has one contact; a convex ridge seen from above gives
 //! the same point from both faces, kept once.
 
-use nalgebra::Point3;
-use parry3d_f64::partitioning::{BvhNode, TraversalAction};
-
 use super::ObstacleMesh;
+use super::near_scan::{Near, near_guard};
 use super::segment_proximity::SegmentBound;
 use crate::closest::{
     Candidate, SegmentTriangleParameters, TIE_TOLERANCE, pick, segment_triangle_candidate,
 };
 use crate::mesh::Proximity;
+use nalgebra::Point3;
 
 /// One local contact: the nearest point of one smooth patch, a local minimum of the
 /// distance over the surface.
@@ -31,12 +30,6 @@ pub struct LocalContact {
     pub proximity: Proximity,
 }
 
-/// One triangle within reach.
-struct Near {
-    triangle: usize,
-    candidate: Candidate<SegmentTriangleParameters>,
-}
-
 impl ObstacleMesh {
     /// The local contacts of segment `[p0, p1]` (m) within `max_distance` (m), nearest
     /// first; at most one per smooth patch. Empty when the mesh is farther away.
@@ -47,7 +40,36 @@ impl ObstacleMesh {
         max_distance: f64,
     ) -> Vec<LocalContact> {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
-        let mut out = self.local_contacts_here(&l0, &l1, max_distance);
+        let mut out = self
+            .local_contacts_here(&l0, &l1, max_distance, None)
+            .expect("a search of the whole mesh always tells");
+        for c in &mut out {
+            c.proximity = self.to_world(c.proximity, p0, p1);
+        }
+        out
+    }
+
+    /// [`ObstacleMesh::local_contacts`] looking only at the triangles `candidates`
+    /// (indices `< triangle_count()`, in the BVH's depth-first order) kept by
+    /// [`ObstacleMesh::triangles_near`] for a segment from which neither end of
+    /// `[p0, p1]` has moved by more than the slack, with `max_distance` at most the
+    /// reach asked there: then the same contacts as `local_contacts` (see
+    /// `triangles_near`). Where the candidates cannot tell (the midpoint of a stretch of
+    /// nearest points lying off every near triangle) it searches the whole mesh.
+    pub fn local_contacts_among(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+        candidates: &[u32],
+    ) -> Vec<LocalContact> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        let mut out = self
+            .local_contacts_here(&l0, &l1, max_distance, Some(candidates))
+            .unwrap_or_else(|| {
+                self.local_contacts_here(&l0, &l1, max_distance, None)
+                    .expect("a search of the whole mesh always tells")
+            });
         for c in &mut out {
             c.proximity = self.to_world(c.proximity, p0, p1);
         }
@@ -55,16 +77,23 @@ impl ObstacleMesh {
     }
 
     /// [`ObstacleMesh::local_contacts`] of a segment in the mesh's own frame.
+    /// `list`: the triangles to look at (`None`: every triangle, through the BVH);
+    /// `None` back when they cannot tell the midpoint of a stretch (never without them).
     fn local_contacts_here(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         max_distance: f64,
-    ) -> Vec<LocalContact> {
+        list: Option<&[u32]>,
+    ) -> Option<Vec<LocalContact>> {
         let [min, max] = self.bounding_box;
         let size = (p1 - p0).norm() + (max - min).norm();
         let tolerance = TIE_TOLERANCE * size;
-        let near = self.within(p0, p1, max_distance);
+        let limit = max_distance.next_up();
+        let reachable = self.reachable(&SegmentBound::new(p0, p1), limit, list);
+        let guard = near_guard(tolerance, limit);
+        let scan = self.scan_near(p0, p1, limit, reachable, guard);
+        let near = &scan.near;
         let mut patches: Vec<usize> = near.iter().map(|n| self.patch_of(n.triangle)).collect();
         patches.sort_unstable();
         patches.dedup();
@@ -82,13 +111,13 @@ impl ObstacleMesh {
             else {
                 continue;
             };
-            if !self.is_local_minimum(p0, p1, triangle, &best, &near, tolerance) {
+            if !self.is_local_minimum(p0, p1, triangle, &best, near, tolerance) {
                 continue;
             }
             let mut proximity = self.proximity(p0, p1, triangle, best.value, tolerance);
             // The patch's stretch of nearest points (an edge lying on a face).
-            let limit = (best.squared.sqrt() + tolerance).powi(2);
-            let (low, high) = candidates.iter().filter(|c| c.squared <= limit).fold(
+            let tie_limit = (best.squared.sqrt() + tolerance).powi(2);
+            let (low, high) = candidates.iter().filter(|c| c.squared <= tie_limit).fold(
                 (f64::INFINITY, f64::NEG_INFINITY),
                 |(l, h), c| {
                     let half = 0.5 * c.interval;
@@ -101,7 +130,11 @@ impl ObstacleMesh {
                 // Its midpoint, as `segment_proximity` does for the whole mesh.
                 let s = 0.5 * (low + high);
                 let point = p0 + (p1 - p0) * s;
-                let at: Vec<_> = members
+                // Every member within reach, the deferred ones too, in candidate order.
+                let extra = self.deferred_members(&scan, p0, p1, limit, patch);
+                let mut all: Vec<&Near> = members.iter().copied().chain(&extra).collect();
+                all.sort_by_key(|n| n.position);
+                let at: Vec<_> = all
                     .iter()
                     .map(|n| {
                         let [a, b, c] = self.local_triangle(n.triangle);
@@ -111,7 +144,14 @@ impl ObstacleMesh {
                         )
                     })
                     .collect();
-                if let Some((t, c)) = at.iter().min_by(|x, y| x.1.squared.total_cmp(&y.1.squared)) {
+                let nearest = at.iter().min_by(|x, y| x.1.squared.total_cmp(&y.1.squared));
+                // Off every triangle near the segment: kept candidates may miss its own.
+                let off =
+                    nearest.is_none_or(|(_, c)| c.squared.sqrt() > best.squared.sqrt() + guard);
+                if list.is_some() && off {
+                    return None;
+                }
+                if let Some((t, c)) = nearest {
                     let mut mid = self.proximity(&point, &point, *t, c.value, tolerance);
                     mid.s = s;
                     mid.tie = [low, high];
@@ -132,38 +172,7 @@ impl ObstacleMesh {
                 .partial_cmp(&(b.proximity.distance, b.patch))
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
-        out
-    }
-
-    /// Every triangle within `max_distance` of the segment.
-    fn within(&self, p0: &Point3<f64>, p1: &Point3<f64>, max_distance: f64) -> Vec<Near> {
-        let bound = SegmentBound::new(p0, p1);
-        let limit = max_distance.next_up();
-        let mut near = Vec::new();
-        self.tree.bvh.traverse(|node: &BvhNode| {
-            if bound.distance(node, limit) > limit {
-                return TraversalAction::Prune;
-            }
-            if let Some(leaf) = node.leaf_data() {
-                for &t in self.tree.cluster(leaf) {
-                    let triangle = t as usize;
-                    let corners = self.local_triangle(triangle);
-                    if bound.triangle_distance(&corners, limit) > limit {
-                        continue;
-                    }
-                    let [a, b, c] = corners;
-                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                    if candidate.squared <= limit * limit {
-                        near.push(Near {
-                            triangle,
-                            candidate,
-                        });
-                    }
-                }
-            }
-            TraversalAction::Continue
-        });
-        near
+        Some(out)
     }
 
     /// Whether the candidate's mesh point `q` is a local minimum of the distance from

@@ -19,6 +19,9 @@ mod error;
 mod from_triangles;
 mod load_obj;
 mod local_contacts;
+mod near_scan;
+#[cfg(test)]
+mod near_scan_tests;
 mod obstacle_mesh;
 mod placed;
 mod plain_obj;
@@ -28,6 +31,7 @@ mod segment_proximity;
 pub mod stl;
 mod topology;
 mod triangle_tree;
+mod work;
 
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
@@ -40,3 +44,4 @@ pub use stl::{MeshFormat, STL_WELD_RELATIVE_TOLERANCE, write_ascii_stl, write_bi
 pub(crate) use stl::{mesh_from_bytes, read};
 pub use topology::SMOOTH_PATCH_ANGLE_RAD;
 pub(crate) use triangle_tree::{CLUSTER_SIZE, TriangleTree};
+pub use work::{QueryWork, query_work};

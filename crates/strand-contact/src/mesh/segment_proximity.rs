@@ -7,6 +7,7 @@ use parry3d_f64::partitioning::{BvhNode, TraversalAction};
 use super::ObstacleMesh;
 use super::convert::to_glam;
 use super::segment_box::{box_box_distance, segment_box_distance};
+use super::work::{count_box, count_exact, count_node};
 use crate::closest::{
     Candidate, SegmentTriangle, SegmentTriangleParameters, TIE_TOLERANCE,
     segment_triangle_candidate, segment_triangle_points,
@@ -104,7 +105,10 @@ impl ObstacleMesh {
         let bound = SegmentBound::new(p0, p1);
         let (_, (_, (triangle, candidate))) = self.tree.bvh.find_best(
             max_distance.next_up(),
-            |node: &BvhNode, best| bound.distance(node, best),
+            |node: &BvhNode, best| {
+                count_node();
+                bound.distance(node, best)
+            },
             |leaf, best| {
                 // The nearest triangle of the cluster (the first of equals) nearer than
                 // `best`; a triangle whose box is not nearer is not tested.
@@ -112,9 +116,11 @@ impl ObstacleMesh {
                 for &t in self.tree.cluster(leaf) {
                     let corners = self.local_triangle(t as usize);
                     let beat = found.as_ref().map_or(best, |f| f.0.min(best));
+                    count_box();
                     if bound.triangle_distance(&corners, beat) >= beat {
                         continue;
                     }
+                    count_exact();
                     let [a, b, c] = corners;
                     let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                     let distance = candidate.squared.sqrt();
@@ -159,15 +165,18 @@ impl ObstacleMesh {
         let bound = SegmentBound::new(p0, p1);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
         self.tree.bvh.traverse(|node: &BvhNode| {
+            count_node();
             if bound.distance(node, limit) > limit {
                 return TraversalAction::Prune;
             }
             if let Some(leaf) = node.leaf_data() {
                 for &t in self.tree.cluster(leaf) {
                     let corners = self.local_triangle(t as usize);
+                    count_box();
                     if bound.triangle_distance(&corners, limit) > limit {
                         continue;
                     }
+                    count_exact();
                     let [a, b, c] = corners;
                     let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
                     if candidate.squared <= limit * limit {

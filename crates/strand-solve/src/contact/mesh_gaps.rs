@@ -5,6 +5,7 @@ use nalgebra::Point3;
 use strand_contact::{Gap, LocalContact, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::Model;
 
+use super::proximity_cache::Candidates;
 use super::{Contact, Feature, Tag};
 use crate::constraints::ConstraintError;
 
@@ -21,6 +22,10 @@ impl Contact {
     /// only where its nearest point on that patch lies strictly inside it and nearer
     /// than both its vertices (the edge crosses a convex feature), or at the inner ends
     /// of a stretch lying along the patch.
+    ///
+    /// With `lists` each feature looks only at its kept candidate triangles
+    /// (incremental proximity, [`super::proximity_cache`]; the same gaps as a full
+    /// search), else every search goes through the mesh's BVH.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn mesh_gaps(
         &self,
@@ -30,10 +35,12 @@ impl Contact {
         index: usize,
         mesh: &ObstacleMesh,
         margin_m: f64,
+        lists: Option<&mut Candidates>,
         out: &mut Vec<(Gap, Tag)>,
     ) -> Result<(), ConstraintError> {
         let reach = geometry.radius + margin_m;
         let vertices = geometry.vertices;
+        let mut lists = lists.map(|l| l.of(rod, index, vertices.len()));
         let last_edge = vertices.len() - 2;
         let touches = |point: &Point3<f64>| ConstraintError::CentrelineTouches {
             rod: model.system().rods[rod].name.clone(),
@@ -67,7 +74,14 @@ impl Contact {
             } else {
                 (last_edge, 1.0)
             };
-            for contact in mesh.local_contacts(p, p, reach) {
+            let contacts = match lists.as_mut() {
+                Some(lists) => {
+                    let list = lists.near(false, j, mesh, p, p, reach);
+                    mesh.local_contacts_among(p, p, reach, list)
+                }
+                None => mesh.local_contacts(p, p, reach),
+            };
+            for contact in contacts {
                 vertex_contacts[j].push((contact.patch, contact.proximity.distance));
                 let (gap, feature) = gap_of(&contact, edge, s, *p)?;
                 out.push((gap, Tag::new(contact.patch, 0, feature)));
@@ -87,7 +101,17 @@ impl Contact {
             if !Self::in_reach(mesh, a, b, reach) {
                 continue;
             }
-            for contact in mesh.local_contacts(a, b, reach) {
+            // The edge's candidates serve its nearest points too: the contact of such a
+            // point on patch P depends only on triangles within the edge's distance to
+            // P (plus a guard) of it, all kept for the edge (`triangles_near`).
+            let list = lists
+                .as_mut()
+                .map(|l| l.near(true, edge, mesh, a, b, reach));
+            let contacts_of = |p0: &Point3<f64>, p1: &Point3<f64>| match list {
+                Some(list) => mesh.local_contacts_among(p0, p1, reach, list),
+                None => mesh.local_contacts(p0, p1, reach),
+            };
+            for contact in contacts_of(a, b) {
                 let near = &contact.proximity;
                 let patch = contact.patch;
                 // Where the edge runs along the patch over a stretch (lying on a face and
@@ -111,8 +135,7 @@ impl Contact {
                 for (s, end) in points {
                     // The point's own contact on the patch (exact for a point).
                     let point = a + (b - a) * s;
-                    let Some(at) = mesh
-                        .local_contacts(&point, &point, reach)
+                    let Some(at) = contacts_of(&point, &point)
                         .into_iter()
                         .find(|c| c.patch == patch)
                     else {

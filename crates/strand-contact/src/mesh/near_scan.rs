@@ -1,0 +1,256 @@
+//! The triangles within reach of a segment, for [`ObstacleMesh::local_contacts`], with
+//! exact closest points computed only where they can change the answer.
+//!
+//! The candidates are the triangles whose bounding box is within reach (from the BVH,
+//! or from a list kept by the caller, [`ObstacleMesh::triangles_near`]). On a finely
+//! tessellated surface most of them lie on a smooth patch whose nearest point is
+//! already known to be much nearer; an exact segment–triangle test costs several times
+//! a box test, so the candidates are taken in the order of their box distance `b` and
+//! one of patch `P` is only *deferred* (not tested) while `b > d_P + guard`, `d_P` the
+//! nearest distance found on `P` so far. Why the answer is unchanged:
+//!
+//! - the exact distance of a deferred triangle is at least `b > d_P + guard`, and `d_P`
+//!   only decreases, so it is neither the patch's nearest nor a tie of it (ties lie
+//!   within `tolerance < guard`), nor in the stretch of nearest points;
+//! - a patch is only deferred from once it has a member within reach, so the set of
+//!   patches is that of the full scan;
+//! - the local-minimum test of a patch's nearest point `q` (distance `d_P` from the
+//!   segment point) looks at triangles touching `q` (within `touch < guard` of it),
+//!   which are within `d_P + guard` of the segment: every deferred triangle whose box
+//!   is within `max_P d_P + guard` is tested at the end ([`NearScan::finish`]);
+//! - the midpoint of a stretch may lie off the nearest triangles' intervals: there the
+//!   deferred members of the patch are tested too ([`ObstacleMesh::deferred_members`]).
+//!
+//! The near triangles keep the candidates' order (the BVH's depth-first order for both
+//! sources), so ties are broken as by a scan of every candidate.
+
+use nalgebra::Point3;
+use parry3d_f64::partitioning::{BvhNode, TraversalAction};
+
+use super::ObstacleMesh;
+use super::segment_proximity::SegmentBound;
+use super::work::{count_box, count_exact, count_node};
+use crate::closest::{
+    Candidate, SegmentTriangleParameters, TIE_TOLERANCE, segment_triangle_candidate,
+};
+
+/// The margin (m) by which a candidate's box must be farther than its patch's nearest
+/// triangle to be deferred: above the tie tolerance `tolerance` (m, `TIE_TOLERANCE`
+/// times the size), the distance below which two contacts are one (`SAME_POINT`, 1e-9
+/// times the size), the touching distance of the local-minimum test (`CONTAINS`) and
+/// the rounding of the box distances at distances up to `limit` (m).
+pub(super) fn near_guard(tolerance: f64, limit: f64) -> f64 {
+    2e3 * tolerance + 1e-9 * (1.0 + limit)
+}
+
+/// One triangle within reach, with its exact closest points.
+pub(super) struct Near {
+    /// Its place among the candidates (their order breaks ties).
+    pub(super) position: usize,
+    pub(super) triangle: usize,
+    pub(super) candidate: Candidate<SegmentTriangleParameters>,
+}
+
+/// A candidate triangle whose box is within reach.
+#[derive(Clone, Copy)]
+pub(super) struct Reachable {
+    position: usize,
+    triangle: usize,
+    /// Distance from the segment to the triangle's box (a lower bound of its own), m.
+    bound: f64,
+}
+
+/// The result of [`ObstacleMesh::scan_near`].
+pub(super) struct NearScan {
+    /// The triangles tested and within reach, in candidate order.
+    pub(super) near: Vec<Near>,
+    /// The triangles not tested (their boxes farther than their patch's nearest).
+    deferred: Vec<Reachable>,
+}
+
+impl ObstacleMesh {
+    /// The candidate triangles (indices, in the BVH's depth-first order) for
+    /// [`ObstacleMesh::local_contacts_among`] of any segment whose ends are within
+    /// `slack` (m) of `p0` and `p1`, for reaches up to `reach` (m): a list to keep while
+    /// the segment moves by less than `slack`.
+    ///
+    /// Why nothing that matters is left out. Let `R = reach + slack` and `d_P` the
+    /// nearest distance of smooth patch `P` to `[p0, p1]` among its triangles within
+    /// `R`; the list holds every triangle whose box is within `max_P d_P + 2 slack +
+    /// guard`. For a segment `[q0, q1]` with `|qᵢ − pᵢ| ≤ δ ≤ slack` every point moved
+    /// by at most `δ` (`(1 − s)|q0 − p0| + s |q1 − p1|`), so distances change by at most
+    /// `δ`. A patch within `reach` of the new segment was within `R` of the old one,
+    /// and its new nearest distance is at most `d_P + δ` (its old nearest triangle
+    /// moved by `δ`). The answer of [`ObstacleMesh::local_contacts`] depends (see the
+    /// module documentation) only on the triangles within `d_P' + guard` of the new
+    /// segment for some patch `P'`, i.e. within `max_P d_P + δ + guard`, which were
+    /// within `max_P d_P + 2δ + guard` of the old one: all in the list. (The midpoint
+    /// of a stretch of nearest points may be off every near triangle;
+    /// `local_contacts_among` then searches the whole mesh.)
+    pub fn triangles_near(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        reach: f64,
+        slack: f64,
+    ) -> Vec<u32> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        let [min, max] = self.bounding_box;
+        let tolerance = TIE_TOLERANCE * ((l1 - l0).norm() + (max - min).norm());
+        let radius = (reach + slack).next_up();
+        let guard = near_guard(tolerance, radius);
+        let reachable = self.reachable(&SegmentBound::new(&l0, &l1), radius, None);
+        let scan = self.scan_near(&l0, &l1, radius, reachable.clone(), guard);
+        let mut nearest: Vec<(usize, f64)> = Vec::new();
+        for n in &scan.near {
+            let (patch, d) = (self.patch_of(n.triangle), n.candidate.squared.sqrt());
+            match nearest.iter_mut().find(|(p, _)| *p == patch) {
+                Some(kept) => kept.1 = kept.1.min(d),
+                None => nearest.push((patch, d)),
+            }
+        }
+        let Some(farthest) = nearest.iter().map(|(_, d)| *d).reduce(f64::max) else {
+            return Vec::new();
+        };
+        let keep = farthest + 2.0 * slack + 2.0 * guard;
+        reachable
+            .into_iter()
+            .filter(|r| r.bound <= keep)
+            .map(|r| r.triangle as u32)
+            .collect()
+    }
+
+    /// The triangles (in the mesh's own frame) whose boxes are within `limit` (m) of the
+    /// segment: from the BVH when `list` is `None`, else from `list` (triangle indices).
+    pub(super) fn reachable(
+        &self,
+        bound: &SegmentBound,
+        limit: f64,
+        list: Option<&[u32]>,
+    ) -> Vec<Reachable> {
+        let mut out = Vec::new();
+        let mut test = |t: u32| {
+            count_box();
+            let corners = self.local_triangle(t as usize);
+            let distance = bound.triangle_distance(&corners, limit);
+            if distance <= limit {
+                out.push(Reachable {
+                    position: out.len(),
+                    triangle: t as usize,
+                    bound: distance,
+                });
+            }
+        };
+        match list {
+            Some(list) => list.iter().for_each(|&t| test(t)),
+            None => self.tree.bvh.traverse(|node: &BvhNode| {
+                count_node();
+                if bound.distance(node, limit) > limit {
+                    return TraversalAction::Prune;
+                }
+                if let Some(leaf) = node.leaf_data() {
+                    self.tree.cluster(leaf).iter().for_each(|&t| test(t));
+                }
+                TraversalAction::Continue
+            }),
+        }
+        out
+    }
+
+    /// The exact closest points of the `reachable` triangles that can matter for the
+    /// local contacts of segment `[p0, p1]` within `limit` (m); see the module
+    /// documentation. `guard` (m) exceeds the tie tolerance and the touching distance.
+    pub(super) fn scan_near(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        limit: f64,
+        mut reachable: Vec<Reachable>,
+        guard: f64,
+    ) -> NearScan {
+        reachable.sort_by(|a, b| {
+            a.bound
+                .total_cmp(&b.bound)
+                .then(a.position.cmp(&b.position))
+        });
+        // Nearest distance found on each patch so far (few patches: a list).
+        let mut nearest: Vec<(usize, f64)> = Vec::new();
+        let mut near = Vec::new();
+        let mut deferred = Vec::new();
+        for r in reachable {
+            let patch = self.patch_of(r.triangle);
+            let seen = nearest.iter().position(|(p, _)| *p == patch);
+            if let Some(k) = seen
+                && r.bound > nearest[k].1 + guard
+            {
+                deferred.push(r);
+                continue;
+            }
+            if let Some(found) = self.exact(p0, p1, r, limit) {
+                let distance = found.candidate.squared.sqrt();
+                match seen {
+                    Some(k) => nearest[k].1 = nearest[k].1.min(distance),
+                    None => nearest.push((patch, distance)),
+                }
+                near.push(found);
+            }
+        }
+        let farthest = nearest.iter().map(|(_, d)| *d).fold(0.0, f64::max) + guard;
+        let mut scan = NearScan { near, deferred };
+        scan.finish(self, p0, p1, limit, farthest);
+        scan
+    }
+
+    /// The exact closest points of candidate `r`, if within `limit` (m).
+    fn exact(&self, p0: &Point3<f64>, p1: &Point3<f64>, r: Reachable, limit: f64) -> Option<Near> {
+        count_exact();
+        let [a, b, c] = self.local_triangle(r.triangle);
+        let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
+        (candidate.squared <= limit * limit).then_some(Near {
+            position: r.position,
+            triangle: r.triangle,
+            candidate,
+        })
+    }
+
+    /// The deferred members of `patch` within `limit` (m) of the segment, tested (for
+    /// the midpoint of a stretch, which may lie off the nearest triangles).
+    pub(super) fn deferred_members(
+        &self,
+        scan: &NearScan,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        limit: f64,
+        patch: usize,
+    ) -> Vec<Near> {
+        scan.deferred
+            .iter()
+            .filter(|r| self.patch_of(r.triangle) == patch)
+            .filter_map(|&r| self.exact(p0, p1, r, limit))
+            .collect()
+    }
+}
+
+impl NearScan {
+    /// Tests the deferred triangles whose boxes are within `farthest` (m: the farthest
+    /// patch's nearest distance plus the guard), which may touch a patch's nearest
+    /// point, and puts the near triangles back in candidate order.
+    fn finish(
+        &mut self,
+        mesh: &ObstacleMesh,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        limit: f64,
+        farthest: f64,
+    ) {
+        let (test, keep): (Vec<Reachable>, Vec<Reachable>) = std::mem::take(&mut self.deferred)
+            .into_iter()
+            .partition(|r| r.bound <= farthest);
+        self.deferred = keep;
+        self.near.extend(
+            test.into_iter()
+                .filter_map(|r| mesh.exact(p0, p1, r, limit)),
+        );
+        self.near.sort_by_key(|n| n.position);
+    }
+}

@@ -1,0 +1,171 @@
+//! Incremental proximity: each rod feature (vertex sphere, edge capsule) keeps the
+//! candidate triangles of every mesh near it from its last BVH search, and the next
+//! evaluations (Newton iterates, line-search trials, advancement samples) look only at
+//! those while the feature stays within the slack of where it was searched.
+//!
+//! **Why the contacts are those of a full search.** A search at segment `[a0, a1]` for
+//! reach `r` and slack `σ` keeps the triangles [`ObstacleMesh::triangles_near`] lists:
+//! those within `R = r + σ` that can matter for the local contacts of any segment
+//! `[p0, p1]` with `|p0 − a0| ≤ σ` and `|p1 − a1| ≤ σ` and a reach up to `r` (the proof
+//! is in its documentation; in short, every point `p0 + s (p1 − p0)` is within `(1 −
+//! s)|p0 − a0| + s |p1 − a1| ≤ σ` of `a0 + s (a1 − a0)`, so every distance changes by at
+//! most `σ`). [`ObstacleMesh::local_contacts_among`] computes the exact closest points
+//! on the kept triangles with the same algorithm as a full search
+//! ([`ObstacleMesh::local_contacts`]): the same contacts. A feature that moved farther,
+//! or asks a longer reach, is searched again and keeps the new list. The mesh is
+//! rigid and fixed within one [`super::Contact`], and distances are measured in world
+//! coordinates, which a rigid placement preserves.
+
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+use nalgebra::Point3;
+use strand_contact::ObstacleMesh;
+
+/// How contact asks the meshes for the triangles near each rod feature.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProximitySettings {
+    /// Keep each feature's candidate triangles between evaluations (`true`, the
+    /// default) or search the BVH at every evaluation (`false`: for comparison; the
+    /// contacts are the same either way).
+    pub incremental: bool,
+    /// How far a feature may move (in search margins) before it is searched again
+    /// (negative counts as 0). Larger keeps more triangles per feature (on a fine
+    /// surface in proportion to the slack) and searches less often. Default 0.1.
+    pub slack_margins: f64,
+}
+
+impl Default for ProximitySettings {
+    fn default() -> Self {
+        Self {
+            incremental: true,
+            slack_margins: 0.1,
+        }
+    }
+}
+
+impl ProximitySettings {
+    /// A full BVH search for every feature at every evaluation.
+    pub fn full_queries() -> Self {
+        Self {
+            incremental: false,
+            ..Self::default()
+        }
+    }
+}
+
+/// One feature's kept candidates.
+struct Kept {
+    /// The feature's ends where it was searched, m (world).
+    from: [Point3<f64>; 2],
+    /// The reach searched for, m.
+    reach: f64,
+    /// The slack searched with, m.
+    slack: f64,
+    triangles: Vec<u32>,
+}
+
+/// The kept candidates of the features of one rod near one mesh: vertex `j` at `2 j`,
+/// edge `j` at `2 j + 1`.
+type RodMeshLists = Vec<Option<Kept>>;
+
+/// The kept candidates of every feature: shared by the evaluations of one solve.
+/// A clone starts empty (a clone is another solve).
+#[derive(Default)]
+pub(super) struct ProximityCache {
+    kept: Mutex<HashMap<(usize, usize), RodMeshLists>>,
+}
+
+impl Clone for ProximityCache {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// BVH searches made for features on this thread (tests only: the planted-bug
+    /// test that a feature moved beyond its slack is searched again).
+    pub(crate) static SEARCHES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// The candidate lists of one evaluation, taken out of the cache for it.
+pub(super) struct Candidates<'a> {
+    cache: &'a ProximityCache,
+    kept: HashMap<(usize, usize), RodMeshLists>,
+    slack_m: f64,
+}
+
+/// The lists of one rod near one mesh, for one evaluation.
+pub(super) struct FeatureLists<'a> {
+    lists: &'a mut RodMeshLists,
+    slack_m: f64,
+}
+
+impl ProximityCache {
+    /// The kept lists for one evaluation, with `slack_m` (m) of slack for the features
+    /// searched again. Evaluations on other threads meanwhile start empty.
+    pub(super) fn begin(&self, slack_m: f64) -> Candidates<'_> {
+        let kept = std::mem::take(&mut *self.kept.lock().unwrap_or_else(|e| e.into_inner()));
+        Candidates {
+            cache: self,
+            kept,
+            slack_m,
+        }
+    }
+}
+
+impl Candidates<'_> {
+    /// The lists of the features of rod `rod` (with `vertices` vertices) near mesh
+    /// `mesh` (its index in the contact).
+    pub(super) fn of(&mut self, rod: usize, mesh: usize, vertices: usize) -> FeatureLists<'_> {
+        let lists = self.kept.entry((rod, mesh)).or_default();
+        lists.resize_with(2 * vertices, || None);
+        FeatureLists {
+            lists,
+            slack_m: self.slack_m,
+        }
+    }
+}
+
+impl FeatureLists<'_> {
+    /// The triangles of `mesh` that can matter within `reach` (m) of vertex or edge
+    /// `index` (`edge`) at segment `[p0, p1]` (world, m): its kept list if neither end
+    /// moved by more than the slack searched with and the reach is not longer, else a
+    /// new search.
+    pub(super) fn near(
+        &mut self,
+        edge: bool,
+        index: usize,
+        mesh: &ObstacleMesh,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        reach: f64,
+    ) -> &[u32] {
+        let slot = &mut self.lists[2 * index + usize::from(edge)];
+        let still = |kept: &Kept| {
+            let moved = (p0 - kept.from[0]).norm().max((p1 - kept.from[1]).norm());
+            moved <= kept.slack && reach <= kept.reach
+        };
+        if !slot.as_ref().is_some_and(still) {
+            #[cfg(test)]
+            SEARCHES.with(|c| c.set(c.get() + 1));
+            let slack = self.slack_m;
+            *slot = Some(Kept {
+                from: [*p0, *p1],
+                reach,
+                slack,
+                triangles: mesh.triangles_near(p0, p1, reach, slack),
+            });
+        }
+        &slot.as_ref().expect("just kept").triangles
+    }
+}
+
+impl Drop for Candidates<'_> {
+    /// Puts the lists back for the next evaluation.
+    fn drop(&mut self) {
+        let kept = std::mem::take(&mut self.kept);
+        *self.cache.kept.lock().unwrap_or_else(|e| e.into_inner()) = kept;
+    }
+}

@@ -1,0 +1,152 @@
+//! Incremental proximity of [`Contact`]: the rows equal those of a full search at
+//! every evaluation, a feature moved beyond its slack is searched again, and the work
+//! of a later evaluation (no BVH search, exact closest points only near the contact)
+//! does not grow with the mesh density.
+
+use std::sync::Arc;
+
+use nalgebra::{Point3, UnitQuaternion, Vector3};
+use strand_contact::{ObstacleMesh, query_work};
+use strand_rod::{Rod, Section};
+use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+
+use super::proximity_cache::SEARCHES;
+use super::{Contact, ProximitySettings};
+use crate::constraints::{Constraints, Row};
+
+/// Edges of the rod.
+const SEGMENTS: usize = 10;
+
+/// The floor's height at `(x, y)`, m: gentle waves (one smooth patch).
+fn floor_height(x: f64, y: f64) -> f64 {
+    0.005 * (4.0 * x).sin() * (3.0 * y).cos()
+}
+
+/// The wavy floor `x ∈ [−0.2, 1.2]`, `y ∈ [−0.5, 0.5]` m in `2 n²` triangles.
+fn floor(n: usize) -> Arc<ObstacleMesh> {
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let x = -0.2 + 1.4 * i as f64 / n as f64;
+            let y = -0.5 + j as f64 / n as f64;
+            vertices.push(Point3::new(x, y, floor_height(x, y)));
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    Arc::new(ObstacleMesh::try_from_triangles("floor", vertices, &triangles).unwrap())
+}
+
+/// A straight 1 m rod of radius 10 mm along x, 15 mm above z = 0, clamped at both ends,
+/// over the floor of `2 n²` triangles (20 mm margin).
+fn scene(n: usize) -> (Model, Contact, SystemState) {
+    let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, 0.01).unwrap();
+    let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    let height = 0.015;
+    let model = Model::try_new(System {
+        rods: vec![RodSpec {
+            name: "rod".into(),
+            rod: Rod::try_straight(section, 1.0, SEGMENTS).unwrap(),
+            start: End::clamped(Vector3::new(0.0, 0.0, height), along_x),
+            end: End::clamped(Vector3::new(1.0, 0.0, height), along_x),
+            route: None,
+        }],
+        bodies: vec![],
+        clips: vec![],
+        gravity: Vector3::zeros(),
+    })
+    .unwrap();
+    let state = initial_state(model.system());
+    (model, Contact::new(vec![floor(n)], 0.02), state)
+}
+
+/// `state` with interior vertex `j` moved by `by` (m).
+fn shifted(state: &SystemState, j: usize, by: Vector3<f64>) -> SystemState {
+    let mut out = state.clone();
+    let p = out.rods[0].positions[j] + by;
+    out.rods[0].set_position(j, p);
+    out
+}
+
+fn rows(contact: &Contact, model: &Model, state: &SystemState) -> Vec<Row> {
+    let mut out = Vec::new();
+    contact.rows(model, state, &mut out).unwrap();
+    out
+}
+
+fn searches() -> usize {
+    SEARCHES.with(|c| c.get())
+}
+
+#[test]
+fn rows_equal_a_full_search_and_a_feature_moved_beyond_its_slack_is_searched_again() {
+    let (model, contact, state) = scene(60);
+    let full = contact
+        .clone()
+        .with_proximity(ProximitySettings::full_queries());
+    // The default slack: 0.1 margins = 2 mm.
+    assert_eq!(contact.proximity().slack_margins, 0.1);
+    let first = searches();
+    assert_eq!(rows(&contact, &model, &state), rows(&full, &model, &state));
+    let searched = searches() - first;
+    assert!(searched >= 2 * SEGMENTS - 1, "{searched} searches");
+    // Vertex 5 moved 1 mm (within the slack): nothing is searched again.
+    let near = shifted(&state, 5, Vector3::new(1e-3, 0.0, -0.5e-3));
+    let before = searches();
+    assert_eq!(rows(&contact, &model, &near), rows(&full, &model, &near));
+    assert_eq!(
+        searches(),
+        before,
+        "a feature within its slack was searched"
+    );
+    // Vertex 5 moved 150 mm sideways, beyond the slack, onto a spot its kept
+    // triangles do not reach: it and its two edges are searched again and the rows
+    // still equal those of a full search (a cache that kept the stale list would miss
+    // the floor under the new spot).
+    let far = shifted(&state, 5, Vector3::new(0.0, 0.15, 0.0));
+    let before = searches();
+    let moved = rows(&contact, &model, &far);
+    assert_eq!(searches() - before, 3, "vertex 5 and edges 4, 5");
+    assert_eq!(moved, rows(&full, &model, &far));
+    assert!(moved.len() >= SEGMENTS - 1);
+}
+
+#[test]
+fn a_later_evaluation_searches_no_bvh_and_its_exact_tests_do_not_grow_with_density() {
+    // The same floor at 2 · 30² and 2 · 300² triangles (100×).
+    let mut work = Vec::new();
+    for n in [30, 300] {
+        let (model, contact, state) = scene(n);
+        rows(&contact, &model, &state);
+        // A Newton iterate later: every vertex 0.5 mm lower.
+        let mut later = state.clone();
+        for j in 1..SEGMENTS {
+            let p = later.rods[0].positions[j] - Vector3::new(0.0, 0.0, 5e-4);
+            later.rods[0].set_position(j, p);
+        }
+        let before = query_work();
+        let found = rows(&contact, &model, &later);
+        let done = query_work().since(&before);
+        println!("2·{n}² triangles: {} rows, {done:?}", found.len());
+        let full = contact
+            .clone()
+            .with_proximity(ProximitySettings::full_queries());
+        assert_eq!(found, rows(&full, &model, &later));
+        assert!(found.len() >= SEGMENTS - 1);
+        work.push(done);
+    }
+    let (coarse, fine) = (work[0], work[1]);
+    assert_eq!((coarse.bvh_nodes, fine.bvh_nodes), (0, 0));
+    assert!(
+        fine.exact_tests <= 3 * coarse.exact_tests,
+        "exact tests {} -> {}",
+        coarse.exact_tests,
+        fine.exact_tests
+    );
+}
