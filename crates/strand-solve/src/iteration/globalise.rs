@@ -107,6 +107,8 @@ impl Iteration<'_> {
         // shorter trials follow the parabola `t·d + (t/first_t)²·c`.
         let first_t = t;
         let mut correction: Option<Vec<f64>> = None;
+        // Whether a positions-only correction overwrote this iteration's factor.
+        let mut factor_lost = false;
         for attempt in 0..=settings.max_line_search_steps {
             let full = attempt == 0;
             self.step_at_limit = full && advance_bound;
@@ -137,12 +139,11 @@ impl Iteration<'_> {
             } else {
                 self.model.energy(&trial)
             };
+            // A stiff rod's positions follow its frames when the turn is large
+            // enough to strain it at second order (the positions moved along
+            // straight lines), or when the model mispredicted the step.
+            let surprising = self.work.eval.energy - energy < settings.trust_ratio * model_decrease;
             if self.rows.is_empty() {
-                // A stiff rod's positions follow its frames when the turn is large
-                // enough to strain it at second order (the positions moved along
-                // straight lines), or when the model mispredicted the step.
-                let surprising =
-                    self.work.eval.energy - energy < settings.trust_ratio * model_decrease;
                 if full && surprising {
                     // The second-order correction: the remainder of the gradient at the
                     // trial beyond the model, solved with this iteration's factor.
@@ -166,6 +167,10 @@ impl Iteration<'_> {
                 if surprising || turned {
                     energy = self.follow(&mut trial, &mut evaluated);
                 }
+            } else if settings.follow_on_contact && (surprising || turned) {
+                // The same with contact rows: the positions follow under the rows.
+                energy = self.follow_on_rows(&mut trial, &mut evaluated);
+                factor_lost = true;
             }
             let admissible = self.collect_rows(&trial, &mut trial_rows);
             let trial_merit = if admissible {
@@ -222,6 +227,7 @@ impl Iteration<'_> {
                 && trial_merit.is_finite()
                 && predicted > 0.0
                 && settings.constraint_correction
+                && (!factor_lost || self.refactor())
                 && let Some((corrected, corrected_rows, corrected_energy)) =
                     self.constraint_correction(&trial, &trial_rows, t)
             {
@@ -559,7 +565,15 @@ impl Iteration<'_> {
         if ratio >= settings.trust_ratio {
             self.radius = (self.radius * 2.0).min(1.0);
             if full_step {
-                self.damping /= settings.damping_decrease;
+                let contact = self
+                    .rows
+                    .iter()
+                    .any(|r| matches!(r.key, RowKey::Contact(_)));
+                self.damping /= if contact {
+                    settings.contact_damping_decrease
+                } else {
+                    settings.damping_decrease
+                };
                 if self.damping < settings.min_damping {
                     self.damping = 0.0;
                 }

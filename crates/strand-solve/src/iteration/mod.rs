@@ -16,7 +16,8 @@
 //!    same factor: the step bends along a curved valley) and then a positions-only
 //!    correction (the positions follow the frames), which a stiff rod (`C·h²/EI` above
 //!    100) also gets whenever a trial turns its frames by more than a tenth of the
-//!    valley turn `√(8 EI/(C h²))`; an exact step is extended, and a short step of an
+//!    valley turn `√(8 EI/(C h²))`; with contact rows the positions follow under the
+//!    trial's rows ([`follow`]); an exact step is extended, and a short step of an
 //!    indefinite iteration is
 //!    tried together with a direction of negative curvature (from the whole region
 //!    down, a quarter at a time);
@@ -28,6 +29,7 @@
 //! 6. **finish** ([`Iteration::finish`]): residual, multipliers and the stability
 //!    classification of the returned state.
 
+mod follow;
 mod globalise;
 mod stall;
 
