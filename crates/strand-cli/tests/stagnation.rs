@@ -111,7 +111,32 @@ fn a_tolerance_below_the_round_off_floor_ends_stagnated_at_the_floor_it_reached(
     assert_eq!(converged["converged"], true);
     let difference = largest_difference(&stalled, &converged);
     assert!(difference <= 1e-12, "{difference} m");
-    // A finer cooler hose (before: 132 iterations in 6 load steps, 10 s).
-    let (code, err, stalled) = solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
-    assert_stalled_at_the_floor(code, &err, &stalled);
+    // A finer cooler hose (before: 132 iterations in 6 load steps, 10 s). It ends at the
+    // floor either way: stalled above 4 times the estimate (6.75e-12 N, 7.4 times, with
+    // the first element kernels), or within it, which the solver counts as converged to
+    // round-off (2.17e-12 N, 2.4 times, since the structured kernels of issue 11 round
+    // differently).
+    let (code, err, ended) = solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
+    if ended["termination"] == "stagnated" {
+        assert_stalled_at_the_floor(code, &err, &ended);
+    } else {
+        assert_converged_to_round_off(code, &err, &ended);
+    }
+}
+
+/// Checks a solve below the floor that ended within the round-off spread: exit 0,
+/// `converged`, the residual above the tolerance but within 4 times the estimated
+/// floor (the solver's `ROUND_OFF_SPREAD`), no continuation, few iterations.
+fn assert_converged_to_round_off(code: Option<i32>, err: &str, doc: &serde_json::Value) {
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(doc["converged"], true);
+    assert_eq!(doc["termination"], "converged", "{err}");
+    let (residual, floor) = (number(doc, "residual_N"), number(doc, "residual_floor_N"));
+    assert!(residual > number(doc, "tolerance_N"));
+    assert!(
+        residual > 0.0 && residual <= 4.0 * floor,
+        "{residual} N, floor {floor} N"
+    );
+    assert_eq!(number(doc, "continuation_steps"), 0.0, "{err}");
+    assert!(number(doc, "iterations") <= 60.0, "{}", doc["iterations"]);
 }

@@ -531,7 +531,7 @@ impl Model {
                 }
             }
             if with_hessian {
-                add_blocks(&mut out.hessian, scatter, &d.hessian);
+                add_blocks(&mut out.hessian, scatter, d.hessian.as_slice(), D);
             }
             return;
         }
@@ -555,7 +555,12 @@ impl Model {
         if with_hessian {
             let local_hessian = nalgebra::DMatrix::from_column_slice(D, D, d.hessian.as_slice());
             let hessian = jacobian.transpose() * local_hessian * &jacobian + curvature;
-            add_blocks(&mut out.hessian, scatter, &hessian);
+            add_blocks(
+                &mut out.hessian,
+                scatter,
+                hessian.as_slice(),
+                hessian.nrows(),
+            );
         }
     }
 

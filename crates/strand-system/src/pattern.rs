@@ -140,20 +140,17 @@ impl HessianPattern {
     }
 }
 
-/// Adds the local Hessian `local` (square, blocks of 3; a fixed-size or dynamic
-/// nalgebra matrix) into `values` by `scatter`.
-pub fn add_blocks<M: std::ops::Index<(usize, usize), Output = f64>>(
-    values: &mut [f64],
-    scatter: &[ScatterBlock],
-    local: &M,
-) {
+/// Adds the local Hessian `local` (square, `dim` × `dim` with `dim` a multiple of 3,
+/// column-major as nalgebra stores it) into `values` by `scatter`: each scalar column
+/// of a block is a contiguous run in both, added as one slice.
+pub fn add_blocks(values: &mut [f64], scatter: &[ScatterBlock], local: &[f64], dim: usize) {
     for s in scatter {
         let (r0, c0) = (3 * s.local_row, 3 * s.local_col);
-        for k in 0..3 {
+        for (k, &base) in s.offsets.iter().enumerate() {
             let rows = if s.diagonal { k + 1 } else { 3 };
-            let base = s.offsets[k];
-            for i in 0..rows {
-                values[base + i] += local[(r0 + i, c0 + k)];
+            let column = &local[(c0 + k) * dim + r0..][..rows];
+            for (value, &add) in values[base..base + rows].iter_mut().zip(column) {
+                *value += add;
             }
         }
     }

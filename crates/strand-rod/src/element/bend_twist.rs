@@ -4,7 +4,7 @@
 //! At an attached end the vertex-based boundary frame (`q_0` or `q_N`) plays the role of
 //! `q_a` or `q_b` and `h̄` is the half-cell weight `h/2` (DESIGN §1).
 
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector3};
 
 use super::{ElementDerivatives, RelativeRotation};
 
@@ -44,9 +44,20 @@ impl BendTwist<'_> {
 pub fn bend_twist(e: &BendTwist<'_>) -> ElementDerivatives<6> {
     let rel = RelativeRotation::new(e.frame_a, e.frame_b);
     let (delta, moment) = curvature_and_moment(e, &rel);
-    let c = Matrix3::from_diagonal(e.stiffness);
-    let hessian =
-        rel.jacobian.transpose() * c * rel.jacobian / e.weight + rel.contracted_hessian(&moment);
+    // Jᵀ C_K J / h̄ added to the upper triangle (C_K diagonal) and mirrored.
+    let mut hessian = rel.contracted_hessian(&moment);
+    let j = &rel.jacobian;
+    let c = e.stiffness / e.weight;
+    for k in 0..6 {
+        let ck = [c[0] * j[(0, k)], c[1] * j[(1, k)], c[2] * j[(2, k)]];
+        for l in k..6 {
+            let value = ck[0] * j[(0, l)] + ck[1] * j[(1, l)] + ck[2] * j[(2, l)];
+            hessian[(k, l)] += value;
+            if l != k {
+                hessian[(l, k)] += value;
+            }
+        }
+    }
     ElementDerivatives {
         energy: 0.5 * e.weight * delta.dot(&moment),
         gradient: rel.jacobian.transpose() * moment,

@@ -125,28 +125,52 @@ fn stretch_shear_with_stress(
     } = first_order(e);
     let stress = stress.copied().unwrap_or(force_material);
 
-    let k_rr = rotation * c * rotation.transpose() / h;
+    // Blocks written entry by entry (C_Γ diagonal): k_rr = R C Rᵀ / h,
+    // k_rt = R (C [Γ]× − [σ]×), k_tt = h ([Γ]×ᵀ C [Γ]× + ½(σ Γᵀ + Γ σᵀ) − (σ·Γ) I).
+    let r = &rotation;
+    let cd = [c[(0, 0)], c[(1, 1)], c[(2, 2)]];
     let gamma_x = skew(&gamma);
-    let k_rt = rotation * (c * gamma_x - skew(&stress));
-    let k_tt = h
-        * (gamma_x.transpose() * c * gamma_x
-            + 0.5 * (stress * gamma.transpose() + gamma * stress.transpose())
-            - stress.dot(&gamma) * Matrix3::identity());
-
+    let stress_x = skew(&stress);
+    let stress_dot_gamma = stress.dot(&gamma);
     let mut hessian = SMatrix::<f64, 9, 9>::zeros();
-    hessian.fixed_view_mut::<3, 3>(0, 0).copy_from(&k_rr);
-    hessian.fixed_view_mut::<3, 3>(3, 3).copy_from(&k_rr);
-    hessian.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-k_rr));
-    hessian.fixed_view_mut::<3, 3>(3, 0).copy_from(&(-k_rr));
-    hessian.fixed_view_mut::<3, 3>(3, 6).copy_from(&k_rt);
-    hessian
-        .fixed_view_mut::<3, 3>(6, 3)
-        .copy_from(&k_rt.transpose());
-    hessian.fixed_view_mut::<3, 3>(0, 6).copy_from(&(-k_rt));
-    hessian
-        .fixed_view_mut::<3, 3>(6, 0)
-        .copy_from(&(-k_rt.transpose()));
-    hessian.fixed_view_mut::<3, 3>(6, 6).copy_from(&k_tt);
+    for i in 0..3 {
+        for j in i..3 {
+            let k_rr = (r[(i, 0)] * cd[0] * r[(j, 0)]
+                + r[(i, 1)] * cd[1] * r[(j, 1)]
+                + r[(i, 2)] * cd[2] * r[(j, 2)])
+                / h;
+            for (row, col, value) in [(i, j, k_rr), (3 + i, 3 + j, k_rr), (i, 3 + j, -k_rr)] {
+                hessian[(row, col)] = value;
+                hessian[(col, row)] = value;
+            }
+            hessian[(3 + i, j)] = -k_rr;
+            hessian[(j, 3 + i)] = -k_rr;
+            let k_tt = h
+                * (cd[0] * gamma_x[(0, i)] * gamma_x[(0, j)]
+                    + cd[1] * gamma_x[(1, i)] * gamma_x[(1, j)]
+                    + cd[2] * gamma_x[(2, i)] * gamma_x[(2, j)]
+                    + 0.5 * (stress[i] * gamma[j] + gamma[i] * stress[j])
+                    - if i == j { stress_dot_gamma } else { 0.0 });
+            hessian[(6 + i, 6 + j)] = k_tt;
+            hessian[(6 + j, 6 + i)] = k_tt;
+        }
+    }
+    // B = C [Γ]× − [σ]×, then k_rt = R B.
+    let mut b = [[0.0; 3]; 3];
+    for (m, b_row) in b.iter_mut().enumerate() {
+        for (n, b_value) in b_row.iter_mut().enumerate() {
+            *b_value = cd[m] * gamma_x[(m, n)] - stress_x[(m, n)];
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            let k_rt = r[(i, 0)] * b[0][j] + r[(i, 1)] * b[1][j] + r[(i, 2)] * b[2][j];
+            hessian[(3 + i, 6 + j)] = k_rt;
+            hessian[(6 + j, 3 + i)] = k_rt;
+            hessian[(i, 6 + j)] = -k_rt;
+            hessian[(6 + j, i)] = -k_rt;
+        }
+    }
 
     ElementDerivatives {
         energy,

@@ -24,9 +24,10 @@ pub(crate) struct EnvelopeCholesky {
     /// Per block row of `L`: the offset of its first stored block in `blocks` (length
     /// `B + 1`; the diagonal block of row `I` is at `start[I + 1] − 1`).
     start: Vec<usize>,
-    /// Per stored value of the pattern (upper CSC order): where it goes, as block offset
-    /// times 9 plus the entry in the block; diagonal-block values go to both triangles.
-    scatter: Vec<(usize, Option<usize>)>,
+    /// Per stored value of the pattern (upper CSC order): where it goes in the lower
+    /// triangle of `L`'s storage, as block offset times 9 plus the entry in the block.
+    /// The upper triangles of the diagonal blocks are never read, so they get nothing.
+    scatter: Vec<usize>,
     /// Blocks of the envelope that the pattern does not hold (zero in `A`, filled in
     /// by the factorisation): the only ones to clear before scattering.
     gaps: Vec<usize>,
@@ -60,14 +61,11 @@ impl EnvelopeCholesky {
                 // Upper entry (row, col) of A is entry (col, row) of block row col/3.
                 let (block_row, block_col) = (col / 3, row / 3);
                 let block = start[block_row] + block_col - first[block_row];
-                let lower = 9 * block + 3 * (col % 3) + row % 3;
-                let mirror = (block_row == block_col && row != col)
-                    .then(|| 9 * block + 3 * (row % 3) + col % 3);
-                scatter.push((lower, mirror));
+                scatter.push(9 * block + 3 * (col % 3) + row % 3);
             }
         }
         let mut held = vec![false; start[count]];
-        for &(lower, _) in &scatter {
+        for &lower in &scatter {
             held[lower / 9] = true;
         }
         let gaps = (0..start[count]).filter(|&b| !held[b]).collect();
@@ -103,18 +101,16 @@ impl EnvelopeCholesky {
     /// `false` if a pivot is not positive (or not a number): the matrix is not
     /// positive definite.
     pub(crate) fn factor(&mut self, values: &[f64]) -> bool {
-        // Every block the pattern holds is overwritten entirely: its off-diagonal blocks
-        // are full, its diagonal blocks' upper triangles are mirrored.
+        // Every block the pattern holds is overwritten entirely where it is read: its
+        // off-diagonal blocks are full, its diagonal blocks' lower triangles are (their
+        // upper triangles are scratch, read by nothing).
         for &b in &self.gaps {
             self.blocks[b] = [0.0; 9];
         }
         {
             let flat = self.blocks.as_flattened_mut();
-            for (&(lower, mirror), &v) in self.scatter.iter().zip(values) {
+            for (&lower, &v) in self.scatter.iter().zip(values) {
                 flat[lower] = v;
-                if let Some(m) = mirror {
-                    flat[m] = v;
-                }
             }
         }
         for i in 0..self.first.len() {

@@ -111,14 +111,24 @@ pub(crate) fn symmetric_product(
     out.iter_mut().for_each(|o| *o = 0.0);
     for col in 0..pattern.dim() {
         let range = pattern.col_ptr[col]..pattern.col_ptr[col + 1];
+        let (rows, column) = (&pattern.row_idx[range.clone()], &values[range]);
         let x_col = x[col];
+        // Rows are sorted and at most `col`: the diagonal, where held, is the last entry;
+        // the loop over the others needs no test for it.
+        let (rows, column, diagonal) = match rows.split_last() {
+            Some((&last, above)) if last == col => {
+                (above, &column[..above.len()], column.last().copied())
+            }
+            _ => (rows, column, None),
+        };
         // The transposed part of column `col` (its rows above the diagonal).
         let mut transposed = 0.0;
-        for (&row, &value) in pattern.row_idx[range.clone()].iter().zip(&values[range]) {
+        for (&row, &value) in rows.iter().zip(column) {
             out[row] += value * x_col;
-            if row != col {
-                transposed += value * x[row];
-            }
+            transposed += value * x[row];
+        }
+        if let Some(d) = diagonal {
+            out[col] += d * x_col;
         }
         out[col] += transposed;
     }
