@@ -20,7 +20,8 @@ use serde::{Deserialize, Serialize};
 pub struct SolverSettings {
     /// Convergence threshold on the residual (largest out-of-balance vertex force, and
     /// edge moment per rod length) in N. The round-off floor of the model (see
-    /// [`crate::SolveReport::residual_floor_n`]) is used instead when it is larger.
+    /// [`crate::SolveReport::residual_floor_n`]) is used instead when it is larger; a
+    /// solve that stalls within 4 × that floor is converged at round-off.
     pub tolerance_n: f64,
     /// Maximum number of Newton iterations of one solve (per level of nested
     /// iteration and per continuation step).

@@ -84,7 +84,7 @@ pub enum GapError {
     /// A rod's centreline touches or crosses a mesh surface or another rod's
     /// centreline: no contact direction exists there.
     #[error(
-        "rod {rod} edge {edge} {what}: its centreline passes through ({:.6}, {:.6}, {:.6}) m on the other surface\n  hint: move the rod's route or supports so that the hose starts clear of the obstacle",
+        "rod {rod} edge {edge} {what}: its centreline passes through ({:.6}, {:.6}, {:.6}) m on the other surface\n  hint: start the rod clear of the obstacle: move its route (or give one), its initial state or its supports",
         point.x, point.y, point.z
     )]
     CentrelineTouches {
@@ -99,7 +99,7 @@ pub enum GapError {
     },
     /// A rod's capsule overlaps an obstacle (see [`require_clearance`]).
     #[error(
-        "rod {rod} edge {edge} starts inside {what}: it overlaps by {:.3} mm at ({:.6}, {:.6}, {:.6}) m\n  hint: move the rod's route or supports so that the hose starts clear of the obstacle",
+        "rod {rod} edge {edge} starts inside {what}: it overlaps by {:.3} mm at ({:.6}, {:.6}, {:.6}) m\n  hint: start the rod clear of the obstacle: move its route (or give one), its initial state or its supports",
         depth * 1e3, point.x, point.y, point.z
     )]
     StartsInside {
