@@ -14,7 +14,7 @@
 
 use strand_system::SystemState;
 
-use super::{Iteration, damping_scale, violation_of};
+use super::{Iteration, violation_of};
 use crate::constraints::Row;
 
 impl Iteration<'_> {
@@ -92,16 +92,9 @@ impl Iteration<'_> {
             });
         }
         let work = &mut *self.work;
-        work.damped.copy_from_slice(&work.trial_eval.hessian);
-        work.rotations.fix_matrix(&mut work.damped);
-        for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
-            *c = -g;
-        }
-        work.rotations.fix_vector(&mut work.rhs);
-        if !work.cholesky.factor(&work.damped) {
+        if !work.positions_only_step() {
             return None;
         }
-        work.cholesky.solve_in_place(&mut work.rhs);
         let free = hint.is_empty() && position_rows.iter().all(|r| r.linearised(&work.rhs) >= 0.0);
         let step = if free {
             work.rhs.clone()
@@ -117,23 +110,9 @@ impl Iteration<'_> {
     /// computed, so only on round-off).
     pub(super) fn refactor(&mut self) -> bool {
         let model = self.sqp_model();
+        let damping = self.damping;
         let work = &mut *self.work;
-        let hessian = model
-            .as_ref()
-            .map_or(&work.eval.hessian[..], |(h, _)| &h[..]);
-        work.damped.copy_from_slice(hessian);
-        if self.damping > 0.0 {
-            let scale = damping_scale(
-                &work.eval.hessian,
-                &work.diagonal,
-                &work.rotation,
-                &work.bending_scale,
-            );
-            for (&k, d) in work.diagonal.iter().zip(&scale) {
-                work.damped[k] += self.damping * d;
-            }
-        }
-        work.gauge.fix_matrix(&mut work.damped);
+        work.set_damped(model.as_ref().map(|(h, _)| &h[..]), damping);
         work.cholesky.factor(&work.damped)
     }
 }

@@ -516,18 +516,10 @@ impl Iteration<'_> {
     /// block is not positive definite (a body or clip couples positions to rotations).
     /// Overwrites the factor of this iteration (the step is already computed).
     fn relax_positions(&mut self, trial: &SystemState) -> Option<SystemState> {
-        let work = &mut *self.work;
-        work.damped.copy_from_slice(&work.trial_eval.hessian);
-        work.rotations.fix_matrix(&mut work.damped);
-        for (c, g) in work.rhs.iter_mut().zip(&work.trial_eval.gradient) {
-            *c = -g;
-        }
-        work.rotations.fix_vector(&mut work.rhs);
-        if !work.cholesky.factor(&work.damped) {
+        if !self.work.positions_only_step() {
             return None;
         }
-        work.cholesky.solve_in_place(&mut work.rhs);
-        Some(self.model.retract(trial, &work.rhs))
+        Some(self.model.retract(trial, &self.work.rhs))
     }
 
     /// Moves to an accepted trial and adapts damping and trust radius. `taken` is the

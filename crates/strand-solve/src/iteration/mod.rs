@@ -124,6 +124,46 @@ pub(crate) struct Workspace {
     pub model_gradient: Option<Vec<f64>>,
 }
 
+impl Workspace {
+    /// Writes the damped matrix `H + damping·D` into `damped`, gauge held: `H` the SQP
+    /// model's Hessian (`model_hessian`, or the energy's when `None`), `D` the
+    /// [`damping_scale`] of the energy Hessian.
+    pub fn set_damped(&mut self, model_hessian: Option<&[f64]>, damping: f64) {
+        self.damped
+            .copy_from_slice(model_hessian.unwrap_or(&self.eval.hessian));
+        if damping > 0.0 {
+            let scale = damping_scale(
+                &self.eval.hessian,
+                &self.diagonal,
+                &self.rotation,
+                &self.bending_scale,
+            );
+            for (&k, d) in self.diagonal.iter().zip(&scale) {
+                self.damped[k] += damping * d;
+            }
+        }
+        self.gauge.fix_matrix(&mut self.damped);
+    }
+
+    /// The positions-only Newton step at `trial_eval` (every rotation held), left in
+    /// `rhs` with its factor in `cholesky` (this iteration's factor is overwritten).
+    /// `false` when that block is not positive definite (a body or clip couples
+    /// positions to rotations).
+    pub fn positions_only_step(&mut self) -> bool {
+        self.damped.copy_from_slice(&self.trial_eval.hessian);
+        self.rotations.fix_matrix(&mut self.damped);
+        for (c, g) in self.rhs.iter_mut().zip(&self.trial_eval.gradient) {
+            *c = -g;
+        }
+        self.rotations.fix_vector(&mut self.rhs);
+        if !self.cholesky.factor(&self.damped) {
+            return false;
+        }
+        self.cholesky.solve_in_place(&mut self.rhs);
+        true
+    }
+}
+
 /// The state of one Newton/SQP iteration sequence.
 pub(crate) struct Iteration<'a> {
     model: &'a Model,
@@ -371,14 +411,11 @@ impl<'a> Iteration<'a> {
         let model = self.sqp_model();
         let work = &mut *self.work;
         work.model_gradient = model.as_ref().map(|(_, g)| g.clone());
-        let hessian = model
-            .as_ref()
-            .map_or(&work.eval.hessian[..], |(h, _)| &h[..]);
+        let hessian = model.as_ref().map(|(h, _)| &h[..]);
         if self.try_undamped && damping > 0.0 {
             // The last step was exact: the undamped Newton step may be positive definite
             // already (one factorisation to find out, instead of an eighth per step).
-            work.damped.copy_from_slice(hessian);
-            work.gauge.fix_matrix(&mut work.damped);
+            work.set_damped(hessian, 0.0);
             if work.cholesky.factor(&work.damped) {
                 self.damping = 0.0;
                 self.indefinite = false;
@@ -387,19 +424,7 @@ impl<'a> Iteration<'a> {
             failed = true;
         }
         loop {
-            work.damped.copy_from_slice(hessian);
-            if damping > 0.0 {
-                let scale = damping_scale(
-                    &work.eval.hessian,
-                    &work.diagonal,
-                    &work.rotation,
-                    &work.bending_scale,
-                );
-                for (&k, d) in work.diagonal.iter().zip(&scale) {
-                    work.damped[k] += damping * d;
-                }
-            }
-            work.gauge.fix_matrix(&mut work.damped);
+            work.set_damped(hessian, damping);
             if work.cholesky.factor(&work.damped) {
                 break;
             }
