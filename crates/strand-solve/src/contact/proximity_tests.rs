@@ -5,10 +5,9 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Point3, UnitQuaternion, Vector3};
+use nalgebra::{Point3, Vector3};
 use strand_contact::{ObstacleMesh, query_work};
-use strand_rod::{Rod, Section};
-use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
+use strand_system::{Model, SystemState, initial_state};
 
 use super::proximity_cache::SEARCHES;
 use super::{Contact, ProximitySettings};
@@ -46,22 +45,7 @@ fn floor(n: usize) -> Arc<ObstacleMesh> {
 /// A straight 1 m rod of radius 10 mm along x, 15 mm above z = 0, clamped at both ends,
 /// over the floor of `2 n²` triangles (20 mm margin).
 fn scene(n: usize) -> (Model, Contact, SystemState) {
-    let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, 0.01).unwrap();
-    let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
-    let height = 0.015;
-    let model = Model::try_new(System {
-        rods: vec![RodSpec {
-            name: "rod".into(),
-            rod: Rod::try_straight(section, 1.0, SEGMENTS).unwrap(),
-            start: End::clamped(Vector3::new(0.0, 0.0, height), along_x),
-            end: End::clamped(Vector3::new(1.0, 0.0, height), along_x),
-            route: None,
-        }],
-        bodies: vec![],
-        clips: vec![],
-        gravity: Vector3::zeros(),
-    })
-    .unwrap();
+    let model = super::tests::straight_rod(SEGMENTS, 0.015);
     let state = initial_state(model.system());
     (model, Contact::new(vec![floor(n)], 0.02), state)
 }

@@ -12,8 +12,8 @@ use super::Contact;
 use super::exclusion::{ARC_LENGTH_VISITS, EXCLUSION_QUERIES};
 use crate::constraints::{Constraints, Row};
 
-/// A straight 1 m rod of radius 10 mm in `segments` edges, clamped at both ends.
-fn straight_rod(segments: usize, height: f64) -> Model {
+/// A straight 1 m rod of radius 10 mm along x at `height` (m), in `segments` edges, clamped at both ends.
+pub(super) fn straight_rod(segments: usize, height: f64) -> Model {
     let section = Section::try_explicit(1e5, 5e4, 0.5, 0.4, 2.0, 0.01).unwrap();
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     Model::try_new(System {
