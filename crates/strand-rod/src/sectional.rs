@@ -55,6 +55,31 @@ pub fn vertex_frames<'a>(
     }
 }
 
+/// The bend–twist element of vertex `j`, as the sectional quantities define it: at a
+/// clip of frame `clip`, the half cell after the clip frame (the moment the rod
+/// carries just beyond the clip; the clip's own moment is its reaction); elsewhere the
+/// frames either side with the vertex's weight. `None` at a free or pinned end.
+pub fn vertex_bend_twist<'a>(
+    rod: &'a Rod,
+    state: &'a RodState,
+    boundary: &'a BoundaryFrames,
+    j: usize,
+    clip: Option<&'a UnitQuaternion<f64>>,
+    stiffness: &'a Vector3<f64>,
+) -> Option<BendTwist<'a>> {
+    let (frames, weight) = match clip {
+        Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
+        None => (vertex_frames(state, boundary, j), rod.vertex_weight(j)),
+    };
+    frames.map(|(frame_a, frame_b)| BendTwist {
+        frame_a,
+        frame_b,
+        weight,
+        stiffness,
+        rest_curvature: rod.rest_curvature(j),
+    })
+}
+
 /// The edge element of edge `e`.
 pub fn edge_element<'a>(
     rod: &'a Rod,
@@ -145,44 +170,35 @@ pub fn sectional(rod: &Rod, state: &RodState, boundary: &BoundaryFrames) -> Sect
         let clip = clips
             .get(first)
             .filter(|(vertex, _)| *vertex == j)
-            .map(|(_, q)| *q);
-        let (frames, cell_weight) = match &clip {
-            Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
-            None => (vertex_frames(state, boundary, j), weight),
-        };
-        let (curvature, moment, vertex_hamiltonian, tangent) = match frames {
-            Some((q_a, q_b)) => {
-                let element = BendTwist {
-                    frame_a: q_a,
-                    frame_b: q_b,
-                    weight: cell_weight,
-                    stiffness: &c_kappa,
-                    rest_curvature: rod.rest_curvature(j),
-                };
-                let derivatives = bend_twist_gradient(&element);
-                let curvature = element.curvature();
-                let delta = curvature - rod.rest_curvature(j);
-                let m_material = c_kappa.component_mul(&delta);
-                let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
-                let tangent_frame = match j {
-                    0 => *q_a,
-                    j if j == n => *q_b,
-                    _ if clip.is_some() => *q_a,
-                    _ => crate::so3::mid_frame(q_a, q_b),
-                };
-                let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
-                (curvature, moment, h, tangent_frame * Vector3::z())
-            }
-            None => {
-                let edge = if j == 0 { 0 } else { n - 1 };
-                (
-                    Vector3::zeros(),
-                    Vector3::zeros(),
-                    0.0,
-                    state.frames[edge] * Vector3::z(),
-                )
-            }
-        };
+            .map(|(_, q)| q);
+        let (curvature, moment, vertex_hamiltonian, tangent) =
+            match vertex_bend_twist(rod, state, boundary, j, clip, &c_kappa) {
+                Some(element) => {
+                    let (q_a, q_b) = (element.frame_a, element.frame_b);
+                    let derivatives = bend_twist_gradient(&element);
+                    let curvature = element.curvature();
+                    let delta = curvature - rod.rest_curvature(j);
+                    let m_material = c_kappa.component_mul(&delta);
+                    let moment = q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned();
+                    let tangent_frame = match j {
+                        0 => *q_a,
+                        j if j == n => *q_b,
+                        _ if clip.is_some() => *q_a,
+                        _ => crate::so3::mid_frame(q_a, q_b),
+                    };
+                    let h = m_material.dot(&curvature) - 0.5 * m_material.dot(&delta);
+                    (curvature, moment, h, tangent_frame * Vector3::z())
+                }
+                None => {
+                    let edge = if j == 0 { 0 } else { n - 1 };
+                    (
+                        Vector3::zeros(),
+                        Vector3::zeros(),
+                        0.0,
+                        state.frames[edge] * Vector3::z(),
+                    )
+                }
+            };
         let (mut force, mut edge_h) = (Vector3::zeros(), 0.0);
         for e in [j.wrapping_sub(1), j] {
             if e < n {

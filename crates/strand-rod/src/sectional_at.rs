@@ -5,8 +5,8 @@
 
 use nalgebra::Vector3;
 
-use crate::element::{BendTwist, bend_twist_gradient};
-use crate::sectional::{BoundaryFrames, edge_element, vertex_frames};
+use crate::element::bend_twist_gradient;
+use crate::sectional::{BoundaryFrames, edge_element, vertex_bend_twist};
 use crate::{Rod, RodState};
 
 /// The sectional quantities of one vertex (the entries `j` of
@@ -40,26 +40,16 @@ pub fn sectional_at(
         .clips
         .iter()
         .find(|(vertex, _)| *vertex == j)
-        .map(|(_, q)| *q);
-    let (frames, cell_weight) = match &clip {
-        Some(q) => (Some((q, &state.frames[j])), 0.5 * rod.edge_length(j)),
-        None => (vertex_frames(state, boundary, j), weight),
-    };
-    let (curvature, moment) = match frames {
-        Some((q_a, q_b)) => {
-            let element = BendTwist {
-                frame_a: q_a,
-                frame_b: q_b,
-                weight: cell_weight,
-                stiffness: &c_kappa,
-                rest_curvature: rod.rest_curvature(j),
-            };
-            let derivatives = bend_twist_gradient(&element);
-            (
-                element.curvature(),
-                q_b * derivatives.gradient.fixed_rows::<3>(3).into_owned(),
-            )
-        }
+        .map(|(_, q)| q);
+    let (curvature, moment) = match vertex_bend_twist(rod, state, boundary, j, clip, &c_kappa) {
+        Some(element) => (
+            element.curvature(),
+            element.frame_b
+                * bend_twist_gradient(&element)
+                    .gradient
+                    .fixed_rows::<3>(3)
+                    .into_owned(),
+        ),
         None => (Vector3::zeros(), Vector3::zeros()),
     };
     let mut force = Vector3::zeros();
