@@ -299,3 +299,52 @@ fn an_unwritable_cache_or_a_small_file_never_fails_a_load() {
     let error = ObstacleMesh::load_cached(&missing, 1e-3, &pose(), &settings(&cache));
     assert!(error.unwrap_err().to_string().contains("missing.obj"));
 }
+
+/// The cache folder stays within its size limit: writing a new entry removes the least
+/// recently used ones, and a hit counts as a use.
+#[test]
+fn a_full_cache_folder_forgets_the_least_recently_used_meshes() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let objs: Vec<PathBuf> = (0..3)
+        .map(|i| {
+            let obj = dir.path().join(format!("part{i}.obj"));
+            write_obj(&obj, 0.05 + 0.01 * i as f64);
+            obj
+        })
+        .collect();
+    let load = |obj: &Path, limit: u64| {
+        let settings = settings(&cache).with_max_bytes(limit);
+        ObstacleMesh::load_cached(obj, 1e-3, &pose(), &settings).unwrap()
+    };
+    let file_of = |mesh: &ObstacleMesh| match mesh.cache_use() {
+        MeshCacheUse::Written { file } | MeshCacheUse::Hit { file } => file.clone(),
+        other => panic!("not cached: {other:?}"),
+    };
+    let unlimited = u64::MAX;
+    let first = file_of(&load(&objs[0], unlimited));
+    let one = std::fs::metadata(&first).unwrap().len();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let second = file_of(&load(&objs[1], unlimited));
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    // A hit on the first makes the second the least recently used.
+    let hit = load(&objs[0], unlimited);
+    assert!(matches!(hit.cache_use(), MeshCacheUse::Hit { .. }));
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    // Room for two files (they are about the same size): the third evicts the second.
+    let third = file_of(&load(&objs[2], 2 * one + one / 2));
+    assert_eq!(cache_files(&cache), {
+        let mut kept = vec![first.clone(), third.clone()];
+        kept.sort();
+        kept
+    });
+    assert!(!second.exists());
+    // The evicted mesh is simply built again, and the limit holds.
+    let again = load(&objs[1], 2 * one + one / 2);
+    assert!(matches!(again.cache_use(), MeshCacheUse::Written { .. }));
+    assert_same_mesh(
+        &again,
+        &ObstacleMesh::load(&objs[1], 1e-3, &pose()).unwrap(),
+    );
+    assert_eq!(cache_files(&cache).len(), 2);
+}

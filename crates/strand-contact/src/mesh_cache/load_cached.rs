@@ -6,7 +6,7 @@ use std::sync::Arc;
 use nalgebra::Isometry3;
 
 use super::format::{CachedMesh, decode, encode};
-use super::{CacheKey, MeshCacheSettings, MeshCacheUse, store};
+use super::{CacheKey, MeshCacheSettings, MeshCacheUse, evict, store};
 use crate::mesh::{MeshError, ObstacleMesh, check_placement, mesh_from_bytes, name_of, read};
 
 impl ObstacleMesh {
@@ -45,6 +45,7 @@ impl ObstacleMesh {
             Ok(None) => None,
             Ok(Some((mut stored, length))) => match decode(&key, &mut stored, length) {
                 Ok(cached) => {
+                    evict::mark_used(stored.get_ref());
                     let mut mesh = from_cached(name_of(path), cached);
                     mesh.cache_use = MeshCacheUse::Hit { file };
                     return Ok(mesh);
@@ -61,6 +62,9 @@ impl ObstacleMesh {
         let file = directory.join(key.file_name());
         let written = encode(&key, &mesh.tree, &mesh.patch, &mesh.diagnostics)
             .and_then(|encoded| store::write_atomically(&file, &encoded));
+        if written.is_ok() {
+            evict::evict_least_recently_used(directory, &file, settings.max_bytes);
+        }
         mesh.cache_use = match (written, fault) {
             (Ok(()), None) => MeshCacheUse::Written { file },
             (Ok(()), Some(reason)) => MeshCacheUse::Replaced { file, reason },

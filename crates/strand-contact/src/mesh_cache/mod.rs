@@ -17,12 +17,17 @@
 //! - **Verified on read**: magic, format version, key and a 64-bit xxh3 checksum of the
 //!   content, then the sizes and indices; a file that fails any check is ignored, the
 //!   mesh is built from its file and the cache file replaced ([`MeshCacheUse::Replaced`]).
+//! - **Bounded**: after a write, the least recently used cache files (a hit counts as
+//!   a use) are removed until the folder fits in [`MeshCacheSettings::max_bytes`]
+//!   (10 GiB by default), and temporaries a crashed writer left are removed after an
+//!   hour.
 //! - **Small files** (below [`MeshCacheSettings::min_file_bytes`]) are not cached: they
 //!   build faster than a cache file is worth.
 //!
 //! Errors of the cache itself never fail a load: a folder that cannot be written gives
 //! [`MeshCacheUse::NotWritten`] with the reason, and the mesh as built.
 
+mod evict;
 mod format;
 mod key;
 mod load_cached;
