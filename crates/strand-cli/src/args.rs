@@ -18,10 +18,10 @@ pub struct Cli {
 pub enum Keep {
     /// `state.json` and a `result.json` thinned to what `summary.csv` reads.
     Summary,
-    /// `result.json` and `state.json`.
+    /// `result.json` and `state.json` (the default).
+    #[default]
     Results,
     /// Every file: also one CSV per rod, `rods.vtp`, `tubes.obj` and `tubes.stl`.
-    #[default]
     All,
 }
 
@@ -200,10 +200,11 @@ pub enum Command {
         /// Start a batch estimated above 10 GB or 100 000 variants.
         #[arg(long)]
         yes: bool,
-        /// Files kept per solved variant: `all` (result.json, state.json, rod CSVs,
-        /// rods.vtp, tubes.obj, tubes.stl), `results` (result.json, state.json) or `summary`
-        /// (state.json and a result.json thinned to the summary's peaks).
-        #[arg(long, value_enum, default_value_t = Keep::All)]
+        /// Files kept per solved variant: `results` (result.json, state.json), `all`
+        /// (also rod CSVs, rods.vtp, tubes.obj, tubes.stl: three times the files, about
+        /// half the batch's time) or `summary` (state.json and a result.json thinned to
+        /// the summary's peaks).
+        #[arg(long, value_enum, default_value_t = Keep::Results)]
         keep: Keep,
         /// Run only the I-th of N deterministic shares of the variants (1-based);
         /// combine the shards with `strand merge`.

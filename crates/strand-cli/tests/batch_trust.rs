@@ -446,10 +446,16 @@ fn limits_are_checked_before_anything_is_written() {
 fn kept_files_shrink_but_the_summary_stays_the_same() {
     let tmp = tempfile::tempdir().unwrap();
     let mut summaries = Vec::new();
-    for keep in ["all", "results", "summary"] {
-        let dir = tmp.path().join(keep);
+    // Without --keep a batch keeps `results`: two files a variant.
+    for given in ["all", "results", "summary", ""] {
+        let keep = if given.is_empty() { "results" } else { given };
+        let dir = tmp
+            .path()
+            .join(if given.is_empty() { "default" } else { given });
         let mut args = GRID.to_vec();
-        args.extend(["--keep", keep]);
+        if !given.is_empty() {
+            args.extend(["--keep", given]);
+        }
         let (code, out, err) = batch(&dir, &args);
         assert_eq!(code, Some(0), "{out}{err}");
         assert!(out.contains(&format!("--keep {keep})")), "{out}");
@@ -483,4 +489,5 @@ fn kept_files_shrink_but_the_summary_stays_the_same() {
     }
     assert_eq!(summaries[1], summaries[0]);
     assert_eq!(summaries[2], summaries[0]);
+    assert_eq!(summaries[3], summaries[0]);
 }

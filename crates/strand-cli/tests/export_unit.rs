@@ -206,6 +206,8 @@ fn study_and_batch_take_the_export_unit() {
         batch.to_str().unwrap(),
         "--jobs",
         "1",
+        "--keep",
+        "all",
         "--export-unit",
         "m",
     ]);

@@ -12,7 +12,7 @@
 use nalgebra::Point3;
 
 use crate::result::ResultDoc;
-use crate::tube::{tube_mesh, tube_radius};
+use crate::tube::{TubeMesh, rod_tube_meshes};
 
 /// The length unit of exported geometry: how many metres one unit is, and its symbol.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -45,13 +45,15 @@ impl ExportUnit {
 /// counter-clockwise seen from outside): the triangles of `tubes.obj`. Rods whose
 /// centreline is not finite are left out.
 pub fn tube_triangles(doc: &ResultDoc) -> Vec<[Point3<f64>; 3]> {
-    let mut out = Vec::new();
-    for rod in &doc.rods {
-        let (radius, _) = tube_radius(rod);
-        let Some(mesh) = tube_mesh(&rod.position_m, radius) else {
-            continue;
-        };
-        let point = |i: usize| Point3::from(mesh.vertices[i]);
+    triangles_in(&rod_tube_meshes(doc), 1.0)
+}
+
+/// The triangles of `meshes` (skipping the `None`s), corners in units of `metres` m.
+fn triangles_in(meshes: &[Option<TubeMesh>], metres: f64) -> Vec<[Point3<f64>; 3]> {
+    let faces = meshes.iter().flatten().map(|m| m.faces.len()).sum();
+    let mut out = Vec::with_capacity(faces);
+    for mesh in meshes.iter().flatten() {
+        let point = |i: usize| Point3::from(mesh.vertices[i] / metres);
         out.extend(mesh.faces.iter().map(|f| f.map(point)));
     }
     out
@@ -60,10 +62,13 @@ pub fn tube_triangles(doc: &ResultDoc) -> Vec<[Point3<f64>; 3]> {
 /// `tubes.stl`: the tube surfaces of `doc` ([`tube_triangles`]) as a binary STL with
 /// coordinates in `unit`; the 80-byte header names the case and the unit.
 pub fn tubes_stl(doc: &ResultDoc, unit: &ExportUnit) -> Vec<u8> {
-    let triangles: Vec<[Point3<f64>; 3]> = tube_triangles(doc)
-        .into_iter()
-        .map(|t| t.map(|p| Point3::from(p.coords / unit.metres)))
-        .collect();
+    tubes_stl_of(doc, &rod_tube_meshes(doc), unit)
+}
+
+/// As [`tubes_stl`], with the rods' tube surfaces given (`meshes`, from
+/// [`rod_tube_meshes`] of `doc`), so that `tubes.obj` can take the same ones.
+pub fn tubes_stl_of(doc: &ResultDoc, meshes: &[Option<TubeMesh>], unit: &ExportUnit) -> Vec<u8> {
+    let triangles = triangles_in(meshes, unit.metres);
     let header = format!(
         "strand tubes, unit {}, case {}",
         unit.symbol,

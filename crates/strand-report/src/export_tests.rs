@@ -336,6 +336,63 @@ fn write_results_adds_the_vtp_and_the_tubes() {
     );
 }
 
+/// `write_result_files` builds the tube surfaces once for `tubes.obj` and `tubes.stl`
+/// and takes `result.json`'s bytes from the caller: every file must still be what
+/// each writer writes alone, and the tubes the surfaces of [`tube_mesh`] built afresh
+/// per rod (OBJ coordinates read back to the same `f64`, STL corners to the same
+/// `f32`), in the unit asked for.
+#[test]
+fn written_files_are_what_each_writer_writes_alone() {
+    let d = helix_doc();
+    let mm = ExportUnit::new(1e-3, "mm");
+    let tmp = tempfile::tempdir().unwrap();
+    let json = serde_json::to_vec_pretty(&d).unwrap();
+    write_result_files(tmp.path(), &d, &json, &mm).unwrap();
+    let read = |name: &str| std::fs::read(tmp.path().join(name)).unwrap();
+    assert_eq!(read("result.json"), json);
+    for rod in &d.rods {
+        assert_eq!(
+            read(&format!("{}.csv", rod.name)),
+            rod_csv(rod).into_bytes()
+        );
+    }
+    assert_eq!(read("rods.vtp"), rods_vtp_in(&d, &mm).into_bytes());
+    assert_eq!(read("tubes.obj"), tubes_obj_in(&d, &mm).into_bytes());
+    assert_eq!(read("tubes.stl"), tubes_stl(&d, &mm));
+    // Independently: the surfaces of `tube_mesh`, one rod after the other.
+    let fresh: Vec<TubeMesh> = d
+        .rods
+        .iter()
+        .map(|r| tube_mesh(&r.position_m, tube_radius(r).0).unwrap())
+        .collect();
+    let obj = String::from_utf8(read("tubes.obj")).unwrap();
+    let objects = obj_objects(&obj);
+    for (rod, mesh) in d.rods.iter().zip(&fresh) {
+        let (_, vertices) = objects.iter().find(|(n, _)| *n == rod.name).unwrap();
+        assert_eq!(vertices.len(), mesh.vertices.len(), "{}", rod.name);
+        for (read_back, v) in vertices.iter().zip(&mesh.vertices) {
+            assert_eq!(*read_back, v / 1e-3, "{}: shortest round trip", rod.name);
+        }
+    }
+    let stl = read("tubes.stl");
+    let corners: Vec<f32> = stl[84..]
+        .chunks(50)
+        .flat_map(|record| {
+            (3..12).map(move |k| f32::from_le_bytes(record[4 * k..4 * k + 4].try_into().unwrap()))
+        })
+        .collect();
+    let expected: Vec<f32> = fresh
+        .iter()
+        .flat_map(|m| {
+            m.faces
+                .iter()
+                .flat_map(move |f| f.map(|i| m.vertices[i] / 1e-3))
+        })
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect();
+    assert_eq!(corners, expected);
+}
+
 #[test]
 fn a_centreline_that_is_not_finite_gets_no_tube() {
     let mut d = helix_doc();

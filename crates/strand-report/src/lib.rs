@@ -80,7 +80,7 @@ mod export_tests;
 #[cfg(test)]
 mod tests;
 
-pub use cad::{ExportUnit, tube_triangles, tubes_stl};
+pub use cad::{ExportUnit, tube_triangles, tubes_stl, tubes_stl_of};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
 pub use csv::{CSV_HEADER, rod_csv};
@@ -126,8 +126,10 @@ pub use study::{
 pub use study_plot::study_svg;
 pub use surface::{MAX_SURFACE_TRIANGLES, mesh_surface};
 pub use tube::{
-    BALL_BANDS, DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, TubeMesh, ball_mesh, tube_mesh,
-    tube_radius, tube_rings, tubes_obj, tubes_obj_in,
+    BALL_BANDS, DEFAULT_RADIUS_FRACTION, MAX_MITRE, TUBE_SIDES, TubeMesh, ball_mesh,
+    rod_tube_meshes, tube_mesh, tube_radius, tube_rings, tubes_obj, tubes_obj_in, tubes_obj_of,
 };
 pub use vtk::{VTK_POINT_ARRAYS, VtkPointArray, rods_vtp, rods_vtp_in};
-pub use write::{ReportError, is_safe_name, write_atomic, write_results, write_results_in};
+pub use write::{
+    ReportError, is_safe_name, write_atomic, write_result_files, write_results, write_results_in,
+};

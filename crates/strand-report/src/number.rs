@@ -27,7 +27,17 @@ pub fn push_number(out: &mut String, value: f64) {
         return;
     }
     let mut buffer = ryu::Buffer::new();
-    let text = buffer.format_finite(value).as_bytes();
+    let text = buffer.format_finite(value);
+    if !exponent_form {
+        // `ryu` writes this range positionally too, as `std` does, apart from the `.0`
+        // it appends to an integer (`100.0`); copied without laying the digits out.
+        let positional = text.strip_suffix(".0").unwrap_or(text);
+        if !(positional.contains('.') && positional.ends_with('0')) {
+            out.push_str(positional);
+            return;
+        }
+    }
+    let text = text.as_bytes();
     let (negative, text) = match text.split_first() {
         Some((b'-', rest)) => (true, rest),
         _ => (false, text),

@@ -86,6 +86,11 @@ pub fn tube_rings(positions: &[[f64; 3]], radius: f64) -> Option<Vec<Vector3<f64
     let mut rings = Vec::with_capacity(n * TUBE_SIDES);
     let mut normal = edges[0];
     let mut u = any_perpendicular(&normal);
+    // The directions around a ring (the same numbers at every ring).
+    let around: [(f64, f64); TUBE_SIDES] = std::array::from_fn(|k| {
+        let phi = std::f64::consts::TAU * k as f64 / TUBE_SIDES as f64;
+        (phi.cos(), phi.sin())
+    });
     for j in 0..n {
         // Ring plane normal (bisector) and the bend direction with its mitre stretch.
         let (before, after) = (edges[j.saturating_sub(1)], edges[j.min(n - 2)]);
@@ -100,9 +105,8 @@ pub fn tube_rings(positions: &[[f64; 3]], radius: f64) -> Option<Vec<Vector3<f64
         let u_j = Unit::new_normalize(u - bisector * bisector.dot(&u));
         let v_j = bisector.cross(&u_j);
         u = u_j.into_inner();
-        for k in 0..TUBE_SIDES {
-            let phi = std::f64::consts::TAU * k as f64 / TUBE_SIDES as f64;
-            let d = u * phi.cos() + v_j * phi.sin();
+        for &(cos, sin) in &around {
+            let d = u * cos + v_j * sin;
             let stretched = match bend {
                 Some(w) => d + w * (d.dot(&w) * (1.0 / half_cos - 1.0)),
                 None => d,
@@ -210,6 +214,17 @@ fn push_object(out: &mut String, name: &str, mesh: &TubeMesh, unit: &ExportUnit,
     *base += mesh.vertices.len();
 }
 
+/// The tube surface of every rod of `doc` in rod order ([`tube_mesh`] at its
+/// [`tube_radius`], vertices in m), `None` for a rod whose centreline is not finite or
+/// has no extent: what `tubes.obj` and `tubes.stl` draw, computed once for both
+/// ([`tubes_obj_of`], [`crate::tubes_stl_of`]).
+pub fn rod_tube_meshes(doc: &ResultDoc) -> Vec<Option<TubeMesh>> {
+    doc.rods
+        .iter()
+        .map(|rod| tube_mesh(&rod.position_m, tube_radius(rod).0))
+        .collect()
+}
+
 /// The text of `tubes.obj`: one tube object per rod of `doc` (see the module docs).
 /// Rods whose centreline is not finite are left out, with a comment saying so.
 /// Coordinates in m; see [`tubes_obj_in`] for another unit.
@@ -222,7 +237,16 @@ pub fn tubes_obj(doc: &ResultDoc) -> String {
 /// rods, one object per fitting ([`crate::fittings`]: junction bodies, connectors,
 /// clips) named `<kind>_<name>`, so that a T-junction shows no gap.
 pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
-    let mut out = String::new();
+    tubes_obj_of(doc, &rod_tube_meshes(doc), unit)
+}
+
+/// As [`tubes_obj_in`], with the rods' tube surfaces given (`meshes`, from
+/// [`rod_tube_meshes`] of `doc`, one per rod in rod order), so that `tubes.stl` can
+/// take the same ones.
+pub fn tubes_obj_of(doc: &ResultDoc, meshes: &[Option<TubeMesh>], unit: &ExportUnit) -> String {
+    // About 40 bytes per vertex line and 20 per face line.
+    let vertices: usize = meshes.iter().flatten().map(|m| m.vertices.len()).sum();
+    let mut out = String::with_capacity(1024 + 80 * vertices);
     let _ = writeln!(
         out,
         "# strand: tube surfaces of the rods of case {}, {}; {TUBE_SIDES} vertices around, one object per rod, then one per fitting (junction_, connector_, clip_)",
@@ -230,9 +254,9 @@ pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
         unit.symbol
     );
     let mut base = 1; // OBJ indices are 1-based.
-    for rod in &doc.rods {
+    for (rod, mesh) in doc.rods.iter().zip(meshes) {
         let (radius, default) = tube_radius(rod);
-        let Some(mesh) = tube_mesh(&rod.position_m, radius) else {
+        let Some(mesh) = mesh else {
             let _ = writeln!(
                 out,
                 "# {}: centreline not finite or of zero extent; no tube",
@@ -258,7 +282,7 @@ pub fn tubes_obj_in(doc: &ResultDoc, unit: &ExportUnit) -> String {
                 unit.symbol
             );
         }
-        push_object(&mut out, &rod.name, &mesh, unit, &mut base);
+        push_object(&mut out, &rod.name, mesh, unit, &mut base);
     }
     for fitting in crate::fittings::fittings(doc) {
         let mut mesh = TubeMesh::default();

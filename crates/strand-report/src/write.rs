@@ -121,6 +121,22 @@ pub fn write_results_in(
         return Err(ReportError::UnsafeName(bad.name.clone()));
     }
     let json = serde_json::to_vec_pretty(doc)?;
+    write_result_files(dir, doc, &json, unit)
+}
+
+/// As [`write_results_in`], with the bytes of `result.json` given: `result_json` must
+/// be `serde_json::to_vec_pretty(doc)` (a batch needs them first, for the checksum in
+/// `state.json`, and so serialises `doc` once). The tube surfaces are built once for
+/// `tubes.obj` and `tubes.stl` ([`crate::rod_tube_meshes`]).
+pub fn write_result_files(
+    dir: &Path,
+    doc: &ResultDoc,
+    result_json: &[u8],
+    unit: &ExportUnit,
+) -> Result<Vec<PathBuf>, ReportError> {
+    if let Some(bad) = doc.rods.iter().find(|r| !is_safe_name(&r.name)) {
+        return Err(ReportError::UnsafeName(bad.name.clone()));
+    }
     std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
         path: dir.to_path_buf(),
         source,
@@ -134,12 +150,17 @@ pub fn write_results_in(
         "rods.vtp",
         crate::vtk::rods_vtp_in(doc, unit).as_bytes(),
     )?;
+    let meshes = crate::tube::rod_tube_meshes(doc);
     staged.add(
         dir,
         "tubes.obj",
-        crate::tube::tubes_obj_in(doc, unit).as_bytes(),
+        crate::tube::tubes_obj_of(doc, &meshes, unit).as_bytes(),
     )?;
-    staged.add(dir, "tubes.stl", &crate::cad::tubes_stl(doc, unit))?;
-    staged.add(dir, "result.json", &json)?;
+    staged.add(
+        dir,
+        "tubes.stl",
+        &crate::cad::tubes_stl_of(doc, &meshes, unit),
+    )?;
+    staged.add(dir, "result.json", result_json)?;
     staged.commit()
 }

@@ -1,9 +1,11 @@
 //! `--keep summary|results|all`: which files a solved variant keeps, so that huge
 //! sweeps fit on disk ([`super::Keep`]).
 //!
-//! - `all` (default): `result.json`, `state.json`, one CSV per rod, `rods.vtp`,
-//!   `tubes.obj`, `tubes.stl` (geometry in the case's length unit);
-//! - `results`: `result.json` and `state.json` (no CSV, VTK, OBJ or STL files);
+//! - `results` (default): `result.json` and `state.json` (no CSV, VTK, OBJ or STL
+//!   files: two files a variant, where creating the files, not writing their bytes, is
+//!   most of the cost);
+//! - `all`: also one CSV per rod, `rods.vtp`, `tubes.obj`, `tubes.stl` (geometry in the
+//!   case's length unit);
 //! - `summary`: `state.json` (resume needs it) and a **thin** `result.json` that holds
 //!   only what `summary.csv` reads: per rod the one force, moment and curvature vector
 //!   where the peak |f|, |m| and the tightest bend are, the reactions and the smallest

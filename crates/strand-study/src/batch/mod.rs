@@ -99,10 +99,11 @@ const MAX_PATH_BYTES: usize = 4000;
 pub enum Keep {
     /// `state.json` and a `result.json` thinned to what `summary.csv` reads.
     Summary,
-    /// `result.json` and `state.json`.
+    /// `result.json` and `state.json` (the default: the exports would triple the
+    /// files a variant creates, and creating files is most of a batch's time).
+    #[default]
     Results,
     /// Every file: also one CSV per rod, `rods.vtp`, `tubes.obj` and `tubes.stl`.
-    #[default]
     All,
 }
 
@@ -159,7 +160,7 @@ impl BatchSpec {
             jobs: None,
             force_jobs: false,
             yes: false,
-            keep: Keep::All,
+            keep: Keep::default(),
             shard: None,
             segments: None,
             retry_failed: false,

@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use strand_case::{BuiltCase, Case};
 use strand_report::{
-    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_results_in,
+    ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_result_files,
 };
 use strand_solve::{Solution, SolverSettings};
 use strand_system::SystemState;
@@ -423,28 +423,30 @@ impl<'a> Runner<'a> {
         let doc = kept_doc(result_doc(id, built, solution, warm, timing), self.keep);
         let written = std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
-            // `result.json` is exactly these bytes (`write_results_in` writes them), so
-            // `state.json` can record their checksum before they are written.
+            // `result.json` is exactly these bytes, serialised once: `state.json`
+            // records their checksum before they are written.
             .and_then(|()| serde_json::to_vec_pretty(&doc).map_err(|e| e.to_string()))
-            .map(|result_json| StoredState::from_state(&solution.state, &result_json))
-            .and_then(|stored| serde_json::to_vec(&stored).map_err(|e| e.to_string()))
-            .and_then(|json| {
-                write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
+            .and_then(|result_json| {
+                let stored = StoredState::from_state(&solution.state, &result_json);
+                serde_json::to_vec(&stored)
+                    .map_err(|e| e.to_string())
+                    .and_then(|json| {
+                        write_atomic(&dir.join("state.json"), &json).map_err(|e| e.to_string())
+                    })
+                    .map(|()| result_json)
             })
-            .and_then(|()| match self.keep {
-                Keep::All => write_results_in(
+            .and_then(|result_json| match self.keep {
+                Keep::All => write_result_files(
                     dir,
                     &doc,
+                    &result_json,
                     &crate::solve::export_unit(built, self.export_unit.as_ref()),
                 )
                 .map(|_| ())
                 .map_err(|e| e.to_string()),
-                // The same bytes `write_results_in` writes, without the other files.
-                Keep::Results | Keep::Summary => serde_json::to_vec_pretty(&doc)
-                    .map_err(|e| e.to_string())
-                    .and_then(|json| {
-                        write_atomic(&dir.join("result.json"), &json).map_err(|e| e.to_string())
-                    }),
+                Keep::Results | Keep::Summary => {
+                    write_atomic(&dir.join("result.json"), &result_json).map_err(|e| e.to_string())
+                }
             });
         if let Err(e) = written {
             self.record_io(format!("variant '{id}': results not written: {e}"));
