@@ -18,7 +18,7 @@
 //!                                                solve variants; DIR/study.svg, DIR/study.csv,
 //!                                                DIR/<variant>/result.json
 //! strand batch CASE --vary ITEM=A..B:STEP [--vary …] --out DIR [--jobs N] [--shard I/N]
-//!              [--keep all|results|summary] [--yes] [--force-jobs] [--retry-failed]
+//!              [--keep results|all|summary] [--yes] [--force-jobs] [--retry-failed]
 //!                                                every combination, parallel, warm-started,
 //!                                                resumable; DIR/summary.csv, DIR/summary.svg
 //! strand optimize CASE --vary ITEM=LO..HI [--vary …] [--minimize peak_force]
