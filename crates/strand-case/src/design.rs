@@ -57,10 +57,11 @@ pub struct CaseDesign<'c> {
     directions: Vec<OnceLock<Option<Vec<f64>>>>,
     /// Full builds through the case builder so far (the work a design avoids).
     full_builds: AtomicUsize,
-    /// The designs moved along one affine parameter so far, by parameter and offset
-    /// (its bits), up to [`MOVED_KEPT`]: the right-hand sides of the sensitivities and
-    /// the outputs' largest difference step visit the same points (`±h`, `±2h`), so
-    /// each is moved once and cloned after.
+    /// The designs moved along one affine parameter and not asked for again yet, by
+    /// parameter and offset (its bits), up to [`MOVED_KEPT`]: the right-hand sides of
+    /// the sensitivities and the outputs' largest difference step visit the same
+    /// points (`±h`, `±2h`), so the second visit takes the first one's design (and
+    /// a third moves it anew).
     moved: Mutex<HashMap<(usize, u64), DesignedCase>>,
 }
 
@@ -354,8 +355,8 @@ impl Design for CaseDesign<'_> {
     /// moves the model's real numbers affinely ([`CaseDesign::is_affine`]: checked
     /// against two full builds on first use), the base model with its real numbers
     /// moved along that line ([`strand_system::Model::try_new_like`]: no case
-    /// builder, the base's symbolic phase; each offset moved once, then cloned,
-    /// [`MOVED_KEPT`]). Otherwise the case builder: its first
+    /// builder, the base's symbolic phase; a second build at the same offset takes
+    /// the first one's, [`MOVED_KEPT`]). Otherwise the case builder: its first
     /// build computes the case's initial guess; later builds reuse it and keep its
     /// clip vertices ([`Case::build_with_changes_reusing`]): a design is built many
     /// times at small offsets, its guesses are never solved from, and its mesh must
@@ -372,8 +373,8 @@ impl Design for CaseDesign<'_> {
             (Some(j), None) => match self.direction(j)? {
                 Some(direction) => {
                     let key = (j, offsets[j].to_bits());
-                    let kept = |moved: &HashMap<_, DesignedCase>| moved.get(&key).cloned();
-                    if let Some(built) = self.moved.lock().ok().as_deref().and_then(kept) {
+                    let kept = self.moved.lock().ok().and_then(|mut m| m.remove(&key));
+                    if let Some(built) = kept {
                         return Ok(built);
                     }
                     let (base, reals) = self.base()?;

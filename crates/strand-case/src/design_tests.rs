@@ -273,8 +273,8 @@ fn a_kept_moved_design_is_the_one_moved_at_that_parameter_and_offset() {
         let g = gradient(&built.built.model, &built.built.initial);
         (built.built.model.system().reals(), g)
     };
-    // The same offset of the two parameters, each twice (the second time from the
-    // kept designs), and a second offset of the first.
+    // The same offset of the two parameters, each twice (the second time taking the
+    // kept design), and a second offset of the first.
     let h = 0.1;
     let first = reals(&[h, 0.0]);
     let other = reals(&[0.0, h]);
@@ -283,6 +283,8 @@ fn a_kept_moved_design_is_the_one_moved_at_that_parameter_and_offset() {
     assert_ne!(first.0, smaller.0, "the key must tell the offsets apart");
     assert_eq!(reals(&[h, 0.0]), first);
     assert_eq!(reals(&[0.0, h]), other);
+    // Taken once: a third build moves the base again, to the same design.
+    assert_eq!(reals(&[h, 0.0]), first);
     // A fresh design that moves it anew agrees bit for bit.
     let fresh = CaseDesign::new(&cooler, params);
     let built = fresh.build(&[0.0, h]).unwrap();
