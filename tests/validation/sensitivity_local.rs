@@ -9,7 +9,8 @@
 use strand_case::{Case, CaseDesign, DesignParameter};
 use strand_solve::sensitivity::{Design, PathPlace, Sensitivities, SensitivitySettings};
 use strand_study::sensitivity::{
-    ENERGY, LocalOutputs, OutputEvaluation, output_table_with, outputs_at,
+    ENERGY, EnergyOutput, LocalOutputs, OutputEvaluation, output_table, output_table_with,
+    outputs_at,
 };
 
 use crate::common::cases_dir;
@@ -119,7 +120,14 @@ fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
     let settings = SensitivitySettings::default();
     let table = |evaluation| {
         let design = CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
-        output_table_with(&design, &solution, &settings, evaluation).unwrap()
+        output_table_with(
+            &design,
+            &solution,
+            &settings,
+            evaluation,
+            EnergyOutput::Included,
+        )
+        .unwrap()
     };
     let (local, whole) = (
         table(OutputEvaluation::Local),
@@ -145,6 +153,60 @@ fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
         }
     }
     assert!(compared >= 50 * params.len());
+}
+
+/// Without the energy (the default table, what `sensitivity.json` lists) every
+/// other output keeps its value, derivatives and one-sided flags bit for bit, read
+/// locally and as the whole table: the energy is only left out, nothing shifts.
+#[test]
+fn a_table_without_the_energy_is_the_table_with_it_less_the_energy() {
+    let case = case("cooler_hose.ron");
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    let params = cooler_parameters();
+    let settings = SensitivitySettings::default();
+    let design = || CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
+    let with = output_table_with(
+        &design(),
+        &solution,
+        &settings,
+        OutputEvaluation::Local,
+        EnergyOutput::Included,
+    )
+    .unwrap();
+    assert_eq!(with.outputs.last().map(|o| o.name.as_str()), Some(ENERGY));
+    for without in [
+        output_table(&design(), &solution, &settings).unwrap(),
+        output_table_with(
+            &design(),
+            &solution,
+            &settings,
+            OutputEvaluation::WholeTable,
+            EnergyOutput::Omitted,
+        )
+        .unwrap(),
+    ] {
+        assert!(
+            without.find(ENERGY).is_none(),
+            "the energy was not left out"
+        );
+        assert_eq!(without.outputs.len() + 1, with.outputs.len());
+        assert_eq!(without.outputs[..], with.outputs[..without.outputs.len()]);
+        for k in 0..without.outputs.len() {
+            let name = &without.outputs[k].name;
+            for j in 0..params.len() {
+                let (a, b) = (without.derivatives[k][j], with.derivatives[k][j]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * b.abs().max(1e-9),
+                    "d {name} / d {}: {a} without the energy vs {b} with it",
+                    params[j].item
+                );
+            }
+            assert_eq!(without.one_sided[k], with.one_sided[k], "{name}");
+        }
+    }
 }
 
 #[test]

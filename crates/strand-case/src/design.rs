@@ -13,8 +13,9 @@
 //! }]);
 //! ```
 
-use std::sync::OnceLock;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 use strand_solve::Constraints;
 use strand_solve::contact::Contact;
@@ -56,7 +57,17 @@ pub struct CaseDesign<'c> {
     directions: Vec<OnceLock<Option<Vec<f64>>>>,
     /// Full builds through the case builder so far (the work a design avoids).
     full_builds: AtomicUsize,
+    /// The designs moved along one affine parameter and not asked for again yet, by
+    /// parameter and offset (its bits), up to [`MOVED_KEPT`]: the right-hand sides of
+    /// the sensitivities and the outputs' largest difference step visit the same
+    /// points (`±h`, `±2h`), so the second visit takes the first one's design (and
+    /// a third moves it anew).
+    moved: Mutex<HashMap<(usize, u64), DesignedCase>>,
 }
+
+/// Most designs moved along one parameter that a [`CaseDesign`] keeps (ten
+/// parameters' four largest difference steps, and room for their smaller ones).
+pub const MOVED_KEPT: usize = 128;
 
 impl std::fmt::Debug for CaseDesign<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -95,6 +106,7 @@ impl<'c> CaseDesign<'c> {
             base: OnceLock::new(),
             directions,
             full_builds: AtomicUsize::new(0),
+            moved: Mutex::new(HashMap::new()),
         }
     }
 
@@ -343,7 +355,8 @@ impl Design for CaseDesign<'_> {
     /// moves the model's real numbers affinely ([`CaseDesign::is_affine`]: checked
     /// against two full builds on first use), the base model with its real numbers
     /// moved along that line ([`strand_system::Model::try_new_like`]: no case
-    /// builder, the base's symbolic phase). Otherwise the case builder: its first
+    /// builder, the base's symbolic phase; a second build at the same offset takes
+    /// the first one's, [`MOVED_KEPT`]). Otherwise the case builder: its first
     /// build computes the case's initial guess; later builds reuse it and keep its
     /// clip vertices ([`Case::build_with_changes_reusing`]): a design is built many
     /// times at small offsets, its guesses are never solved from, and its mesh must
@@ -359,8 +372,19 @@ impl Design for CaseDesign<'_> {
             (None, _) => Ok(self.base()?.0.clone()),
             (Some(j), None) => match self.direction(j)? {
                 Some(direction) => {
+                    let key = (j, offsets[j].to_bits());
+                    let kept = self.moved.lock().ok().and_then(|mut m| m.remove(&key));
+                    if let Some(built) = kept {
+                        return Ok(built);
+                    }
                     let (base, reals) = self.base()?;
-                    along(base, reals, direction, offsets[j], &self.case.origin)
+                    let built = along(base, reals, direction, offsets[j], &self.case.origin)?;
+                    if let Ok(mut moved) = self.moved.lock()
+                        && moved.len() < MOVED_KEPT
+                    {
+                        moved.insert(key, built.clone());
+                    }
+                    Ok(built)
                 }
                 None => self.full_build(offsets),
             },

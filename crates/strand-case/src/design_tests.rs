@@ -257,3 +257,36 @@ fn a_recentred_design_takes_over_the_probes_where_the_model_stays_affine() {
     assert!(!design.recentred(vec![0.0, 5.0]).unwrap().is_analysed());
     assert!(design.recentred(vec![10.0, 0.0]).unwrap().is_analysed());
 }
+
+#[test]
+fn a_kept_moved_design_is_the_one_moved_at_that_parameter_and_offset() {
+    let cooler = case("cooler_hose.ron");
+    let params = vec![
+        param("rods.hose2.length", None, 1000.0),
+        param("rods.hose3.length", None, 1000.0),
+    ];
+    let design = CaseDesign::new(&cooler, params.clone());
+    design.analyse().unwrap();
+    // The moved model's real numbers and its gradient at the base's initial state.
+    let reals = |offsets: &[f64]| {
+        let built = design.build(offsets).unwrap();
+        let g = gradient(&built.built.model, &built.built.initial);
+        (built.built.model.system().reals(), g)
+    };
+    // The same offset of the two parameters, each twice (the second time taking the
+    // kept design), and a second offset of the first.
+    let h = 0.1;
+    let first = reals(&[h, 0.0]);
+    let other = reals(&[0.0, h]);
+    let smaller = reals(&[h / 10.0, 0.0]);
+    assert_ne!(first.0, other.0, "the key must tell the parameters apart");
+    assert_ne!(first.0, smaller.0, "the key must tell the offsets apart");
+    assert_eq!(reals(&[h, 0.0]), first);
+    assert_eq!(reals(&[0.0, h]), other);
+    // Taken once: a third build moves the base again, to the same design.
+    assert_eq!(reals(&[h, 0.0]), first);
+    // A fresh design that moves it anew agrees bit for bit.
+    let fresh = CaseDesign::new(&cooler, params);
+    let built = fresh.build(&[0.0, h]).unwrap();
+    assert_eq!(built.built.model.system().reals(), other.0);
+}

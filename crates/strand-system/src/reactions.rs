@@ -4,10 +4,12 @@
 //! equilibrium its support (a connector or a body's port) supplies exactly the
 //! generalised force the rod's potential exerts there: `force = ∂W/∂r_end` and, for a
 //! clamped boundary frame, `moment = Q_end ∂W/∂θ_end` (spatial, about the end vertex).
+//! Only the elements' gradients are evaluated (the same to the last bit as with their
+//! second derivatives): a sensitivity reads the reactions at every point of its paths.
 
 use nalgebra::Vector3;
 use serde::Serialize;
-use strand_rod::element::{BendTwist, bend_twist, stretch_shear};
+use strand_rod::element::{BendTwist, bend_twist_gradient, stretch_shear_gradient};
 use strand_rod::sectional::{edge_element, vertex_frames};
 
 use crate::model::Model;
@@ -73,7 +75,8 @@ impl Model {
                     }
                 };
                 let (vertex, edge, local) = if at_end { (n, n - 1, 3) } else { (0, 0, 0) };
-                let edge_derivatives = stretch_shear(&edge_element(&spec.rod, rod_state, &c, edge));
+                let edge_derivatives =
+                    stretch_shear_gradient(&edge_element(&spec.rod, rod_state, &c, edge));
                 let force = edge_derivatives
                     .gradient
                     .fixed_rows::<3>(local)
@@ -83,7 +86,7 @@ impl Model {
                 let moment = match vertex_frames(rod_state, &boundary, vertex) {
                     Some((q_a, q_b)) => {
                         let curvature_stiffness = spec.rod.section().curvature_stiffness();
-                        let d = bend_twist(&BendTwist {
+                        let d = bend_twist_gradient(&BendTwist {
                             frame_a: q_a,
                             frame_b: q_b,
                             weight: spec.rod.vertex_weight(vertex),
@@ -113,13 +116,14 @@ impl Model {
             let spec = &system.rods[r];
             let rod_state = &state.rods[r];
             let c_gamma = spec.rod.section().strain_stiffness();
-            let before = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j - 1));
-            let after = stretch_shear(&edge_element(&spec.rod, rod_state, &c_gamma, j));
+            let before =
+                stretch_shear_gradient(&edge_element(&spec.rod, rod_state, &c_gamma, j - 1));
+            let after = stretch_shear_gradient(&edge_element(&spec.rod, rod_state, &c_gamma, j));
             let force = before.gradient.fixed_rows::<3>(3).into_owned()
                 + after.gradient.fixed_rows::<3>(0).into_owned()
                 - spec.rod.vertex_mass(j) * system.gravity;
-            let half_before = bend_twist(&self.clip_half(state, r, j, c, false).element());
-            let half_after = bend_twist(&self.clip_half(state, r, j, c, true).element());
+            let half_before = bend_twist_gradient(&self.clip_half(state, r, j, c, false).element());
+            let half_after = bend_twist_gradient(&self.clip_half(state, r, j, c, true).element());
             let output = system
                 .clip_output(c, &state.clips, &state.bodies)
                 .orientation;

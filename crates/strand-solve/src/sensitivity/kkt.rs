@@ -1,6 +1,6 @@
 //! The KKT residual `Φ(δ, μ, p)` of a design at a point near the base equilibrium.
 
-use strand_system::{Model, SystemState};
+use strand_system::{Evaluation, Model, SystemState};
 
 use super::{Design, Designed, SensitivityError};
 use crate::constraints::{Row, RowKey, limit_rows};
@@ -74,7 +74,13 @@ pub(crate) fn point<D: Design>(
     }
     let mut start = base.clone();
     model.enforce_supports(&mut start);
-    let state = model.retract(&start, delta);
+    // A point of the right-hand side `∂Φ/∂p` keeps the state (no retraction: the
+    // supports are placed above, and a zero step moves nothing else).
+    let state = if delta.iter().all(|d| *d == 0.0) {
+        start
+    } else {
+        model.retract(&start, delta)
+    };
     let rows = rows_at(model, built.constraints(), &state, parameter)?;
     Ok(Point { built, state, rows })
 }
@@ -106,7 +112,7 @@ pub(crate) fn residual<B: Designed>(
     parameter: usize,
 ) -> Result<Kkt, SensitivityError> {
     let model = point.built.model();
-    let mut eval = model.new_evaluation();
+    let mut eval = gradient_only(model);
     model.evaluate(&point.state, &mut eval, false);
     let mut gradient = eval.gradient;
     let mut gaps = Vec::with_capacity(active.len());
@@ -121,7 +127,21 @@ pub(crate) fn residual<B: Designed>(
         }
         gaps.push(row.value);
     }
-    model.pull_back_gradient(delta, 1.0, &mut gradient);
+    if delta.iter().any(|d| *d != 0.0) {
+        model.pull_back_gradient(delta, 1.0, &mut gradient);
+    }
     gauge.fix_vector(&mut gradient);
     Ok(Kkt { gradient, gaps })
+}
+
+/// An [`Evaluation`] for the gradient alone: no storage for the Hessian's values
+/// (an evaluation without the Hessian does not touch them), so that each of the
+/// right-hand side's gradients does not allocate and zero the Hessian's pattern.
+pub(crate) fn gradient_only(model: &Model) -> Evaluation {
+    Evaluation {
+        energy: 0.0,
+        gradient: vec![0.0; model.dofs().len()],
+        hessian: Vec::new(),
+        has_hessian: false,
+    }
 }

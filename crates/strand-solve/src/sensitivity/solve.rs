@@ -184,8 +184,8 @@ impl Sensitivities {
         let mut best = (v.clone(), w.clone(), f64::INFINITY);
         let mut refinements = 0;
         for step in 0..=settings.max_refinements {
-            let res = self.linear_residual(base_built, base, j, factor, &rhs, &v, &w)?;
-            let relative = relative_size(model, &res, &rhs, &v, &factor.hessian_product(&v));
+            let (res, hv) = self.linear_residual(base_built, base, j, factor, &rhs, &v, &w)?;
+            let relative = relative_size(model, &res, &rhs, &v, &hv);
             if relative < best.2 {
                 best = (v.clone(), w.clone(), relative);
                 refinements = step;
@@ -211,7 +211,8 @@ impl Sensitivities {
     }
 
     /// The residual `J·(v, w) + rhs` of the linearised KKT system with the exact
-    /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`. Only the
+    /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`, and `H v`
+    /// (the size of the force terms, [`relative_size`]). Only the
     /// curvature of the active rows (zero for a flat contact or a joint stop) is taken
     /// by a difference, of the rows' gradients alone along `v` (no energy gradient, so
     /// no round-off of the stiff axial terms).
@@ -225,14 +226,15 @@ impl Sensitivities {
         rhs: &Kkt,
         v: &[f64],
         w: &[f64],
-    ) -> Result<Kkt, SensitivityError> {
-        let mut gradient = factor.hessian_product(v);
-        for ((g, hv), r) in gradient
+    ) -> Result<(Kkt, Vec<f64>), SensitivityError> {
+        let hv = factor.hessian_product(v);
+        let mut gradient = hv.clone();
+        for ((g, aw), r) in gradient
             .iter_mut()
             .zip(factor.transpose_product(w))
             .zip(&rhs.gradient)
         {
-            *g += r - hv;
+            *g += r - aw;
         }
         let gaps: Vec<f64> = factor
             .row_product(v)
@@ -270,7 +272,7 @@ impl Sensitivities {
                 }
             }
         }
-        Ok(Kkt { gradient, gaps })
+        Ok((Kkt { gradient, gaps }, hv))
     }
 
     /// The directional derivative of `Φ` along `(v, w, e_j)` by central differences

@@ -8,7 +8,7 @@ use strand_solve::{Solution, SolveError, SolverSettings};
 
 use super::OptimizeError;
 use crate::error::StudyError;
-use crate::sensitivity::{OutputTable, output_table};
+use crate::sensitivity::{EnergyOutput, OutputEvaluation, OutputTable, output_table_with};
 
 /// A solved design point with its outputs and their gradients.
 pub struct Evaluation {
@@ -27,6 +27,8 @@ pub struct Evaluator<'c> {
     case: &'c Case,
     parameters: Vec<DesignParameter>,
     sensitivity: SensitivitySettings,
+    /// Whether the tables have the energy (only an `energy` objective reads it).
+    energy: EnergyOutput,
     /// Equilibrium solves so far (every attempt, warm or cold, counts).
     pub solves: usize,
     /// Newton iterations of those solves.
@@ -40,16 +42,19 @@ pub struct Evaluator<'c> {
 pub type Unsolved = String;
 
 impl<'c> Evaluator<'c> {
-    /// An evaluator of `case` over `parameters`.
+    /// An evaluator of `case` over `parameters`, whose tables have the energy where
+    /// `energy` includes it.
     pub fn new(
         case: &'c Case,
         parameters: Vec<DesignParameter>,
         sensitivity: SensitivitySettings,
+        energy: EnergyOutput,
     ) -> Self {
         Self {
             case,
             parameters,
             sensitivity,
+            energy,
             solves: 0,
             iterations: 0,
             last: None,
@@ -114,7 +119,13 @@ impl<'c> Evaluator<'c> {
             }
             Err(e) => return Ok(Err(format!("the equilibrium could not be solved: {e}"))),
         };
-        let table = match output_table(&design, &solution, &self.sensitivity) {
+        let table = match output_table_with(
+            &design,
+            &solution,
+            &self.sensitivity,
+            OutputEvaluation::Local,
+            self.energy,
+        ) {
             Ok(t) => {
                 self.last = Some(design);
                 t

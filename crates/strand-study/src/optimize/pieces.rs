@@ -9,6 +9,7 @@ use strand_case::BuiltCase;
 use super::OptimizeError;
 use super::evaluate::Evaluation;
 use super::problem::{Bound, Bounded, Objective, Problem};
+use crate::sensitivity::{ENERGY, EnergyOutput};
 
 /// A smooth function of the variables at a point: value and gradient per variable
 /// (in the function's unit per item unit).
@@ -302,4 +303,60 @@ pub fn supports(problem_case: &strand_case::Case) -> Vec<String> {
         .map(|(n, _)| n.clone())
         .chain(f.clips.iter().map(|(n, _)| n.clone()))
         .collect()
+}
+
+/// Whether `problem` reads the energy ([`ENERGY`]: the `energy` objective, or an
+/// objective or constraint naming it): only then do the output tables compute it
+/// along the sensitivities' paths ([`EnergyOutput`]).
+pub fn energy_output(problem: &Problem) -> EnergyOutput {
+    let objective = match &problem.objective {
+        Objective::Energy => true,
+        Objective::Output(name) => name == ENERGY,
+        _ => false,
+    };
+    let limit = problem
+        .limits
+        .iter()
+        .any(|l| matches!(&l.bounded, Bounded::Output(name) if name == ENERGY));
+    if objective || limit {
+        EnergyOutput::Included
+    } else {
+        EnergyOutput::Omitted
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimize::problem::Limit;
+
+    fn problem(objective: &str, limits: &[&str]) -> Problem {
+        Problem {
+            variables: Vec::new(),
+            objective: Objective::parse(objective).unwrap(),
+            limits: limits.iter().map(|l| Limit::parse(l).unwrap()).collect(),
+        }
+    }
+
+    #[test]
+    fn only_a_problem_that_reads_the_energy_has_it_computed() {
+        let included = EnergyOutput::Included;
+        assert_eq!(energy_output(&problem("energy", &[])), included);
+        assert_eq!(energy_output(&problem(ENERGY, &[])), included);
+        let on_energy = format!("{ENERGY}<=2");
+        assert_eq!(
+            energy_output(&problem("peak_force", &[on_energy.as_str()])),
+            included
+        );
+        let omitted = EnergyOutput::Omitted;
+        assert_eq!(energy_output(&problem("peak_force", &[])), omitted);
+        assert_eq!(
+            energy_output(&problem("max_reaction", &["bend_radius>=min"])),
+            omitted
+        );
+        assert_eq!(
+            energy_output(&problem("hose2.peak_moment_Nm", &[])),
+            omitted
+        );
+    }
 }

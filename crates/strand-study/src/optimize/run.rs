@@ -19,7 +19,9 @@ use nalgebra::{DMatrix, DVector};
 use strand_case::Case;
 
 use super::evaluate::{Evaluation, Evaluator};
-use super::pieces::{Piece, Row, check_names, constraint_rows, objective_pieces, supports};
+use super::pieces::{
+    Piece, Row, check_names, constraint_rows, energy_output, objective_pieces, supports,
+};
 use super::problem::Problem;
 use super::problem::unit_of;
 use super::step::{Affine, Step, Subproblem};
@@ -215,6 +217,7 @@ pub fn optimize(
             .map(|v| v.parameter.clone())
             .collect(),
         settings.sensitivity.clone(),
+        energy_output(problem),
     );
     let (lower, upper): (Vec<f64>, Vec<f64>) =
         problem.variables.iter().map(|v| (v.lower, v.upper)).unzip();

@@ -8,8 +8,8 @@
 //!
 //! A plan is made only where every output has a local reading that reproduces the
 //! whole table at the base exactly: rods' peaks and bend radii, connector and port
-//! reactions, free junctions' poses and the energy. A case with clips, contacts or
-//! clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
+//! reactions, free junctions' poses and the energy (where the table has it). A case
+//! with clips, contacts or clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
@@ -140,10 +140,14 @@ impl LocalOutputs {
                 readings.push(reading);
             }
         }
-        if rest.next()?.name != ENERGY || rest.next().is_some() {
-            return None;
+        // The energy, last, where the table has it ([`super::EnergyOutput`]).
+        match rest.next() {
+            None => {}
+            Some(o) if o.name == ENERGY && rest.next().is_none() => {
+                readings.push(Reading::Energy);
+            }
+            Some(_) => return None,
         }
-        readings.push(Reading::Energy);
         let plan = Self {
             readings,
             args: outputs.iter().map(|o| o.arg).collect(),

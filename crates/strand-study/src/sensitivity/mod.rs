@@ -17,7 +17,8 @@ use strand_solve::sensitivity::SensitivitySettings;
 
 pub use local::LocalOutputs;
 pub use table::{
-    ENERGY, OutputEvaluation, OutputTable, output_table, output_table_with, outputs_at,
+    ENERGY, EnergyOutput, OutputEvaluation, OutputTable, output_table, output_table_with,
+    outputs_at,
 };
 
 use crate::batch::spec::{base_unit, resolve};
@@ -102,7 +103,7 @@ pub fn parameters(case: &Case, names: &[String]) -> Result<Vec<(DesignParameter,
 /// The sensitivities of `case`'s solved equilibrium `solution` with respect to
 /// `names` ([`parameters`]): every output's value and its derivative per parameter
 /// (per unit of the parameter: the case's length unit, kg, N, m/s², deg, N·m², Pa), from
-/// [`output_table`] (without the energy, [`ENERGY`]).
+/// [`output_table`] (without the energy, [`ENERGY`]: [`EnergyOutput::Omitted`]).
 pub fn sensitivities(case: &Case, names: &[String], solution: &Solution) -> Result<SensitivityDoc> {
     let params = parameters(case, names)?;
     if !solution.report.converged {

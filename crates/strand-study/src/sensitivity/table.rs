@@ -36,11 +36,21 @@ impl OutputTable {
 }
 
 /// The named outputs of `built` at `solution` (peaks read at the pinned args when
-/// `pins` are given, see [`design_outputs`]).
+/// `pins` are given, see [`design_outputs`]), the energy ([`ENERGY`]) last.
 pub fn outputs_at(
     built: &DesignedCase,
     solution: &Solution,
     pins: Option<&[OutputValue]>,
+) -> Result<Vec<OutputValue>> {
+    outputs_with(built, solution, pins, EnergyOutput::Included)
+}
+
+/// [`outputs_at`] with the energy only where `energy` includes it.
+fn outputs_with(
+    built: &DesignedCase,
+    solution: &Solution,
+    pins: Option<&[OutputValue]>,
+    energy: EnergyOutput,
 ) -> Result<Vec<OutputValue>> {
     let b = &built.built;
     let doc = sensitivity_doc(
@@ -52,6 +62,9 @@ pub fn outputs_at(
     )
     .map_err(|e| StudyError::Io(format!("{}: contacts: {e}", b.origin)))?;
     let mut outputs = design_outputs(&doc, pins);
+    if energy == EnergyOutput::Omitted {
+        return Ok(outputs);
+    }
     // The energy of this state (a point near an equilibrium carries the equilibrium's
     // report, whose energy is the equilibrium's).
     outputs.push(OutputValue {
@@ -68,6 +81,20 @@ pub fn outputs_at(
 /// 1.3e-3 relative on the harness with its hinge on the stop (not understood yet).
 pub const ENERGY: &str = "energy_J";
 
+/// Whether an [`OutputTable`] has the total potential energy ([`ENERGY`]) among its
+/// outputs. It has no local reading: the whole model's energy at every point of the
+/// first-order path costs about two Newton iterations of the cooler hose's ten
+/// parameters, so a table has it only where it is asked for (the optimiser's
+/// `energy` objective).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum EnergyOutput {
+    /// Without the energy (the default: `sensitivity.json` does not list it).
+    #[default]
+    Omitted,
+    /// With the energy as the last output.
+    Included,
+}
+
 /// How [`output_table_with`] evaluates the outputs along the first-order path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum OutputEvaluation {
@@ -82,27 +109,36 @@ pub enum OutputEvaluation {
 
 /// The outputs of `design` at its converged `solution` (at zero offsets) and their
 /// derivatives with respect to every parameter of `design` (outputs read locally
-/// where the case allows, [`OutputEvaluation::Local`]).
+/// where the case allows, [`OutputEvaluation::Local`]; without the energy,
+/// [`EnergyOutput::Omitted`]).
 pub fn output_table(
     design: &CaseDesign<'_>,
     solution: &Solution,
     settings: &SensitivitySettings,
 ) -> Result<OutputTable> {
-    output_table_with(design, solution, settings, OutputEvaluation::Local)
+    output_table_with(
+        design,
+        solution,
+        settings,
+        OutputEvaluation::Local,
+        EnergyOutput::Omitted,
+    )
 }
 
-/// [`output_table`] with the outputs along the path evaluated as `evaluation` says.
+/// [`output_table`] with the outputs along the path evaluated as `evaluation` says,
+/// and the energy where `energy` includes it.
 pub fn output_table_with(
     design: &CaseDesign<'_>,
     solution: &Solution,
     settings: &SensitivitySettings,
     evaluation: OutputEvaluation,
+    energy: EnergyOutput,
 ) -> Result<OutputTable> {
     let count = design.parameter_count();
     let failed = |e: SensitivityError| StudyError::sensitivity(&design.case().origin, e);
     let sensitivities = Sensitivities::compute(design, solution, settings).map_err(failed)?;
     let base_built = design.build(&vec![0.0; count])?;
-    let outputs = outputs_at(&base_built, solution, None)?;
+    let outputs = outputs_with(&base_built, solution, None, energy)?;
     let plan = match evaluation {
         OutputEvaluation::Local => LocalOutputs::plan(&base_built, solution, &outputs),
         OutputEvaluation::WholeTable => None,
@@ -116,7 +152,7 @@ pub fn output_table_with(
                 plan.read(&built.built.model, at, place)
             }),
             None => sensitivities.derivative(design, solution, j, |built, at| {
-                whole_table_samples(built, at, &outputs, &mut failure)
+                whole_table_samples(built, at, &outputs, energy, &mut failure)
             }),
         }
         .map_err(failed)?;
@@ -142,9 +178,10 @@ fn whole_table_samples(
     built: &DesignedCase,
     at: &Solution,
     outputs: &[OutputValue],
+    energy: EnergyOutput,
     failure: &mut Option<StudyError>,
 ) -> Vec<Sample> {
-    let here = outputs_at(built, at, Some(outputs)).unwrap_or_else(|e| {
+    let here = outputs_with(built, at, Some(outputs), energy).unwrap_or_else(|e| {
         *failure = Some(e);
         Vec::new()
     });
