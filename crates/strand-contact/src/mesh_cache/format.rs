@@ -5,18 +5,20 @@
 //! diagnostics (10 counts as `u64`, closedness, the bounding box as 6 `f64`), then
 //! sections (each its length in bytes as `u64`, then the bytes): vertices (`3 f64`
 //! each), triangles (`3 u32`), cluster order (`u32`), smooth patch of each triangle
-//! (`u32`) and parry's BVH (bincode). All numbers little-endian. The checksum is the
+//! (`u32`), the BVH's node boxes (`6 f64` each) and its node links (`u32`), the arrays
+//! of [`crate::mesh::TriangleTree`] as they are in memory, so a cache hit reads each
+//! straight into its final array. All numbers little-endian. The checksum is the
 //! xxh3-64 hash of the xxh3-64 hashes of the diagnostics and of each section (with its
-//! length), the sections hashed on one core while the BVH is decoded on another.
+//! length), the sections hashed in parallel.
 
 use std::io::Read;
 
 use nalgebra::Point3;
-use parry3d_f64::partitioning::Bvh;
+use rayon::prelude::*;
 use xxhash_rust::xxh3::xxh3_64;
 
 use super::key::{CacheKey, FORMAT_VERSION};
-use crate::mesh::{MeshDiagnostics, TriangleTree};
+use crate::mesh::{FlatBvh, MeshDiagnostics, TriangleTree};
 
 /// The first bytes of every cache file.
 const MAGIC: &[u8; 8] = b"STRNDMSH";
@@ -40,14 +42,13 @@ pub(crate) fn encode(
     patch: &[u32],
     d: &MeshDiagnostics,
 ) -> Result<Vec<u8>, String> {
-    let bvh = bincode::serialize(&tree.bvh).map_err(|e| format!("cannot encode the BVH: {e}"))?;
     let mut digests = Vec::new();
     let mut content = Vec::with_capacity(
         256 + tree.vertices.len() * 24
             + tree.indices.len() * 12
             + tree.order.len() * 4
             + patch.len() * 4
-            + bvh.len(),
+            + tree.bvh.heap_bytes(),
     );
     let counts = [
         d.triangles,
@@ -69,12 +70,13 @@ pub(crate) fn encode(
         content.extend_from_slice(&x.to_le_bytes());
     }
     digests.extend_from_slice(&xxh3_64(&content).to_le_bytes());
-    let sections: [&[u8]; 5] = [
+    let sections: [&[u8]; 6] = [
         bytemuck::cast_slice(&tree.vertices),
         bytemuck::cast_slice(&tree.indices),
         bytemuck::cast_slice(&tree.order),
         bytemuck::cast_slice(patch),
-        &bvh,
+        bytemuck::cast_slice(&tree.bvh.boxes),
+        bytemuck::cast_slice(&tree.bvh.links),
     ];
     for section in sections {
         let length = (section.len() as u64).to_le_bytes();
@@ -143,40 +145,35 @@ pub(crate) fn decode(
     let indices: Vec<[u32; 3]> = r.section()?;
     let order: Vec<u32> = r.section()?;
     let patch: Vec<u32> = r.section()?;
-    let bvh_bytes: Vec<u8> = r.section()?;
+    let boxes: Vec<[f64; 6]> = r.section()?;
+    let links: Vec<u32> = r.section()?;
     if r.left != 0 {
         return Err("longer than its sections (corrupt)".to_string());
     }
-    // Decoding the BVH (the slowest part) and hashing the sections are independent:
-    // one core each. The BVH is used only if the checksum matches.
-    let sections: [&[u8]; 5] = [
+    let sections: [&[u8]; 6] = [
         bytemuck::cast_slice(&vertices),
         bytemuck::cast_slice(&indices),
         bytemuck::cast_slice(&order),
         bytemuck::cast_slice(&patch),
-        &bvh_bytes,
+        bytemuck::cast_slice(&boxes),
+        bytemuck::cast_slice(&links),
     ];
-    let (bvh, digests) = rayon::join(
-        || bincode::deserialize::<Bvh>(&bvh_bytes),
-        || {
-            let mut digests = r.digests;
-            for section in sections {
-                digests.extend_from_slice(&(section.len() as u64).to_le_bytes());
-                digests.extend_from_slice(&xxh3_64(section).to_le_bytes());
-            }
-            digests
-        },
-    );
+    let hashes: Vec<u64> = sections.par_iter().map(|s| xxh3_64(s)).collect();
+    let mut digests = r.digests;
+    for (section, hash) in sections.iter().zip(hashes) {
+        digests.extend_from_slice(&(section.len() as u64).to_le_bytes());
+        digests.extend_from_slice(&hash.to_le_bytes());
+    }
     if xxh3_64(&digests) != checksum {
         return Err("checksum mismatch (corrupt)".to_string());
     }
-    let bvh = bvh.map_err(|e| format!("BVH: {e}"))?;
+    let bvh = FlatBvh { boxes, links };
     let triangles = indices.len();
     let consistent = counts[0] == triangles
         && counts[3] == vertices.len()
         && order.len() == triangles
         && patch.len() == triangles
-        && bvh.leaf_count() as usize == triangles.div_ceil(crate::mesh::CLUSTER_SIZE)
+        && bvh.is_well_formed(triangles.div_ceil(crate::mesh::CLUSTER_SIZE))
         && indices
             .iter()
             .flatten()

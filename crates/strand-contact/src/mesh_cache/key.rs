@@ -12,7 +12,7 @@ use crate::mesh::{DEGENERATE_RELATIVE_AREA, SLIVER_RELATIVE_AREA, SMOOTH_PATCH_A
 
 /// Version of the cache file layout; changed whenever the layout or the meaning of the
 /// stored data changes.
-pub(crate) const FORMAT_VERSION: u32 = 2;
+pub(crate) const FORMAT_VERSION: u32 = 3;
 
 /// The key of a built mesh: a 128-bit xxh3 hash, seeded by the 64-bit xxh3 hash of
 /// everything else the built data depends on (see [`crate::mesh_cache`]), of the
