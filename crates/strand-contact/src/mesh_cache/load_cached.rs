@@ -43,7 +43,7 @@ impl ObstacleMesh {
         let file = directory.join(key.file_name());
         let fault = match store::open(&file) {
             Ok(None) => None,
-            Ok(Some((mut stored, length))) => match decode(&key, &mut stored, length) {
+            Ok(Some((stored, length))) => match decode(&key, &stored, length) {
                 Ok(cached) => {
                     let mut mesh = from_cached(name_of(path), cached);
                     mesh.cache_use = MeshCacheUse::Hit { file };
