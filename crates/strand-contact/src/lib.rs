@@ -7,7 +7,8 @@
 //!   GJK witness points are only about 1e-6 accurate, too coarse to linearise
 //!   contact constraints at).
 //! - [`mesh`]: environment meshes ([`ObstacleMesh`]): OBJ files or triangle lists
-//!   turned into a parry `TriMesh` with its BVH, built once and shared (`Arc`) across
+//!   turned into triangle arrays with a flat BVH of our own (plain arrays, stored as
+//!   they are in the on-disk cache), built once and shared (`Arc`) across
 //!   iterations, variants and batches; nearest-point queries of segments, one local
 //!   contact per smooth patch ([`ObstacleMesh::local_contacts`]: both flanks of a
 //!   groove), the inside of closed meshes ([`ObstacleMesh::encloses`]) and

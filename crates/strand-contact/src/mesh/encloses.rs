@@ -8,9 +8,9 @@
 //! next of a fixed list of directions is tried. An open mesh has no inside.
 
 use nalgebra::{Point3, Vector3};
-use parry3d_f64::partitioning::{BvhNode, TraversalAction};
 
 use super::ObstacleMesh;
+use super::flat_bvh::NodeBox;
 
 /// Ray directions tried in turn (unit after normalisation; none parallel to a
 /// coordinate plane, so axis-aligned CAD faces are never grazed).
@@ -49,26 +49,40 @@ impl ObstacleMesh {
     /// The net signed number of crossings of the ray `point + t d`, `t > 0`, with the
     /// mesh; `None` when the ray passes (nearly) through an edge or a vertex or grazes a
     /// face.
-    fn winding_along(&self, point: &Point3<f64>, d: &Vector3<f64>) -> Option<i64> {
+    pub(super) fn winding_along(&self, point: &Point3<f64>, d: &Vector3<f64>) -> Option<i64> {
         let mut winding = 0i64;
-        let mut ambiguous = false;
-        self.tree.bvh.traverse(|node: &BvhNode| {
-            if ambiguous || !ray_hits_box(point, d, node) {
-                return TraversalAction::Prune;
-            }
-            if let Some(leaf) = node.leaf_data() {
+        // Read by the node test while the leaves set it.
+        let ambiguous = std::cell::Cell::new(false);
+        self.tree.bvh.depth_first(
+            |node| !ambiguous.get() && ray_hits_box(point, d, node),
+            |leaf| {
                 for &t in self.tree.cluster(leaf) {
                     let [a, b, c] = self.local_triangle(t as usize);
                     match crossing(point, d, &a, &b, &c) {
                         Crossing::Miss => {}
                         Crossing::Hit(sign) => winding += sign,
-                        Crossing::Ambiguous => ambiguous = true,
+                        Crossing::Ambiguous => ambiguous.set(true),
                     }
                 }
+            },
+        );
+        (!ambiguous.get()).then_some(winding)
+    }
+
+    /// [`ObstacleMesh::winding_along`] over every triangle, without the BVH (the
+    /// reference of the BVH search in the tests).
+    #[cfg(test)]
+    pub(super) fn winding_by_scan(&self, point: &Point3<f64>, d: &Vector3<f64>) -> Option<i64> {
+        let mut winding = 0i64;
+        for t in 0..self.triangle_count() {
+            let [a, b, c] = self.local_triangle(t);
+            match crossing(point, d, &a, &b, &c) {
+                Crossing::Miss => {}
+                Crossing::Hit(sign) => winding += sign,
+                Crossing::Ambiguous => return None,
             }
-            TraversalAction::Continue
-        });
-        (!ambiguous).then_some(winding)
+        }
+        Some(winding)
     }
 }
 
@@ -119,8 +133,8 @@ fn crossing(
 
 /// Slab test of the ray `origin + t d`, `t ≥ 0`, against a BVH node's box (touching
 /// counts).
-fn ray_hits_box(origin: &Point3<f64>, d: &Vector3<f64>, node: &BvhNode) -> bool {
-    let (min, max) = (node.mins(), node.maxs());
+fn ray_hits_box(origin: &Point3<f64>, d: &Vector3<f64>, node: &NodeBox) -> bool {
+    let (min, max) = (&node[..3], &node[3..]);
     let (mut enter, mut exit) = (0.0f64, f64::INFINITY);
     for k in 0..3 {
         let (lo, hi) = (min[k] - origin[k], max[k] - origin[k]);

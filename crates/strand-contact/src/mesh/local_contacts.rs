@@ -90,7 +90,7 @@ impl ObstacleMesh {
         let size = (p1 - p0).norm() + (max - min).norm();
         let tolerance = TIE_TOLERANCE * size;
         let limit = max_distance.next_up();
-        let reachable = self.reachable(&SegmentBound::new(p0, p1), limit, list);
+        let reachable = self.reachable(&SegmentBound::new(p0, p1, &self.bounding_box), limit, list);
         let guard = near_guard(tolerance, limit);
         let scan = self.scan_near(p0, p1, limit, reachable, guard);
         let near = &scan.near;

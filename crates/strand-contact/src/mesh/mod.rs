@@ -1,5 +1,6 @@
-//! Environment meshes: triangle soups (often open, non-manifold CAD meshes) in a parry
-//! `TriMesh` with its BVH, and nearest-point queries of segments against them.
+//! Environment meshes: triangle soups (often open, non-manifold CAD meshes) in plain
+//! arrays with a flat BVH over Morton-ordered clusters of triangles, and
+//! nearest-point queries of segments against them.
 //!
 //! A mesh is built once (from an OBJ file with [`ObstacleMesh::load_obj`] or from
 //! triangles with [`ObstacleMesh::try_from_triangles`]) and is immutable afterwards,
@@ -16,6 +17,9 @@ mod diagnostics;
 mod edge_uses;
 mod encloses;
 mod error;
+mod flat_bvh;
+#[cfg(test)]
+mod flat_bvh_query_tests;
 mod from_triangles;
 mod load_obj;
 mod local_contacts;
@@ -35,6 +39,7 @@ mod work;
 
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
+pub(crate) use flat_bvh::FlatBvh;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
 pub(crate) use load_obj::{check_placement, name_of};
 pub use local_contacts::LocalContact;

@@ -22,10 +22,10 @@
 //!   deferred members of the patch are tested too ([`ObstacleMesh::deferred_members`]).
 //!
 //! The near triangles keep the candidates' order (the BVH's depth-first order for both
-//! sources), so ties are broken as by a scan of every candidate.
+//! sources, which is the cluster order `TriangleTree::order`), so ties are broken as by
+//! a scan of every candidate.
 
 use nalgebra::Point3;
-use parry3d_f64::partitioning::{BvhNode, TraversalAction};
 
 use super::ObstacleMesh;
 use super::segment_proximity::SegmentBound;
@@ -54,10 +54,11 @@ pub(super) struct Near {
 /// A candidate triangle whose box is within reach.
 #[derive(Clone, Copy)]
 pub(super) struct Reachable {
-    position: usize,
-    triangle: usize,
+    /// Its place among the candidates.
+    pub(super) position: usize,
+    pub(super) triangle: usize,
     /// Distance from the segment to the triangle's box (a lower bound of its own), m.
-    bound: f64,
+    pub(super) bound: f64,
 }
 
 /// The result of [`ObstacleMesh::scan_near`].
@@ -99,7 +100,11 @@ impl ObstacleMesh {
         let tolerance = TIE_TOLERANCE * ((l1 - l0).norm() + (max - min).norm());
         let radius = (reach + slack).next_up();
         let guard = near_guard(tolerance, radius);
-        let reachable = self.reachable(&SegmentBound::new(&l0, &l1), radius, None);
+        let reachable = self.reachable(
+            &SegmentBound::new(&l0, &l1, &self.bounding_box),
+            radius,
+            None,
+        );
         let scan = self.scan_near(&l0, &l1, radius, reachable.clone(), guard);
         let mut nearest: Vec<(usize, f64)> = Vec::new();
         for n in &scan.near {
@@ -143,16 +148,13 @@ impl ObstacleMesh {
         };
         match list {
             Some(list) => list.iter().for_each(|&t| test(t)),
-            None => self.tree.bvh.traverse(|node: &BvhNode| {
-                count_node();
-                if bound.distance(node, limit) > limit {
-                    return TraversalAction::Prune;
-                }
-                if let Some(leaf) = node.leaf_data() {
-                    self.tree.cluster(leaf).iter().for_each(|&t| test(t));
-                }
-                TraversalAction::Continue
-            }),
+            None => self.tree.bvh.depth_first(
+                |node| {
+                    count_node();
+                    bound.may_be_within(node, limit)
+                },
+                |leaf| self.tree.cluster(leaf).iter().for_each(|&t| test(t)),
+            ),
         }
         out
     }

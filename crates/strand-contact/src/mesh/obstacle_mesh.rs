@@ -9,8 +9,8 @@ use super::MeshDiagnostics;
 use super::triangle_tree::TriangleTree;
 use crate::mesh_cache::MeshCacheUse;
 
-/// A rigid environment mesh in world coordinates (m): its triangles and a parry BVH
-/// over clusters of neighbouring triangles.
+/// A rigid environment mesh in world coordinates (m): its triangles and a BVH over
+/// clusters of neighbouring triangles.
 ///
 /// Immutable once built; share it with `Arc` across iterations, variants and batches.
 /// A mesh moved rigidly ([`ObstacleMesh::placed`], a part riding on a motion) shares

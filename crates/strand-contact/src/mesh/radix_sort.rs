@@ -8,9 +8,9 @@ const DIGIT_BITS: u32 = 11;
 /// Buckets per pass.
 const BUCKETS: usize = 1 << DIGIT_BITS;
 
-/// The values of `items` (`(key, value)` pairs) ordered by key, ties in their given
-/// order: for items given in increasing value, the order of sorting the pairs.
-pub(crate) fn values_by_key(items: Vec<(u64, u32)>) -> Vec<u32> {
+/// `items` (`(key, value)` pairs) ordered by key, ties in their given order: for items
+/// given in increasing value, the pairs sorted.
+pub(crate) fn sorted_by_key(items: Vec<(u64, u32)>) -> Vec<(u64, u32)> {
     let highest = items.iter().fold(0u64, |bits, &(key, _)| bits | key);
     let passes = (u64::BITS - highest.leading_zeros()).div_ceil(DIGIT_BITS);
     let mut from = items;
@@ -35,7 +35,7 @@ pub(crate) fn values_by_key(items: Vec<(u64, u32)>) -> Vec<u32> {
         }
         std::mem::swap(&mut from, &mut to);
     }
-    from.into_iter().map(|(_, value)| value).collect()
+    from
 }
 
 #[cfg(test)]
@@ -61,12 +61,7 @@ mod tests {
                 .collect();
             let mut sorted = items.clone();
             sorted.sort_unstable();
-            let expected: Vec<u32> = sorted.into_iter().map(|(_, t)| t).collect();
-            assert_eq!(
-                values_by_key(items),
-                expected,
-                "{n} items of {key_bits} bits"
-            );
+            assert_eq!(sorted_by_key(items), sorted, "{n} items of {key_bits} bits");
         }
     }
 }

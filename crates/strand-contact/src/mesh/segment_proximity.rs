@@ -2,12 +2,12 @@
 
 use nalgebra::{Point3, Unit, Vector3};
 use parry3d_f64::math::Vector as GlamVector;
-use parry3d_f64::partitioning::{BvhNode, TraversalAction};
 
-use super::ObstacleMesh;
 use super::convert::to_glam;
+use super::flat_bvh::NodeBox;
 use super::segment_box::{box_box_distance, segment_box_distance};
 use super::work::{count_box, count_exact, count_node};
+use super::{CLUSTER_SIZE, ObstacleMesh};
 use crate::closest::{
     Candidate, SegmentTriangle, SegmentTriangleParameters, TIE_TOLERANCE,
     segment_triangle_candidate, segment_triangle_points,
@@ -95,43 +95,62 @@ impl ObstacleMesh {
         self.segment_proximity(point, point, max_distance)
     }
 
-    /// Best-first BVH search for the triangle nearest to the segment.
-    fn nearest(
+    /// Depth-first BVH search, nearer node first, for the triangle nearest to the
+    /// segment within `max_distance` (m): the least exact distance, and of equal ones
+    /// the triangle first in the cluster order (`TriangleTree::order`), the answer of
+    /// [`ObstacleMesh::nearest_by_scan`] over every triangle.
+    pub(super) fn nearest(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         max_distance: f64,
     ) -> Option<(usize, Candidate<SegmentTriangleParameters>)> {
-        let bound = SegmentBound::new(p0, p1);
-        let (_, (_, (triangle, candidate))) = self.tree.bvh.find_best(
-            max_distance.next_up(),
-            |node: &BvhNode, best| {
+        let bound = SegmentBound::new(p0, p1, &self.bounding_box);
+        let mut best = Nearest::within(max_distance);
+        self.tree.bvh.nearer_first(
+            &mut best,
+            |best, node| {
                 count_node();
-                bound.distance(node, best)
+                bound.distance(node, best.distance + bound.rounding)
             },
-            |leaf, best| {
-                // The nearest triangle of the cluster (the first of equals) nearer than
-                // `best`; a triangle whose box is not nearer is not tested.
-                let mut found: Option<(f64, (usize, Candidate<SegmentTriangleParameters>))> = None;
-                for &t in self.tree.cluster(leaf) {
+            |best, node_bound, first| {
+                best.may_be_beaten(node_bound - bound.rounding, first as usize * CLUSTER_SIZE)
+            },
+            |best, leaf| {
+                let start = leaf as usize * CLUSTER_SIZE;
+                for (rank, &t) in (start..).zip(self.tree.cluster(leaf)) {
                     let corners = self.local_triangle(t as usize);
-                    let beat = found.as_ref().map_or(best, |f| f.0.min(best));
                     count_box();
-                    if bound.triangle_distance(&corners, beat) >= beat {
+                    // A triangle whose box is not nearer is not tested.
+                    let limit = best.distance + bound.rounding;
+                    let lower = bound.triangle_distance(&corners, limit) - bound.rounding;
+                    if !best.may_be_beaten(lower, rank) {
                         continue;
                     }
                     count_exact();
                     let [a, b, c] = corners;
-                    let candidate = segment_triangle_candidate(p0, p1, &a, &b, &c);
-                    let distance = candidate.squared.sqrt();
-                    if found.as_ref().is_none_or(|f| distance < f.0) {
-                        found = Some((distance, (t as usize, candidate)));
-                    }
+                    best.offer(rank, t, segment_triangle_candidate(p0, p1, &a, &b, &c));
                 }
-                found
             },
-        )?;
-        Some((triangle, candidate))
+        );
+        best.found
+    }
+
+    /// [`ObstacleMesh::nearest`] by testing every triangle in the cluster order (the
+    /// reference of the BVH search in the tests).
+    #[cfg(test)]
+    pub(super) fn nearest_by_scan(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+    ) -> Option<(usize, Candidate<SegmentTriangleParameters>)> {
+        let mut best = Nearest::within(max_distance);
+        for (rank, &t) in self.tree.order.iter().enumerate() {
+            let [a, b, c] = self.local_triangle(t as usize);
+            best.offer(rank, t, segment_triangle_candidate(p0, p1, &a, &b, &c));
+        }
+        best.found
     }
 
     /// The public result for closest parameters on `triangle`.
@@ -161,15 +180,20 @@ impl ObstacleMesh {
 
     /// The hull `[low, high]` (in `s`) of the closest-point intervals of every
     /// triangle within `limit` of the segment.
-    fn tie_interval(&self, p0: &Point3<f64>, p1: &Point3<f64>, limit: f64) -> (f64, f64) {
-        let bound = SegmentBound::new(p0, p1);
+    pub(super) fn tie_interval(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        limit: f64,
+    ) -> (f64, f64) {
+        let bound = SegmentBound::new(p0, p1, &self.bounding_box);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-        self.tree.bvh.traverse(|node: &BvhNode| {
-            count_node();
-            if bound.distance(node, limit) > limit {
-                return TraversalAction::Prune;
-            }
-            if let Some(leaf) = node.leaf_data() {
+        self.tree.bvh.depth_first(
+            |node| {
+                count_node();
+                bound.may_be_within(node, limit)
+            },
+            |leaf| {
                 for &t in self.tree.cluster(leaf) {
                     let corners = self.local_triangle(t as usize);
                     count_box();
@@ -185,10 +209,58 @@ impl ObstacleMesh {
                         high = high.max(candidate.value.0 + half);
                     }
                 }
-            }
-            TraversalAction::Continue
-        });
+            },
+        );
         (low, high)
+    }
+}
+
+/// The best triangle of a nearest-point search so far.
+struct Nearest {
+    /// Its distance (at first the search radius, just above `max_distance`), m.
+    distance: f64,
+    /// Its place in the cluster order (0 at first: a triangle at the radius is out).
+    rank: usize,
+    /// The triangle and its closest points.
+    found: Option<(usize, Candidate<SegmentTriangleParameters>)>,
+}
+
+impl Nearest {
+    /// Nothing found yet, searching within `max_distance` (m).
+    fn within(max_distance: f64) -> Self {
+        Self {
+            distance: max_distance.next_up(),
+            rank: 0,
+            found: None,
+        }
+    }
+
+    /// Whether something at `distance` (m) and place `rank` in the cluster order
+    /// beats the best: nearer, or as near and earlier.
+    #[inline]
+    fn beaten_by(&self, distance: f64, rank: usize) -> bool {
+        distance < self.distance || (distance == self.distance && rank < self.rank)
+    }
+
+    /// Whether something at least `lower` (m) away and at place `rank` or later in the
+    /// cluster order may beat the best.
+    #[inline]
+    fn may_be_beaten(&self, lower: f64, rank: usize) -> bool {
+        self.beaten_by(lower, rank)
+    }
+
+    /// Keeps triangle `t` (place `rank`) with closest points `candidate` if it beats
+    /// the best.
+    #[inline]
+    fn offer(&mut self, rank: usize, t: u32, candidate: Candidate<SegmentTriangleParameters>) {
+        let distance = candidate.squared.sqrt();
+        if self.beaten_by(distance, rank) {
+            *self = Self {
+                distance,
+                rank,
+                found: Some((t as usize, candidate)),
+            };
+        }
     }
 }
 
@@ -198,23 +270,48 @@ pub(super) struct SegmentBound {
     direction: GlamVector,
     min: GlamVector,
     max: GlamVector,
+    /// A bound of the rounding errors (m) of the box distances and the exact distances
+    /// of the segment to the mesh: a search prunes a node only when its box is farther
+    /// than what it looks for by more than this, so that it finds what a scan of every
+    /// triangle's box and exact distance finds (which rounding could otherwise change
+    /// by an ulp, and a tie with it). [`ROUNDING`] times the largest coordinate
+    /// magnitude of the segment and the mesh's bounding box.
+    rounding: f64,
 }
 
+/// Relative size of [`SegmentBound::rounding`] (about 4500 ulps).
+const ROUNDING: f64 = 1e-12;
+
 impl SegmentBound {
-    pub(super) fn new(p0: &Point3<f64>, p1: &Point3<f64>) -> Self {
+    /// The bounds for segment `[p0, p1]` and a mesh of bounding box `mesh_box`, m.
+    pub(super) fn new(p0: &Point3<f64>, p1: &Point3<f64>, mesh_box: &[Point3<f64>; 2]) -> Self {
         let (start, end) = (to_glam(p0), to_glam(p1));
+        let magnitude = [p0, p1, &mesh_box[0], &mesh_box[1]]
+            .iter()
+            .map(|p| p.coords.amax())
+            .fold(0.0, f64::max);
         Self {
             start,
             direction: end - start,
             min: start.min(end),
             max: start.max(end),
+            rounding: ROUNDING * magnitude,
         }
+    }
+
+    /// Whether a node's box may hold a triangle whose box is within `limit` (m) of the
+    /// segment (rounding included).
+    pub(super) fn may_be_within(&self, node: &NodeBox, limit: f64) -> bool {
+        let limit = limit + self.rounding;
+        self.distance(node, limit) <= limit
     }
 
     /// Distance between the segment and the node's box, or a lower bound of it that
     /// is already above `limit` (the node is pruned either way), m.
-    pub(super) fn distance(&self, node: &BvhNode, limit: f64) -> f64 {
-        self.box_distance(node.mins(), node.maxs(), limit)
+    pub(super) fn distance(&self, node: &NodeBox, limit: f64) -> f64 {
+        let min = GlamVector::new(node[0], node[1], node[2]);
+        let max = GlamVector::new(node[3], node[4], node[5]);
+        self.box_distance(min, max, limit)
     }
 
     /// [`SegmentBound::distance`] to the bounding box of triangle `[a, b, c]` (a leaf
@@ -228,7 +325,7 @@ impl SegmentBound {
     /// that is already above `limit`, m.
     fn box_distance(&self, min: GlamVector, max: GlamVector, limit: f64) -> f64 {
         let cheap = box_box_distance(min, max, self.min, self.max);
-        if cheap >= limit {
+        if cheap > limit {
             cheap
         } else {
             segment_box_distance(self.start, self.direction, min, max)

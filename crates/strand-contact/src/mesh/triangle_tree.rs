@@ -1,24 +1,20 @@
-//! The kept triangles of a mesh and their BVH: parry's [`Bvh`] over clusters of up to
+//! The kept triangles of a mesh and their BVH: a [`FlatBvh`] over clusters of up to
 //! [`CLUSTER_SIZE`] triangles that are neighbours along a Morton (Z-order) curve of
 //! their centroids.
 //!
-//! One BVH leaf per triangle costs 112 bytes per triangle in parry's node array alone
-//! and an `O(n log n)` build over all `n` triangles; a leaf per cluster of four close
-//! triangles cuts both by four; a query tests the (at most four) triangles of a leaf it
-//! reaches, each first against its own bounding box. Measured against one leaf per
-//! triangle (`cargo bench -p strand-contact --bench mesh`, 1000 segment queries), a
-//! query costs about 1.5x at 1k and 1.6x at 1M triangles, for 68 instead of 176 bytes
-//! per triangle held and 64 bytes per triangle in the cache file. The triangles keep
-//! their order (triangle `t` is the `t`-th kept
-//! triangle of the file): `order` lists them cluster by cluster.
+//! A leaf per cluster of four close triangles (instead of one per triangle) cuts the
+//! nodes by four; a query tests the (at most four) triangles of a leaf it reaches,
+//! each first against its own bounding box. The tree is split along the same Morton
+//! codes, in parallel, and lives in two plain arrays that the mesh cache stores as
+//! they are. The triangles keep their order (triangle `t` is the `t`-th kept triangle
+//! of the file): `order` lists them cluster by cluster, and every depth-first search
+//! meets them in that order.
 
 use nalgebra::Point3;
-use parry3d_f64::bounding_volume::Aabb;
-use parry3d_f64::math::Vector as GlamVector;
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use rayon::prelude::*;
 
-use super::radix_sort::values_by_key;
+use super::flat_bvh::{FlatBvh, NodeBox};
+use super::radix_sort::sorted_by_key;
 
 /// Triangles per BVH leaf (the last leaf may hold fewer).
 pub(crate) const CLUSTER_SIZE: usize = 4;
@@ -33,8 +29,8 @@ pub(crate) struct TriangleTree {
     /// Every triangle once, cluster by cluster: leaf `k` of the BVH holds
     /// `order[CLUSTER_SIZE k .. CLUSTER_SIZE (k + 1)]`.
     pub(crate) order: Vec<u32>,
-    /// parry's BVH with one leaf per cluster (leaf data = cluster number).
-    pub(crate) bvh: Bvh,
+    /// The BVH with one leaf per cluster.
+    pub(crate) bvh: FlatBvh,
 }
 
 impl TriangleTree {
@@ -67,23 +63,25 @@ impl TriangleTree {
             })
             .collect();
         // Keys given in triangle order: the order of sorting the (key, triangle) pairs.
-        let order = values_by_key(keyed);
-        let leaves: Vec<Aabb> = order
-            .par_chunks(CLUSTER_SIZE)
-            .map(|cluster| {
-                let mut mins = GlamVector::splat(f64::INFINITY);
-                let mut maxs = GlamVector::splat(f64::NEG_INFINITY);
-                for &t in cluster {
-                    for i in indices[t as usize] {
-                        let p = GlamVector::from_array(vertices[i as usize]);
-                        mins = mins.min(p);
-                        maxs = maxs.max(p);
+        let sorted = sorted_by_key(keyed);
+        let codes: Vec<u64> = sorted.iter().step_by(CLUSTER_SIZE).map(|p| p.0).collect();
+        let order: Vec<u32> = sorted.into_iter().map(|(_, t)| t).collect();
+        let cluster_box = |cluster: usize| -> NodeBox {
+            let start = cluster * CLUSTER_SIZE;
+            let mut bounds = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0, 0.0, 0.0];
+            bounds[3..].fill(f64::NEG_INFINITY);
+            for &t in &order[start..(start + CLUSTER_SIZE).min(order.len())] {
+                for i in indices[t as usize] {
+                    let p = vertices[i as usize];
+                    for k in 0..3 {
+                        bounds[k] = bounds[k].min(p[k]);
+                        bounds[k + 3] = bounds[k + 3].max(p[k]);
                     }
                 }
-                Aabb::new(mins, maxs)
-            })
-            .collect();
-        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
+            }
+            bounds
+        };
+        let bvh = FlatBvh::build(&codes, &cluster_box);
         Self {
             vertices,
             indices,
@@ -105,13 +103,13 @@ impl TriangleTree {
         self.indices[t].map(|i| Point3::from(self.vertices[i as usize]))
     }
 
-    /// Bytes held: vertices, triangles, cluster order and parry's BVH.
+    /// Bytes held: vertices, triangles, cluster order and the BVH.
     pub(crate) fn memory_bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.vertices.capacity() * std::mem::size_of::<[f64; 3]>()
             + self.indices.capacity() * std::mem::size_of::<[u32; 3]>()
             + self.order.capacity() * std::mem::size_of::<u32>()
-            + self.bvh.heap_memory_size()
+            + self.bvh.heap_bytes()
     }
 }
 
@@ -165,17 +163,29 @@ mod tests {
         let tree = TriangleTree::build(vertices, indices, bounding_box);
         let mut seen = vec![0; tree.indices.len()];
         let leaves = tree.indices.len().div_ceil(CLUSTER_SIZE) as u32;
-        for leaf in 0..leaves {
-            let node = tree.bvh.leaf_node(leaf).expect("a leaf per cluster");
-            for &t in tree.cluster(leaf) {
-                seen[t as usize] += 1;
-                for p in tree.triangle(t as usize) {
-                    let (lo, hi) = (node.mins(), node.maxs());
-                    assert!(lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y);
-                    assert!(lo.z <= p.z && p.z <= hi.z);
+        assert!(tree.bvh.is_well_formed(leaves as usize));
+        let mut met = Vec::new();
+        tree.bvh.depth_first(
+            |_| true,
+            |leaf| {
+                met.push(leaf);
+                let node = tree
+                    .bvh
+                    .boxes
+                    .iter()
+                    .zip(&tree.bvh.links)
+                    .find(|&(_, &link)| link == super::super::flat_bvh::LEAF | leaf)
+                    .map(|(b, _)| *b)
+                    .expect("a leaf per cluster");
+                for &t in tree.cluster(leaf) {
+                    seen[t as usize] += 1;
+                    for p in tree.triangle(t as usize) {
+                        assert!((0..3).all(|k| node[k] <= p[k] && p[k] <= node[k + 3]));
+                    }
                 }
-            }
-        }
+            },
+        );
+        assert_eq!(met, (0..leaves).collect::<Vec<_>>());
         assert!(seen.iter().all(|&k| k == 1));
     }
 }

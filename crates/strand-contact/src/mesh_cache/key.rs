@@ -6,26 +6,24 @@ use std::path::Path;
 
 use nalgebra::Isometry3;
 use rayon::prelude::*;
-use xxhash_rust::xxh3::{Xxh3, xxh3_64, xxh3_128, xxh3_128_with_seed};
+use xxhash_rust::xxh3::{xxh3_64, xxh3_128, xxh3_128_with_seed};
 
 use crate::mesh::{DEGENERATE_RELATIVE_AREA, SLIVER_RELATIVE_AREA, SMOOTH_PATCH_ANGLE_RAD};
 
 /// Version of the cache file layout; changed whenever the layout or the meaning of the
 /// stored data changes.
-pub(crate) const FORMAT_VERSION: u32 = 2;
+pub(crate) const FORMAT_VERSION: u32 = 3;
 
 /// The key of a built mesh: a 128-bit xxh3 hash, seeded by the 64-bit xxh3 hash of
 /// everything else the built data depends on (see [`crate::mesh_cache`]), of the
-/// 128-bit xxh3 hashes of the file's pieces of 8 MiB (so that the pieces of a large
-/// file are hashed on all cores).
+/// 128-bit xxh3 hashes of the file's pieces of 1 MiB (so that the pieces of a large
+/// file are read and hashed on all cores).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct CacheKey(pub u128);
 
-/// Bytes read at a time while a piece of a mesh file is hashed (256 KiB).
-const READ_BUFFER_BYTES: usize = 256 << 10;
-
-/// Bytes of a mesh file hashed as one piece of its [`CacheKey`] (8 MiB).
-pub(crate) const PIECE_BYTES: usize = 8 << 20;
+/// Bytes of a mesh file hashed as one piece of its [`CacheKey`] (1 MiB: enough pieces
+/// to keep every core busy to the end of a large file).
+pub(crate) const PIECE_BYTES: usize = 1 << 20;
 
 impl CacheKey {
     /// The key of the mesh file content `bytes` placed by `scale_to_metres` and `pose`
@@ -36,8 +34,8 @@ impl CacheKey {
     }
 
     /// The key of the mesh file `path`, the same as [`CacheKey::of`] its bytes: its
-    /// pieces read and hashed in parallel, each through its own file handle (nothing
-    /// is kept).
+    /// pieces read and hashed in parallel, each thread through its own file handle and
+    /// a buffer of one piece (the file is never held whole).
     pub fn of_file(
         path: &Path,
         scale_to_metres: f64,
@@ -47,23 +45,25 @@ impl CacheKey {
         let count = length.div_ceil(PIECE_BYTES as u64);
         let pieces: std::io::Result<Vec<u128>> = (0..count)
             .into_par_iter()
-            .map(|k| {
-                let start = k * PIECE_BYTES as u64;
-                let size = (length - start).min(PIECE_BYTES as u64) as usize;
-                let mut file = File::open(path)?;
-                file.seek(SeekFrom::Start(start))?;
-                // Through a small buffer: the piece is never held (nor paged in) whole.
-                let mut hasher = Xxh3::new();
-                let mut buffer = vec![0u8; READ_BUFFER_BYTES.min(size)];
-                let mut left = size;
-                while left > 0 {
-                    let part = &mut buffer[..left.min(READ_BUFFER_BYTES)];
-                    file.read_exact(part)?;
-                    hasher.update(part);
-                    left -= part.len();
-                }
-                Ok(hasher.digest128())
-            })
+            .map_init(
+                || {
+                    (
+                        File::open(path),
+                        vec![0u8; PIECE_BYTES.min(length as usize)],
+                    )
+                },
+                |(file, buffer), k| {
+                    let start = k * PIECE_BYTES as u64;
+                    let size = (length - start).min(PIECE_BYTES as u64) as usize;
+                    let file = file
+                        .as_mut()
+                        .map_err(|e| std::io::Error::new(e.kind(), e.to_string()))?;
+                    file.seek(SeekFrom::Start(start))?;
+                    let piece = &mut buffer[..size];
+                    file.read_exact(piece)?;
+                    Ok(xxh3_128(piece))
+                },
+            )
             .collect();
         let pieces = pieces?;
         if std::fs::metadata(path)?.len() != length {

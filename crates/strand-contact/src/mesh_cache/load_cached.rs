@@ -43,7 +43,7 @@ impl ObstacleMesh {
         let file = directory.join(key.file_name());
         let fault = match store::open(&file) {
             Ok(None) => None,
-            Ok(Some((mut stored, length))) => match decode(&key, &mut stored, length) {
+            Ok(Some((stored, length))) => match decode(&key, &stored, length) {
                 Ok(cached) => {
                     evict::mark_used(stored.get_ref());
                     let mut mesh = from_cached(name_of(path), cached);

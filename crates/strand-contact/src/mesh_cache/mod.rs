@@ -15,7 +15,8 @@
 //!   batch workers building the same mesh both succeed (the last rename wins; the files
 //!   are identical).
 //! - **Verified on read**: magic, format version, key and a 64-bit xxh3 checksum of the
-//!   content, then the sizes and indices; a file that fails any check is ignored, the
+//!   content, then the sizes, indices and the BVH's shape; a file that fails any check
+//!   is ignored, the
 //!   mesh is built from its file and the cache file replaced ([`MeshCacheUse::Replaced`]).
 //! - **Bounded**: after a write, the least recently used cache files (a hit counts as
 //!   a use) are removed until the folder fits in [`MeshCacheSettings::max_bytes`]

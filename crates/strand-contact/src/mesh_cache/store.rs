@@ -10,10 +10,10 @@ static TEMPORARIES: AtomicU64 = AtomicU64::new(0);
 
 /// The cache file `file`, opened, and its length in bytes: `Ok(None)` when there is
 /// none, `Err` with the reason when it exists but cannot be read.
-pub(crate) fn open(file: &Path) -> Result<Option<(std::io::BufReader<File>, u64)>, String> {
+pub(crate) fn open(file: &Path) -> Result<Option<(File, u64)>, String> {
     let opened = File::open(file).and_then(|f| Ok((f.metadata()?.len(), f)));
     match opened {
-        Ok((length, f)) => Ok(Some((std::io::BufReader::new(f), length))),
+        Ok((length, f)) => Ok(Some((f, length))),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(format!("cannot read it: {e}")),
     }
