@@ -45,7 +45,7 @@ impl ObstacleMesh {
             Ok(None) => None,
             Ok(Some((stored, length))) => match decode(&key, &stored, length) {
                 Ok(cached) => {
-                    evict::mark_used(stored.get_ref());
+                    evict::mark_used(&stored);
                     let mut mesh = from_cached(name_of(path), cached);
                     mesh.cache_use = MeshCacheUse::Hit { file };
                     return Ok(mesh);
