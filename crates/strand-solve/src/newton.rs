@@ -70,7 +70,7 @@ pub fn solve_constrained(
 pub struct Solver<'m> {
     model: &'m Model,
     constraints: Option<&'m dyn Constraints>,
-    work: Workspace,
+    pub(crate) work: Workspace,
     /// Edge stresses of the start's first Hessian (mixed Newton), used once.
     initial_stresses: Option<EdgeStresses>,
 }
@@ -89,7 +89,8 @@ impl<'m> Solver<'m> {
                 diagonal: diagonal_positions(model),
                 rotation: rotation_flags(model),
                 bending_scale: bending_scales(model),
-                rotations: Gauge::holding(model, rotation_unknowns(model, &gauge)),
+                rotations: None,
+                rotation_unknowns: rotation_unknowns(model, &gauge),
                 gauge,
                 eval: model.new_evaluation(),
                 trial_eval: model.new_evaluation(),
@@ -180,18 +181,24 @@ impl<'m> Solver<'m> {
         // count in `iterations` like every other attempt).
         let mut failed_stiffening = 0;
         // A start that is already an equilibrium (a warm start, a moulded rod in its
-        // nominal shape) needs no coarse guess.
-        let mut eval = self.model.new_evaluation();
-        self.model.evaluate(&initial, &mut eval, false);
-        let already_converged =
-            self.model.residual(&eval.gradient).combined_n <= settings.tolerance_n;
+        // nominal shape) needs no coarse guess and no continuation: tested (one
+        // gradient evaluation) only where one of them would run.
+        let model = self.model;
+        let mut start_converged = None;
+        let mut already_converged = || {
+            *start_converged.get_or_insert_with(|| {
+                let mut eval = model.new_evaluation();
+                model.evaluate(&initial, &mut eval, false);
+                model.residual(&eval.gradient).combined_n <= settings.tolerance_n
+            })
+        };
         // A rod far stiffer in stretch than in bending: stiffness continuation first;
         // the direct path below is the fallback. Not with contact: a softened hose
         // would settle into a different contact set.
         if settings.stiffness_continuation
             && self.constraints.is_none()
-            && !already_converged
             && stiffness::stiffness_ratio(self.model.system()) > settings.stiffness_threshold
+            && !already_converged()
         {
             let stiffened =
                 stiffness::stiffen(self.model, self.constraints, initial.clone(), settings)?;
@@ -215,7 +222,7 @@ impl<'m> Solver<'m> {
         let mut coarse_iterations = 0;
         let mut start = initial.clone();
         if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
-            .filter(|_| settings.nested_iteration && !already_converged)
+            .filter(|_| settings.nested_iteration && !already_converged())
         {
             let coarse_model = Model::try_new(coarse_system).map_err(InitialStateError::from)?;
             // The coarse level only proposes a start: it gets no continuation and a
@@ -419,13 +426,18 @@ fn bending_scales(model: &Model) -> Vec<f64> {
     scales
 }
 
-/// Value offsets of the diagonal entries in the upper-triangular CSC pattern.
+/// Value offsets of the diagonal entries in the upper-triangular CSC pattern (the
+/// last entry of a column whose rows are sorted; searched for otherwise).
 fn diagonal_positions(model: &Model) -> Vec<usize> {
     let p = model.pattern();
     (0..p.dim())
         .map(|c| {
-            let rows = &p.row_idx[p.col_ptr[c]..p.col_ptr[c + 1]];
-            p.col_ptr[c]
+            let (begin, end) = (p.col_ptr[c], p.col_ptr[c + 1]);
+            if end > begin && p.row_idx[end - 1] == c {
+                return end - 1;
+            }
+            let rows = &p.row_idx[begin..end];
+            begin
                 + rows
                     .iter()
                     .position(|&r| r == c)

@@ -68,7 +68,7 @@ impl Iteration<'_> {
     ) -> Option<SystemState> {
         // The rows as functions of the positions alone (a row on rotations only, a joint
         // limit, does not move).
-        let held = self.work.rotations.held();
+        let held = self.work.rotations(self.model.pattern()).held().to_vec();
         let mut position_rows = Vec::with_capacity(rows.len());
         let mut hint = Vec::new();
         for row in rows {
@@ -92,7 +92,7 @@ impl Iteration<'_> {
             });
         }
         let work = &mut *self.work;
-        if !work.positions_only_step() {
+        if !work.positions_only_step(self.model.pattern()) {
             return None;
         }
         let free = hint.is_empty() && position_rows.iter().all(|r| r.linearised(&work.rhs) >= 0.0);

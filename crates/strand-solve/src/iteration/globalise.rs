@@ -61,19 +61,10 @@ impl Iteration<'_> {
             .zip(&self.work.eval.gradient)
             .map(|(s, g)| s * g)
             .sum();
-        symmetric_product(
-            self.model.pattern(),
-            &self.work.eval.hessian,
-            &self.work.step,
-            &mut self.work.product,
-        );
-        let curvature: f64 = self
-            .work
-            .step
-            .iter()
-            .zip(&self.work.product)
-            .map(|(s, p)| s * p)
-            .sum();
+        let newton_step = self.rows.is_empty() && self.work.model_gradient.is_none();
+        let curvature =
+            self.work
+                .step_curvature(self.model.pattern(), newton_step, self.damping, slope);
         let violation = violation_of(&self.rows);
         let merit = self.work.eval.energy + self.merit_weight * violation;
         // A damped step well inside the trust region (a quarter of it or less) is
@@ -142,7 +133,11 @@ impl Iteration<'_> {
             // A stiff rod's positions follow its frames when the turn is large
             // enough to strain it at second order (the positions moved along
             // straight lines), or when the model mispredicted the step.
-            let surprising = self.work.eval.energy - energy < settings.trust_ratio * model_decrease;
+            // Not judged in the round-off regime, where both the model's decrease and
+            // the energy's are noise (a correction there only changes the energy in its
+            // tenth digit and costs two Hessians and a factorisation).
+            let surprising = self.work.eval.energy - energy < settings.trust_ratio * model_decrease
+                && !within_noise(self.work.eval.energy, energy, model_decrease);
             if self.rows.is_empty() {
                 if full && surprising {
                     // The second-order correction: the remainder of the gradient at the
@@ -313,9 +308,13 @@ impl Iteration<'_> {
                 }
             }
             if accepted {
-                if full && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
+                let short = self.damping > 0.0;
+                if full && short && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
                     // The model is exact and the step well inside the region (a damped
                     // step along negative curvature): extend it while the energy falls.
+                    // An undamped step on a positive definite Hessian already ends at
+                    // the model's minimum along it (the model at twice the step is back
+                    // at the current energy), so it is not tried.
                     let (mut best_t, mut best_energy) = (t, trial_merit);
                     let mut longer = trial.clone();
                     let mut scale = 2.0;
@@ -516,7 +515,7 @@ impl Iteration<'_> {
     /// block is not positive definite (a body or clip couples positions to rotations).
     /// Overwrites the factor of this iteration (the step is already computed).
     fn relax_positions(&mut self, trial: &SystemState) -> Option<SystemState> {
-        if !self.work.positions_only_step() {
+        if !self.work.positions_only_step(self.model.pattern()) {
             return None;
         }
         Some(self.model.retract(trial, &self.work.rhs))
@@ -582,4 +581,11 @@ fn curved_step(step: &[f64], t: f64, correction: &[f64], w: f64) -> Vec<f64> {
         .zip(correction)
         .map(|(d, c)| t * d + w * c)
         .collect()
+}
+
+/// Whether the energy change from `before` to `after` (J) and the model's predicted
+/// decrease `predicted` (J) are both round-off ([`ENERGY_NOISE`] of the energy).
+fn within_noise(before: f64, after: f64, predicted: f64) -> bool {
+    let noise = ENERGY_NOISE * before.abs().max(after.abs()).max(1e-12);
+    (before - after).abs() <= noise && predicted.abs() <= noise
 }
