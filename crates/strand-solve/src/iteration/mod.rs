@@ -52,6 +52,16 @@ const NEGATIVE_CURVATURE_ITERATIONS: usize = 6;
 /// Ratio of achieved to predicted decrease above which a step counts as exact.
 const EXACT_RATIO: f64 = 0.99;
 
+/// Relative damping above which the step is mostly damping: after an exact step there,
+/// [`Iteration::factor_damped`] tries [`LARGE_DAMPING_JUMP`] times it before the
+/// damping itself. A contact row's curvature can make one iteration's Hessian need
+/// 1e6 (everyday_s3_027, a cable along a 60° groove over the groove's end); decayed
+/// by 3 per exact step, each such spike cost 20 iterations of steps of 1e-9 m.
+const LARGE_DAMPING: f64 = 1.0;
+
+/// Factor on a [`LARGE_DAMPING`] tried first after an exact step.
+const LARGE_DAMPING_JUMP: f64 = 1e-3;
+
 /// Smallest damping scale of a body rotation or joint unknown relative to the largest
 /// rotation diagonal entry.
 const DAMPING_FLOOR: f64 = 1e-4;
@@ -330,12 +340,20 @@ impl<'a> Iteration<'a> {
             }
             self.report.iterations += 1;
             crate::activity::record(residual.combined_n);
+            let damping_before = self.damping;
             let mut stepped = self.step(residual.combined_n);
             if self.ascent {
                 // The augmented SQP model's step does not descend the merit (the
                 // penalty pulls open rows held in the last QP shut, uphill in energy):
                 // this iteration takes the plain step instead.
                 self.ascent = false;
+                // The plain Hessian searches its own damping from where this
+                // iteration started: the rows' curvature (`−λ∇²g` of a cable pressed
+                // over a mesh edge) can make the augmented one need far more
+                // (everyday_s3_027, a cable along a 60° groove: 1.2e6 where the last
+                // step had none; the plain step inherited it, and every such step cost
+                // 20 iterations of damping decay).
+                self.damping = damping_before;
                 self.plain_model = true;
                 stepped = self.step(residual.combined_n);
                 self.plain_model = false;
@@ -447,6 +465,19 @@ impl<'a> Iteration<'a> {
                 return Ok(());
             }
             failed = true;
+            if damping > LARGE_DAMPING {
+                // Still indefinite, but the damping of a passing spike (a contact row's
+                // curvature at one iteration) need not be decayed one
+                // `contact_damping_decrease` per exact step: try far less first.
+                let smaller = damping * LARGE_DAMPING_JUMP;
+                work.set_damped(hessian, smaller);
+                if work.cholesky.factor(&work.damped) {
+                    self.report.shifted_iterations += 1;
+                    self.damping = smaller;
+                    self.indefinite = true;
+                    return Ok(());
+                }
+            }
         }
         loop {
             work.set_damped(hessian, damping);
