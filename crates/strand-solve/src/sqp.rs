@@ -8,6 +8,9 @@
 
 mod exact;
 mod groups;
+mod kkt;
+#[cfg(test)]
+mod kkt_tests;
 #[cfg(test)]
 mod scaling_tests;
 

@@ -27,6 +27,13 @@ pub struct SparseCholesky {
     backend: Backend,
     factored: bool,
     components: Components,
+    /// The pattern's upper-triangular CSC column pointers and row indices.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// The values of the last successful factorisation (upper triangle, in the
+    /// pattern's order): the matrix the factor stands for, read by the active set's
+    /// KKT system (`sqp::kkt`).
+    values: Vec<f64>,
 }
 
 enum Backend {
@@ -58,6 +65,9 @@ impl SparseCholesky {
             backend,
             factored: false,
             components: Components::of_pattern(pattern),
+            col_ptr: pattern.col_ptr.clone(),
+            row_idx: pattern.row_idx.clone(),
+            values: vec![0.0; pattern.nnz()],
         })
     }
 
@@ -87,7 +97,17 @@ impl SparseCholesky {
             Backend::Envelope(e) => e.factor(values),
             Backend::Faer(f) => f.factor(values),
         };
+        if self.factored {
+            self.values.copy_from_slice(values);
+        }
         self.factored
+    }
+
+    /// The factorised matrix: the pattern's upper-triangular CSC column pointers, row
+    /// indices and the values of the last successful factorisation.
+    pub(crate) fn matrix(&self) -> (&[usize], &[usize], &[f64]) {
+        assert!(self.factored, "matrix before a successful factorisation");
+        (&self.col_ptr, &self.row_idx, &self.values)
     }
 
     /// Solves `A x = rhs` in place with the last successful factorisation.

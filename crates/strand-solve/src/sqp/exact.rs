@@ -5,18 +5,41 @@
 //!
 //! The rows are split into independent groups ([`RowGroups`]: rows reaching different
 //! independent blocks of the Hessian never couple), and every group is refined on its
-//! own. A column `H⁻¹ a_i` is kept only on its group's unknowns, and one sparse solve
-//! serves one new row of every group at once (their right-hand sides do not overlap and
-//! neither do their solutions, so each is exactly what a solve of its own gives). With
-//! `G` groups of `m` rows each, one call costs about `m` solves instead of `G·m`, and
-//! each step rebuild touches a group's unknowns instead of all `n`.
+//! own, by one of two methods ([`GroupMethod`]):
+//!
+//! * a group of many rows on a narrow band (one rod with many contacts) solves the KKT
+//!   system of its active rows in profile form ([`super::kkt`]): each pass costs
+//!   `O((unknowns + rows) · width²)`, without a solve per row or a dense Schur matrix;
+//! * other groups keep the columns `H⁻¹ a_i` on their own unknowns, and one sparse solve
+//!   serves one new row of every such group at once (their right-hand sides do not
+//!   overlap and neither do their solutions, so each is exactly what a solve of its own
+//!   gives). With `G` groups of `m` rows each, one call costs about `m` solves instead
+//!   of `G·m`, and each step rebuild touches a group's unknowns instead of all `n`.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::groups::RowGroups;
+use super::kkt::KktInput;
 use super::{ConstrainedStep, FEASIBILITY};
 use crate::SparseCholesky;
 use crate::constraints::Row;
+
+/// How the step of each group of rows is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+// The solver always chooses automatically; the tests force each method.
+#[cfg_attr(not(test), allow(dead_code))]
+pub(crate) enum GroupMethod {
+    /// The kept columns, until their next pass would cost more than a pass with the
+    /// KKT system (estimated by [`KktInput::costs`], on a narrow band only): from then
+    /// on the KKT system. The columns' pass costs a solve per missing row, the step
+    /// rebuild (rows × unknowns) and the Schur matrix's factorisation (rows³ / 3), so a
+    /// few rows keep their columns and many rows switch.
+    Automatic,
+    /// Always the kept columns `H⁻¹ a_i` and the Schur complement.
+    Columns,
+    /// Always the KKT system in profile form (whatever its width).
+    Kkt,
+}
 
 /// The work of one exact step, counted (not timed) for the complexity tests.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -25,11 +48,17 @@ pub(crate) struct ExactStepWork {
     pub solves: usize,
     /// Entries written to the kept columns `H⁻¹ a_i` and to the rebuilt steps.
     pub entries: usize,
+    /// Multiply–adds of the KKT factorisations and solves.
+    pub products: usize,
 }
 
 /// The refinement state of one group.
 #[derive(Default)]
 struct GroupState {
+    /// Whether the group solves its KKT system (else it keeps columns).
+    kkt: bool,
+    /// The estimated costs of its passes when it may switch to the KKT system.
+    switch: Option<super::kkt::PassCosts>,
     /// The rows held at zero, ascending after a pass.
     active: Vec<usize>,
     /// `(row, H⁻¹ a_row on the group's unknowns)`, for the rows of `active`.
@@ -48,15 +77,16 @@ pub(crate) fn exact_step(
     active: &[usize],
     newton: &[f64],
 ) -> Option<ConstrainedStep> {
-    exact_step_counted(cholesky, rows, active, newton).map(|(step, _)| step)
+    exact_step_counted(cholesky, rows, active, newton, GroupMethod::Automatic).map(|(s, _)| s)
 }
 
-/// [`exact_step`] and the work it did.
+/// [`exact_step`] with the `method` of every group, and the work it did.
 pub(crate) fn exact_step_counted(
     cholesky: &mut SparseCholesky,
     rows: &[Row],
     active: &[usize],
     newton: &[f64],
+    method: GroupMethod,
 ) -> Option<(ConstrainedStep, ExactStepWork)> {
     let n = newton.len();
     let groups = RowGroups::new(cholesky.components(), rows);
@@ -75,6 +105,12 @@ pub(crate) fn exact_step_counted(
             local[u] = p;
         }
     }
+    for (g, state) in states.iter_mut().enumerate() {
+        state.kkt = method == GroupMethod::Kkt;
+        if method == GroupMethod::Automatic && groups.rows[g].len() > 1 {
+            state.switch = kkt_input(cholesky.matrix(), rows, &groups.unknowns[g], &local).costs();
+        }
+    }
     let mut work = ExactStepWork::default();
     let mut step = newton.to_vec();
     let mut multipliers = vec![0.0; rows.len()];
@@ -86,18 +122,31 @@ pub(crate) fn exact_step_counted(
         if live.is_empty() {
             break;
         }
-        // The missing columns, one row of every group per shared solve.
+        // The missing columns, one row of every column group per shared solve.
         let mut missing: Vec<Vec<usize>> = Vec::with_capacity(live.len());
         for &g in &live {
             let state = &mut states[g];
+            if state.kkt {
+                missing.push(Vec::new());
+                continue;
+            }
             let held = &state.active;
             state.columns.retain(|(i, _)| held.binary_search(i).is_ok());
             let have = &state.columns;
-            missing.push(
-                (state.active.iter().copied())
-                    .filter(|i| have.iter().all(|(j, _)| j != i))
-                    .collect(),
-            );
+            let new: Vec<usize> = (state.active.iter().copied())
+                .filter(|i| have.iter().all(|(j, _)| j != i))
+                .collect();
+            if let Some(costs) = state.switch {
+                let (m, n_g) = (state.active.len(), groups.unknowns[g].len());
+                let columns_pass = new.len() * costs.solve + m * n_g + m * m * m / 3;
+                if columns_pass > costs.kkt_pass {
+                    state.kkt = true;
+                    state.columns.clear();
+                    missing.push(Vec::new());
+                    continue;
+                }
+            }
+            missing.push(new);
         }
         let depth = missing.iter().map(Vec::len).max().unwrap_or(0);
         for k in 0..depth {
@@ -120,6 +169,7 @@ pub(crate) fn exact_step_counted(
                 }
             }
         }
+        let matrix = cholesky.matrix();
         for &g in &live {
             let state = &mut states[g];
             state.passes += 1;
@@ -132,6 +182,7 @@ pub(crate) fn exact_step_counted(
                 unknowns: &groups.unknowns[g],
                 local: &local,
                 newton,
+                kkt: kkt_input(matrix, rows, &groups.unknowns[g], &local),
             };
             if let Some(settled) = context.refine(state, &mut step, &mut work)? {
                 state.settled = true;
@@ -144,6 +195,23 @@ pub(crate) fn exact_step_counted(
     Some((ConstrainedStep { step, multipliers }, work))
 }
 
+/// The KKT system of the group with `unknowns`, on the factorised `matrix`.
+fn kkt_input<'a>(
+    matrix: (&'a [usize], &'a [usize], &'a [f64]),
+    rows: &'a [Row],
+    unknowns: &'a [usize],
+    local: &'a [usize],
+) -> KktInput<'a> {
+    KktInput {
+        col_ptr: matrix.0,
+        row_idx: matrix.1,
+        values: matrix.2,
+        rows,
+        unknowns,
+        local,
+    }
+}
+
 /// What one refinement pass of a group reads.
 struct Pass<'a> {
     rows: &'a [Row],
@@ -154,14 +222,17 @@ struct Pass<'a> {
     /// Per unknown: its position among its group's unknowns.
     local: &'a [usize],
     newton: &'a [f64],
+    /// The group's KKT system (used when the state says so).
+    kkt: KktInput<'a>,
 }
 
 impl Pass<'_> {
-    /// One primal–dual pass on `state` (its columns complete): the multipliers of the
-    /// held rows from their Schur complement; the most negative one leaves the set, or
-    /// else the group's step is rebuilt in `step` and its most violated open row joins
-    /// the set. Returns the multipliers when neither happens (the group is settled);
-    /// `None` outside when the Schur complement is not positive definite.
+    /// One primal–dual pass on `state` (its columns complete, or its KKT system): the
+    /// multipliers of the held rows; the most negative one leaves the set, or else the
+    /// group's step is rebuilt in `step` and its most violated open row joins the set.
+    /// Returns the multipliers when neither happens (the group is settled); `None`
+    /// outside when the held rows are dependent (the Schur complement is not positive
+    /// definite, or a KKT pivot has the wrong sign).
     fn refine(
         &self,
         state: &mut GroupState,
@@ -169,21 +240,28 @@ impl Pass<'_> {
         work: &mut ExactStepWork,
     ) -> Option<Option<DVector<f64>>> {
         let rows = self.rows;
-        state.columns.sort_by_key(|(i, _)| *i);
         let m = state.active.len();
-        let dot = |i: usize, w: &[f64]| {
-            (rows[i].gradient.iter())
-                .map(|&(k, a)| a * w[self.local[k]])
-                .sum::<f64>()
-        };
-        let active = &state.active;
-        let columns = &state.columns;
-        let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
-        let rhs = DVector::from_fn(m, |r, _| -rows[active[r]].linearised(self.newton));
-        let multipliers = if m == 0 {
-            DVector::zeros(0)
+        let rhs = DVector::from_fn(m, |r, _| -rows[state.active[r]].linearised(self.newton));
+        let (multipliers, correction) = if m == 0 {
+            (DVector::zeros(0), None)
+        } else if state.kkt {
+            let solution = self
+                .kkt
+                .solve(&state.active, rhs.as_slice(), &mut work.products)?;
+            (
+                DVector::from_vec(solution.multipliers),
+                Some(solution.correction),
+            )
         } else {
-            schur.cholesky()?.solve(&rhs)
+            state.columns.sort_by_key(|(i, _)| *i);
+            let dot = |i: usize, w: &[f64]| {
+                (rows[i].gradient.iter())
+                    .map(|&(k, a)| a * w[self.local[k]])
+                    .sum::<f64>()
+            };
+            let (active, columns) = (&state.active, &state.columns);
+            let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
+            (schur.cholesky()?.solve(&rhs), None)
         };
         if let Some((r, _)) = multipliers
             .iter()
@@ -196,12 +274,18 @@ impl Pass<'_> {
         }
         for (p, &u) in self.unknowns.iter().enumerate() {
             let mut s = self.newton[u];
-            for ((_, w), &l) in columns.iter().zip(multipliers.iter()) {
-                s += l * w[p];
+            match &correction {
+                Some(delta) => s += delta[p],
+                None => {
+                    for ((_, w), &l) in state.columns.iter().zip(multipliers.iter()) {
+                        s += l * w[p];
+                    }
+                }
             }
             step[u] = s;
         }
         work.entries += self.unknowns.len();
+        let active = &state.active;
         let violated = (self.group_rows.iter().copied())
             .filter(|i| active.binary_search(i).is_err())
             .map(|i| (i, rows[i].linearised(step)))

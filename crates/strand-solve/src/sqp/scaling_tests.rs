@@ -6,19 +6,19 @@
 use nalgebra::{DMatrix, DVector};
 use strand_system::HessianPattern;
 
-use super::exact::{ExactStepWork, exact_step_counted};
+use super::exact::{ExactStepWork, GroupMethod, exact_step_counted};
 use crate::SparseCholesky;
 use crate::constraints::{Row, RowKey};
 
 /// A deterministic pseudo-random number in [-1, 1).
-fn next(seed: &mut u64) -> f64 {
+pub(super) fn next(seed: &mut u64) -> f64 {
     *seed = seed
         .wrapping_mul(6_364_136_223_846_793_005)
         .wrapping_add(1_442_695_040_888_963_407);
     (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
 }
 
-fn row(key: u64, value: f64, gradient: Vec<(usize, f64)>) -> Row {
+pub(super) fn row(key: u64, value: f64, gradient: Vec<(usize, f64)>) -> Row {
     Row {
         key: RowKey::Contact(key),
         value,
@@ -28,7 +28,7 @@ fn row(key: u64, value: f64, gradient: Vec<(usize, f64)>) -> Row {
 }
 
 /// A random diagonally dominant matrix on `pattern` (upper values) and its dense copy.
-fn random_matrix(pattern: &HessianPattern, seed: &mut u64) -> (Vec<f64>, DMatrix<f64>) {
+pub(super) fn random_matrix(pattern: &HessianPattern, seed: &mut u64) -> (Vec<f64>, DMatrix<f64>) {
     let n = pattern.dim();
     let mut dense = DMatrix::zeros(n, n);
     for col in 0..n {
@@ -54,7 +54,11 @@ fn random_matrix(pattern: &HessianPattern, seed: &mut u64) -> (Vec<f64>, DMatrix
 
 /// The QP solution by enumeration: the active set whose KKT point is feasible with
 /// non-negative multipliers (unique for a positive definite `h` and independent rows).
-fn brute_force(h: &DMatrix<f64>, newton: &DVector<f64>, rows: &[Row]) -> (DVector<f64>, Vec<f64>) {
+pub(super) fn brute_force(
+    h: &DMatrix<f64>,
+    newton: &DVector<f64>,
+    rows: &[Row],
+) -> (DVector<f64>, Vec<f64>) {
     let n = h.nrows();
     for set in 0u32..1 << rows.len() {
         let held: Vec<usize> = (0..rows.len()).filter(|i| set >> i & 1 == 1).collect();
@@ -122,8 +126,17 @@ fn check_against_brute_force(elements: &[Vec<usize>], blocks: usize, expect_enve
         held >= 2,
         "only {held} rows active: the check would be weak"
     );
-    for hint in [vec![], vec![0, 3], (0..rows.len()).collect::<Vec<_>>()] {
-        let (result, _) = exact_step_counted(&mut cholesky, &rows, &hint, newton.as_slice())
+    let methods = [
+        GroupMethod::Automatic,
+        GroupMethod::Columns,
+        GroupMethod::Kkt,
+    ];
+    let hints = [vec![], vec![0, 3], (0..rows.len()).collect::<Vec<_>>()];
+    for (method, hint) in methods
+        .iter()
+        .flat_map(|m| hints.iter().map(move |h| (*m, h)))
+    {
+        let (result, _) = exact_step_counted(&mut cholesky, &rows, hint, newton.as_slice(), method)
             .expect("the exact step settles");
         for (a, b) in result.step.iter().zip(expected_step.iter()) {
             assert!((a - b).abs() < 1e-12 * (1.0 + b.abs()), "step {a} vs {b}");
@@ -186,7 +199,8 @@ fn copies_work(copies: usize) -> ExactStepWork {
             ]
         })
         .collect();
-    let (result, work) = exact_step_counted(&mut cholesky, &rows, &[], &newton).unwrap();
+    let (result, work) =
+        exact_step_counted(&mut cholesky, &rows, &[], &newton, GroupMethod::Automatic).unwrap();
     for c in 0..copies {
         let step = &result.step[3 * c..3 * c + 3];
         for (a, b) in step.iter().zip([0.0, -0.5, 1.0]) {
