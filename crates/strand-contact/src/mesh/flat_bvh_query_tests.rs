@@ -8,6 +8,7 @@ use nalgebra::{Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::grid_surface_tests::grid_surface;
 use super::segment_proximity::SegmentBound;
 use crate::ObstacleMesh;
 use crate::closest::segment_triangle_candidate;
@@ -34,29 +35,16 @@ fn soup(rng: &mut ChaCha8Rng, n: usize) -> ObstacleMesh {
     ObstacleMesh::try_from_triangles("soup", vertices, &triangles).unwrap()
 }
 
-/// A tessellated wavy square of `2 n²` triangles, `x, y ∈ [0, 1]` m.
+/// A tessellated wavy square of `2 n²` triangles, `x, y ∈ [0, 1]` m (every seventh
+/// diagonal of grid points flat, so that shared edges make exact ties).
 fn surface(n: usize) -> ObstacleMesh {
-    let mut vertices = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
-            let z = if (i + j) % 7 == 0 {
-                0.0
-            } else {
-                0.05 * (5.0 * x).sin() * (3.0 * y).cos()
-            };
-            vertices.push(Point3::new(x, y, z));
+    grid_surface("surface", n, 0.0, |i, j, x, y| {
+        if (i + j) % 7 == 0 {
+            0.0
+        } else {
+            0.05 * (5.0 * x).sin() * (3.0 * y).cos()
         }
-    }
-    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    ObstacleMesh::try_from_triangles("surface", vertices, &triangles).unwrap()
+    })
 }
 
 /// A query: a segment (a point a quarter of the time, often right above a vertex of

@@ -21,6 +21,8 @@ mod flat_bvh;
 #[cfg(test)]
 mod flat_bvh_query_tests;
 mod from_triangles;
+#[cfg(test)]
+mod grid_surface_tests;
 mod load_obj;
 mod local_contacts;
 mod near_scan;

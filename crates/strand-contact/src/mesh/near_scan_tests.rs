@@ -6,29 +6,16 @@ use nalgebra::{Point3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::grid_surface_tests::grid_surface;
 use super::work::query_work;
 use crate::{ObstacleMesh, closest_segment_triangle};
 
 /// A wavy square `x, y ∈ [−0.5, 0.5]` m, `z = 0.02 sin(6x) cos(5y)` m, of `2 n²`
 /// triangles (one smooth patch: the slopes stay below 0.15).
 fn wavy(n: usize) -> ObstacleMesh {
-    let height = |x: f64, y: f64| 0.02 * (6.0 * x).sin() * (5.0 * y).cos();
-    let mut vertices = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
-            vertices.push(Point3::new(x, y, height(x, y)));
-        }
-    }
-    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    ObstacleMesh::try_from_triangles("wavy", vertices, &triangles).unwrap()
+    grid_surface("wavy", n, -0.5, |_, _, x, y| {
+        0.02 * (6.0 * x).sin() * (5.0 * y).cos()
+    })
 }
 
 /// A faceted box corner: many patches (a floor and two walls meeting), for the scan's
