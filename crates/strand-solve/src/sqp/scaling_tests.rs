@@ -90,6 +90,25 @@ pub(super) fn brute_force(
     panic!("no active set solves the QP");
 }
 
+/// The step and multipliers of an exact step equal the brute-force QP's (1e-12 and
+/// 1e-11 relative to 1 + |value|).
+pub(super) fn assert_brute_force_step(
+    step: &[f64],
+    multipliers: &[f64],
+    expected_step: &DVector<f64>,
+    expected_multipliers: &[f64],
+) {
+    for (a, b) in step.iter().zip(expected_step.iter()) {
+        assert!((a - b).abs() < 1e-12 * (1.0 + b.abs()), "step {a} vs {b}");
+    }
+    for (a, b) in multipliers.iter().zip(expected_multipliers) {
+        assert!(
+            (a - b).abs() < 1e-11 * (1.0 + b.abs()),
+            "multiplier {a} vs {b}"
+        );
+    }
+}
+
 /// Three independent blocks (blocks {0, 1}, {2}, {3, 4} coupled) and seven rows, two of
 /// them joining blocks {0, 1} and {3, 4} (as a contact between two rods does).
 fn check_against_brute_force(elements: &[Vec<usize>], blocks: usize, expect_envelope: bool) {
@@ -138,15 +157,12 @@ fn check_against_brute_force(elements: &[Vec<usize>], blocks: usize, expect_enve
     {
         let (result, _) = exact_step_counted(&mut cholesky, &rows, hint, newton.as_slice(), method)
             .expect("the exact step settles");
-        for (a, b) in result.step.iter().zip(expected_step.iter()) {
-            assert!((a - b).abs() < 1e-12 * (1.0 + b.abs()), "step {a} vs {b}");
-        }
-        for (a, b) in result.multipliers.iter().zip(&expected_multipliers) {
-            assert!(
-                (a - b).abs() < 1e-11 * (1.0 + b.abs()),
-                "multiplier {a} vs {b}"
-            );
-        }
+        assert_brute_force_step(
+            &result.step,
+            &result.multipliers,
+            &expected_step,
+            &expected_multipliers,
+        );
     }
 }
 
