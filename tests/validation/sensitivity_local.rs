@@ -7,6 +7,7 @@
 //! itself checked against differences of full solves (`sensitivity.rs`).
 
 use strand_case::{Case, CaseDesign, DesignParameter};
+use strand_solve::Solution;
 use strand_solve::sensitivity::{Design, PathPlace, Sensitivities, SensitivitySettings};
 use strand_study::sensitivity::{
     ENERGY, EnergyOutput, LocalOutputs, OutputEvaluation, output_table, output_table_with,
@@ -27,6 +28,17 @@ fn case(name: &str) -> Case {
     Case::from_path(cases_dir().join(name)).unwrap()
 }
 
+/// The bundled case `name` and its equilibrium, solved from the case's own start.
+fn solved(name: &str) -> (Case, Solution) {
+    let case = case(name);
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    assert!(solution.report.converged, "{name}");
+    (case, solution)
+}
+
 /// The cooler hose's parameters: affine ones (lengths, mass, positions, gravity) and
 /// a frame's turn (built by the case builder at every step).
 fn cooler_parameters() -> Vec<DesignParameter> {
@@ -43,12 +55,7 @@ fn cooler_parameters() -> Vec<DesignParameter> {
 
 #[test]
 fn local_outputs_equal_the_whole_table_along_the_path_and_far_from_the_base() {
-    let case = case("cooler_hose.ron");
-    let built = case.build(None).unwrap();
-    let solution = built
-        .solve_from(built.initial.clone(), &built.settings)
-        .unwrap();
-    assert!(solution.report.converged);
+    let (case, solution) = solved("cooler_hose.ron");
     let params = cooler_parameters();
     let design = CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
     let base = design.build(&vec![0.0; params.len()]).unwrap();
@@ -111,11 +118,7 @@ fn local_outputs_equal_the_whole_table_along_the_path_and_far_from_the_base() {
 
 #[test]
 fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
-    let case = case("cooler_hose.ron");
-    let built = case.build(None).unwrap();
-    let solution = built
-        .solve_from(built.initial.clone(), &built.settings)
-        .unwrap();
+    let (case, solution) = solved("cooler_hose.ron");
     let params = cooler_parameters();
     let settings = SensitivitySettings::default();
     let table = |evaluation| {
@@ -160,11 +163,7 @@ fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
 /// locally and as the whole table: the energy is only left out, nothing shifts.
 #[test]
 fn a_table_without_the_energy_is_the_table_with_it_less_the_energy() {
-    let case = case("cooler_hose.ron");
-    let built = case.build(None).unwrap();
-    let solution = built
-        .solve_from(built.initial.clone(), &built.settings)
-        .unwrap();
+    let (case, solution) = solved("cooler_hose.ron");
     let params = cooler_parameters();
     let settings = SensitivitySettings::default();
     let design = || CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
@@ -212,11 +211,7 @@ fn a_table_without_the_energy_is_the_table_with_it_less_the_energy() {
 #[test]
 fn cases_with_clips_or_contacts_keep_the_whole_table() {
     for name in ["harness_clips.ron", "cooler_hose_contact.ron"] {
-        let case = case(name);
-        let built = case.build(None).unwrap();
-        let solution = built
-            .solve_from(built.initial.clone(), &built.settings)
-            .unwrap();
+        let (case, solution) = solved(name);
         let design = CaseDesign::new(&case, vec![]).starting_from(&solution.state);
         let base = design.build(&[]).unwrap();
         let outputs = outputs_at(&base, &solution, None).unwrap();
