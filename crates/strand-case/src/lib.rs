@@ -287,4 +287,29 @@ impl Case {
         self.build_file(&file, None, extras)
             .map_err(|e| variant::in_variant(e, label))
     }
+
+    /// [`Case::build_with_changes`] for a variant that will be solved from a start of
+    /// its own (a batch variant warm-started from its solved neighbour): no default
+    /// guess is computed or checked against the environment, `initial` is `placeholder`
+    /// (e.g. the neighbour's state; the caller solves from its own start), and with
+    /// `like` (e.g. the neighbour's model) the model reuses its symbolic phase where
+    /// the structure is the same. The model is the one [`Case::build_with_changes`]
+    /// builds; a cold solve needs that build's `initial` instead.
+    pub fn build_with_changes_for_start(
+        &self,
+        label: &str,
+        changes: &[schema::VariantChange],
+        segments: Option<usize>,
+        placeholder: &SystemState,
+        like: Option<&strand_system::Model>,
+    ) -> Result<BuiltCase, CaseError> {
+        let file = self.file_with_changes(label, changes)?;
+        let extras = build::BuildExtras {
+            warm: Some(placeholder),
+            like,
+            ..build::BuildExtras::default()
+        };
+        self.build_file(&file, segments, extras)
+            .map_err(|e| variant::in_variant(e, label))
+    }
 }

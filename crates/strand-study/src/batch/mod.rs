@@ -68,6 +68,7 @@ mod run;
 pub mod spec;
 mod state;
 mod summary;
+mod variant;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};

@@ -20,7 +20,7 @@ use strand_case::{BuiltCase, Case};
 use strand_report::{
     ExportUnit, ResultDoc, Timing, collect, name_connectors, write_atomic, write_result_files,
 };
-use strand_solve::{Solution, SolverSettings};
+use strand_solve::Solution;
 use strand_system::SystemState;
 
 use super::integrity::{Damage, Stored, clear, inspect};
@@ -28,6 +28,7 @@ use super::keep::kept_doc;
 use super::plan::Plan;
 use super::predict::{Solved, predicted_start};
 use super::state::{FailedVariant, StoredState};
+use super::variant::{WarmStart, build_and_solve};
 use super::{Keep, Progress};
 
 /// What the children of a variant start from: the nearest solved variant on the way
@@ -323,21 +324,11 @@ impl<'a> Runner<'a> {
         }
         let started = Instant::now();
         let changes = self.plan.changes(n);
-        let outcome = match self.case.build_with_changes(id, &changes, self.segments) {
-            Err(e) => Err(FailedVariant {
-                id: id.clone(),
-                stage: "build".into(),
-                reason: one_line(&e.to_string()),
-                residual_n: None,
-                iterations: None,
-                warm_start: false,
-                time_s: 0.0,
-            }),
-            Ok(built) => {
-                let initial = start.map(|st| self.predict(n, st, &built));
-                solve_variant(id, built, initial)
-            }
-        };
+        let warm = start.map(|st| WarmStart {
+            neighbour: &st.solved,
+            predict: move |built: &BuiltCase| self.predict(n, st, built),
+        });
+        let outcome = build_and_solve(self.case, id, &changes, self.segments, warm);
         if owned {
             self.computed.fetch_add(1, Ordering::Relaxed);
         } else {
@@ -469,15 +460,6 @@ impl<'a> Runner<'a> {
     }
 }
 
-/// A message on one line (the lines of a multi-line error joined by `; `), for tables.
-fn one_line(text: &str) -> String {
-    text.lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ")
-}
-
 /// The result document of a solved variant, with the allowed bend radii filled in.
 pub(crate) fn result_doc(
     id: &str,
@@ -497,67 +479,4 @@ pub(crate) fn result_doc(
     doc.variant = Some(id.to_string());
     doc.warm_start = warm;
     doc
-}
-
-/// Solves `built` from `initial` (predicted from solved neighbours), falling back
-/// to a cold solve when that does not converge; cold when there is no start.
-/// Returns the solution and whether it came from the warm start.
-pub(crate) fn solve_variant(
-    id: &str,
-    built: BuiltCase,
-    initial: Option<SystemState>,
-) -> Result<(BuiltCase, Solution, bool), FailedVariant> {
-    let warm = initial.is_some();
-    let fail = |reason: String, solution: Option<&Solution>, warm: bool| FailedVariant {
-        id: id.to_string(),
-        stage: "solve".into(),
-        reason,
-        residual_n: solution.map(|s| s.report.residual.combined_n),
-        iterations: solution.map(|s| s.report.iterations),
-        warm_start: warm,
-        time_s: 0.0,
-    };
-    let mut spent = 0;
-    if let Some(initial) = initial {
-        let settings = SolverSettings {
-            nested_iteration: false,
-            ..built.settings.clone()
-        };
-        match built.solve_from(initial, &settings) {
-            Ok(solution) if solution.report.converged => return Ok((built, solution, true)),
-            Ok(solution) => spent = solution.report.iterations,
-            Err(_) => {}
-        }
-    }
-    match built.solve_from(built.initial.clone(), &built.settings) {
-        Ok(mut solution) if solution.report.converged => {
-            solution.report.iterations += spent;
-            Ok((built, solution, false))
-        }
-        Ok(solution) => {
-            let report = &solution.report;
-            let termination = match serde_json::to_value(report.termination) {
-                Ok(serde_json::Value::String(s)) => s,
-                _ => format!("{:?}", report.termination),
-            };
-            let mut failure = fail(
-                format!(
-                    "not converged ({termination}): residual {:.3e} N > tolerance {:.3e} N after {} iterations{}",
-                    report.residual.combined_n,
-                    report.tolerance_n,
-                    report.iterations,
-                    if warm {
-                        " (cold, after the warm start failed)"
-                    } else {
-                        ""
-                    }
-                ),
-                Some(&solution),
-                warm,
-            );
-            failure.iterations = Some(report.iterations + spent);
-            Err(failure)
-        }
-        Err(e) => Err(fail(format!("the solver could not start: {e}"), None, warm)),
-    }
 }
