@@ -28,11 +28,16 @@ fn obstacle(name: &str, mesh: TriangleMesh) -> Arc<ObstacleMesh> {
 /// A cylinder of `radius` along the world y axis through `centre` (a ridge of the
 /// inscribed polygon on top).
 fn cylinder_along_y(radius: f64, centre: Vector3<f64>) -> TriangleMesh {
+    faceted_cylinder_along_y(radius, centre, 512)
+}
+
+/// A closed cylinder of `facets` flat faces around its axis, 0.4 m long along y.
+fn faceted_cylinder_along_y(radius: f64, centre: Vector3<f64>, facets: usize) -> TriangleMesh {
     let pose = Isometry3::from_parts(
         Translation3::from(centre),
         UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -FRAC_PI_2),
     );
-    cylinder(radius, 0.4, 512, true).transformed(&pose)
+    cylinder(radius, 0.4, facets, true).transformed(&pose)
 }
 
 fn along_x() -> UnitQuaternion<f64> {
@@ -244,6 +249,23 @@ fn a_hose_pulled_over_a_cylinder_converges_at_80_edges() {
 /// Solves the hose over the drum with `segments` edges, checks the contact load and
 /// returns the relative difference of the two spans' tensions.
 fn hose_over_drum(segments: usize) -> f64 {
+    hose_over_faceted_drum(segments, 512).tension_difference
+}
+
+/// What [`hose_over_faceted_drum`] measured.
+struct DrumSolve {
+    /// Relative difference of the two free spans' tensions.
+    tension_difference: f64,
+    /// Newton iterations of the solve (all levels).
+    iterations: usize,
+    /// Solve time, s.
+    solve_s: f64,
+}
+
+/// Solves the hose (`segments` edges) over a drum of `facets` flat faces and checks
+/// convergence, stability and no penetration (in `solved`) and, from 512 facets on (a
+/// coarser drum's corners carry the load unevenly), the contact load `T φ`.
+fn hose_over_faceted_drum(segments: usize, facets: usize) -> DrumSolve {
     let radius = 0.005;
     let (ea, ei) = (1e4, 1e-4);
     let section = Section::try_explicit(ea, ea, ei, ei, 0.0, radius).unwrap();
@@ -295,7 +317,7 @@ fn hose_over_drum(segments: usize) -> f64 {
     let contact = Contact::new(
         vec![obstacle(
             "drum",
-            cylinder_along_y(cylinder_radius, Vector3::zeros()),
+            faceted_cylinder_along_y(cylinder_radius, Vector3::zeros(), facets),
         )],
         0.01,
     );
@@ -319,11 +341,37 @@ fn hose_over_drum(segments: usize) -> f64 {
         "contact load {total} N, T φ = {expected} N (line load T/ρ = {} N/m)",
         left / rho
     );
-    assert!(
-        (total - expected).abs() <= 0.01 * expected,
-        "{total} vs {expected}"
-    );
-    (left - right).abs() / left
+    if facets >= 512 {
+        assert!(
+            (total - expected).abs() <= 0.01 * expected,
+            "{total} vs {expected}"
+        );
+    }
+    DrumSolve {
+        tension_difference: (left - right).abs() / left,
+        iterations: solution.report.iterations,
+        solve_s: solution.report.solve_seconds,
+    }
+}
+
+/// Issue 11 goal 3 (a measurement, not a timed test: run with `--ignored
+/// --nocapture`): the hose over drums from 32 to 94,500 facets (128 to 378,000
+/// triangles) converges at every density; the table of iterations and solve times is
+/// README's "Contact vs mesh size". Every solve is checked as the drum test checks it.
+#[test]
+#[ignore = "measurement (about a minute): cargo test --release -p strand-tests --test validation hose_over_finely_faceted_drums -- --ignored --nocapture"]
+fn hose_over_finely_faceted_drums_iterations() {
+    println!("facets  triangles  iterations  solve [s]  tension difference");
+    for facets in [32, 256, 1000, 10_000, 94_500] {
+        let drum = hose_over_faceted_drum(160, facets);
+        println!(
+            "{facets:>6}  {:>9}  {:>10}  {:>9.3}  {:.2e}",
+            4 * facets,
+            drum.iterations,
+            drum.solve_s,
+            drum.tension_difference
+        );
+    }
 }
 
 #[test]
