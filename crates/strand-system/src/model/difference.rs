@@ -18,12 +18,19 @@ pub struct GradientDifference {
     /// The difference of the gradients, entry by entry (N for position blocks, N·m for
     /// rotation blocks), in the numbering of unknowns both models share.
     pub gradient: Vec<f64>,
-    /// How many elements were evaluated in each model (those whose inputs differ; all
-    /// of them where the models' elements do not correspond).
+    /// How many elements were evaluated in each model: those whose inputs differ, or,
+    /// where the models' elements do not correspond, all of them (the larger model's
+    /// [`Model::element_count`]).
     pub elements: usize,
 }
 
 impl Model {
+    /// Number of energy elements (edges, vertices, clip half-cells, point loads, …)
+    /// one evaluation goes through.
+    pub fn element_count(&self) -> usize {
+        self.elements.len()
+    }
+
     /// The gradient of this model at `state` minus that of `other` at `other_state`,
     /// evaluated only over the elements whose inputs differ between the two (their
     /// parameters — rest lengths, strains and curvatures, stiffnesses, loads, masses,
@@ -47,7 +54,7 @@ impl Model {
             other.evaluate(other_state, &mut minus, false);
             return GradientDifference {
                 gradient: subtract(&plus.gradient, &minus.gradient),
-                elements: self.elements.len() + other.elements.len(),
+                elements: self.element_count().max(other.element_count()),
             };
         }
         let boundary = self.all_boundary_frames(state);
