@@ -67,6 +67,9 @@ impl Model {
             boundary_a: &boundary,
             boundary_b: &other_boundary,
             chain_same: self.same_chains(state, other, other_state),
+            same_section: (self.system.rods.iter().zip(&other.system.rods))
+                .map(|(a, b)| a.rod.section() == b.rod.section())
+                .collect(),
         };
         let mut elements = 0;
         for (a, b) in self.elements.iter().zip(other.elements.iter()) {
@@ -177,6 +180,8 @@ struct Sides<'a> {
     boundary_b: &'a [BoundaryFrames],
     /// [`Model::same_chains`].
     chain_same: bool,
+    /// Per rod: whether its section (stiffnesses, mass per length) is the same.
+    same_section: Vec<bool>,
 }
 
 impl Sides<'_> {
@@ -195,7 +200,7 @@ impl Sides<'_> {
                 let (pa, pb) = (&self.state_a.rods[rod], &self.state_b.rods[rod]);
                 ra.edge_length(edge) == rb.edge_length(edge)
                     && ra.rest_strain(edge) == rb.rest_strain(edge)
-                    && ra.section().strain_stiffness() == rb.section().strain_stiffness()
+                    && self.same_section[rod]
                     && pa.positions[edge] == pb.positions[edge]
                     && pa.positions[edge + 1] == pb.positions[edge + 1]
                     && pa.frames[edge] == pb.frames[edge]
@@ -207,7 +212,7 @@ impl Sides<'_> {
                 };
                 ra.vertex_weight(vertex) == rb.vertex_weight(vertex)
                     && ra.rest_curvature(vertex) == rb.rest_curvature(vertex)
-                    && ra.section().curvature_stiffness() == rb.section().curvature_stiffness()
+                    && self.same_section[rod]
                     && frames(self.state_a, self.boundary_a)
                         == frames(self.state_b, self.boundary_b)
             }

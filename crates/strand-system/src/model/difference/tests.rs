@@ -108,6 +108,12 @@ fn a_rods_length_evaluates_that_rods_elements() {
     let total = Model::try_new(base.clone()).unwrap().elements.len();
     assert_eq!(check(base, changed, 6), 8);
     assert!(total > 16, "{total} elements");
+    // A stiffer and heavier section of rod b: the same elements.
+    let base = junction_system();
+    let mut changed = base.clone();
+    let section = strand_rod::Section::try_explicit(40.0, 12.0, 1.5, 0.8, 0.4, 0.02).unwrap();
+    changed.rods[1].rod = Rod::try_straight(section, 0.5, 3).unwrap();
+    assert_eq!(check(base, changed, 7), 8);
 }
 
 #[test]
