@@ -52,6 +52,8 @@ mod variant;
 mod warm;
 
 #[cfg(test)]
+mod design_rhs_tests;
+#[cfg(test)]
 mod design_tests;
 #[cfg(test)]
 mod shipped_cases;

@@ -25,7 +25,7 @@ mod translate;
 
 pub use dofs::{BlockKind, ClipIndex, Dofs};
 pub use initial::{initial_state, initial_state_with};
-pub use model::{EdgeStresses, Evaluation, Model, Residual};
+pub use model::{EdgeStresses, Evaluation, GradientDifference, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
 pub use route::RouteShape;

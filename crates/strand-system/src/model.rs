@@ -16,11 +16,13 @@ use crate::dofs::{BlockKind, Dofs};
 use crate::pattern::{HessianPattern, ScatterBlock, add_blocks};
 use crate::system::{Joint, Support, System, SystemError, SystemState};
 
+mod difference;
 mod mixed;
 
+pub use difference::GradientDifference;
 pub use mixed::EdgeStresses;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum ElementKind {
     /// Stretch–shear energy of an edge; blocks `(r_a, r_b, θ)`.
     Edge { rod: usize, edge: usize },
@@ -273,54 +275,69 @@ impl Model {
         out.has_hessian = with_hessian;
         let boundary = self.all_boundary_frames(state);
         for element in self.elements.iter() {
-            match element.kind {
-                ElementKind::Edge { rod, edge } => {
-                    let d = match stresses {
-                        _ if !with_hessian => self.edge_derivatives(state, rod, edge, false),
-                        Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
-                        None => self.edge_derivatives(state, rod, edge, with_hessian),
-                    };
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-                ElementKind::Vertex { rod, vertex } => {
-                    let d =
-                        self.vertex_derivatives(state, &boundary[rod], rod, vertex, with_hessian);
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-                ElementKind::EndMoment { rod, at_end } => {
-                    let d = self.end_moment_derivatives(state, rod, at_end);
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-                ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. } => {
-                    let d = self.point_load_derivatives(state, element.kind);
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-                ElementKind::ClipHalf {
-                    rod,
-                    vertex,
-                    clip,
-                    after,
-                } => {
-                    let half = self.clip_half(state, rod, vertex, clip, after);
-                    let d = if with_hessian {
-                        bend_twist(&half.element())
-                    } else {
-                        bend_twist_gradient(&half.element())
-                    };
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-                ElementKind::JointPadding => {
-                    let hessian = nalgebra::Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0));
-                    let d = ElementDerivatives::<3> {
-                        energy: 0.0,
-                        gradient: Default::default(),
-                        hessian,
-                    };
-                    self.accumulate(state, out, element, &d, with_hessian);
-                }
-            }
+            self.accumulate_element(state, &boundary, element, out, with_hessian, stresses);
         }
         self.add_free_vertex_loads(state, out);
+    }
+
+    /// Adds one element's energy, gradient and, if `with_hessian`, Hessian at `state`
+    /// into `out` (`boundary`: every rod's boundary frames at `state`). The one place
+    /// an element is evaluated: the whole model's evaluation and
+    /// [`Model::gradient_difference`] both go through it.
+    fn accumulate_element(
+        &self,
+        state: &SystemState,
+        boundary: &[BoundaryFrames],
+        element: &Element,
+        out: &mut Evaluation,
+        with_hessian: bool,
+        stresses: Option<&EdgeStresses>,
+    ) {
+        match element.kind {
+            ElementKind::Edge { rod, edge } => {
+                let d = match stresses {
+                    _ if !with_hessian => self.edge_derivatives(state, rod, edge, false),
+                    Some(s) => self.mixed_edge_derivatives(state, rod, edge, &s.0[rod][edge]),
+                    None => self.edge_derivatives(state, rod, edge, with_hessian),
+                };
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+            ElementKind::Vertex { rod, vertex } => {
+                let d = self.vertex_derivatives(state, &boundary[rod], rod, vertex, with_hessian);
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+            ElementKind::EndMoment { rod, at_end } => {
+                let d = self.end_moment_derivatives(state, rod, at_end);
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+            ElementKind::PointLoad { .. } | ElementKind::BodyWeight { .. } => {
+                let d = self.point_load_derivatives(state, element.kind);
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+            ElementKind::ClipHalf {
+                rod,
+                vertex,
+                clip,
+                after,
+            } => {
+                let half = self.clip_half(state, rod, vertex, clip, after);
+                let d = if with_hessian {
+                    bend_twist(&half.element())
+                } else {
+                    bend_twist_gradient(&half.element())
+                };
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+            ElementKind::JointPadding => {
+                let hessian = nalgebra::Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0));
+                let d = ElementDerivatives::<3> {
+                    energy: 0.0,
+                    gradient: Default::default(),
+                    hessian,
+                };
+                self.accumulate(state, out, element, &d, with_hessian);
+            }
+        }
     }
 
     /// Total potential energy of `state` in J (no derivatives).

@@ -38,7 +38,7 @@ pub(crate) fn test_system() -> System {
 
 /// Three rods joined at a free T-junction (two clamped ports, one ball-joint port),
 /// their outer ends at connectors, under gravity.
-fn junction_system() -> System {
+pub(crate) fn junction_system() -> System {
     let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let along_y = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
@@ -124,7 +124,7 @@ fn junction_system() -> System {
 
 /// One rod held by a revolute clip, a prismatic clip and a spherical clip (with offsets
 /// and tilted bases), clamped at its start, loaded at its free end, under gravity.
-fn clipped_system() -> System {
+pub(crate) fn clipped_system() -> System {
     let section = Section::try_explicit(30.0, 10.0, 1.0, 0.7, 0.3, 0.01).unwrap();
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
@@ -180,7 +180,7 @@ fn clipped_system() -> System {
 /// The T-junction system with clips carried by bodies: a revolute, a prismatic, a
 /// spherical and a fixed clip on the free T, and a light free "hose-to-hose" clip body
 /// that holds rods `a` and `b` through a fixed and a revolute clip.
-fn body_clip_system() -> System {
+pub(crate) fn body_clip_system() -> System {
     let mut system = junction_system();
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
     let along = |d: Vector3<f64>| {
@@ -279,7 +279,7 @@ fn body_clip_system() -> System {
 /// Chains of clips: on the world-based clips of [`clipped_system`], a revolute
 /// "elbow" on the hinge, a spherical "wrist" on the elbow and a prismatic "slide" on
 /// the rail; on the free T of [`body_clip_system`], a revolute "forearm" on its hinge.
-fn chained_systems() -> [System; 2] {
+pub(crate) fn chained_systems() -> [System; 2] {
     let tilt = |angle: f64| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle);
     let link = |name: &str, parent, joint, vertex, rod| ClipSpec {
         name: name.into(),

@@ -29,15 +29,23 @@ impl Kkt {
         }
     }
 
-    /// `(a − b) / (2h)`, entry by entry: a central difference.
-    pub(crate) fn central(a: &Kkt, b: &Kkt, h: f64) -> Kkt {
-        let diff = |x: &[f64], y: &[f64]| -> Vec<f64> {
-            x.iter().zip(y).map(|(x, y)| (x - y) / (2.0 * h)).collect()
-        };
+    /// `a − b`, entry by entry.
+    pub(crate) fn subtract(a: &Kkt, b: &Kkt) -> Kkt {
+        let diff =
+            |x: &[f64], y: &[f64]| -> Vec<f64> { x.iter().zip(y).map(|(x, y)| x - y).collect() };
         Kkt {
             gradient: diff(&a.gradient, &b.gradient),
             gaps: diff(&a.gaps, &b.gaps),
         }
+    }
+
+    /// Every entry divided by `divisor`.
+    pub(crate) fn divided(mut self, divisor: f64) -> Kkt {
+        self.gradient
+            .iter_mut()
+            .chain(&mut self.gaps)
+            .for_each(|x| *x /= divisor);
+        self
     }
 }
 
@@ -132,6 +140,51 @@ pub(crate) fn residual<B: Designed>(
     }
     gauge.fix_vector(&mut gradient);
     Ok(Kkt { gradient, gaps })
+}
+
+/// `Φ(plus) − Φ(minus)` at two points of the right-hand side (no chart increment:
+/// both keep the base state's unknowns) with the same multipliers `mu` on the
+/// `active` keys: the energy gradients' difference over the elements whose inputs
+/// differ between the two designs ([`Model::gradient_difference`]), the active rows'
+/// gradients and values as in [`residual`]. Also returns the elements evaluated in
+/// each design.
+pub(crate) fn residual_difference<B: Designed>(
+    plus: &Point<B>,
+    minus: &Point<B>,
+    active: &[RowKey],
+    mu: &[f64],
+    gauge: &Gauge,
+    parameter: usize,
+) -> Result<(Kkt, usize), SensitivityError> {
+    let difference =
+        plus.built
+            .model()
+            .gradient_difference(&plus.state, minus.built.model(), &minus.state);
+    let mut gradient = difference.gradient;
+    let mut gaps = Vec::with_capacity(active.len());
+    for (&key, &m) in active.iter().zip(mu) {
+        fn row<B>(
+            point: &Point<B>,
+            key: RowKey,
+            parameter: usize,
+        ) -> Result<&Row, SensitivityError> {
+            point
+                .rows
+                .iter()
+                .find(|r| r.key == key)
+                .ok_or(SensitivityError::RowLost { parameter, key })
+        }
+        let (a, b) = (row(plus, key, parameter)?, row(minus, key, parameter)?);
+        for &(k, g) in &a.gradient {
+            gradient[k] -= m * g;
+        }
+        for &(k, g) in &b.gradient {
+            gradient[k] += m * g;
+        }
+        gaps.push(a.value - b.value);
+    }
+    gauge.fix_vector(&mut gradient);
+    Ok((Kkt { gradient, gaps }, difference.elements))
 }
 
 /// An [`Evaluation`] for the gradient alone: no storage for the Hessian's values

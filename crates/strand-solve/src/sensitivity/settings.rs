@@ -41,6 +41,11 @@ pub struct SensitivitySettings {
     /// An open row whose gap is below this (m for contact, rad or m for joint stops)
     /// is flagged as about to close.
     pub near_zero_gap: f64,
+    /// Whether the differences of `∂Φ/∂p` evaluate only the elements whose inputs the
+    /// parameter changes ([`strand_system::Model::gradient_difference`]; default) or
+    /// the whole model's gradient at each side (the reference path: the same
+    /// derivatives to the gradients' round-off, at the cost of every element).
+    pub element_differences: bool,
 }
 
 impl Default for SensitivitySettings {
@@ -53,6 +58,7 @@ impl Default for SensitivitySettings {
             richardson: true,
             near_zero_multiplier: 1e-6,
             near_zero_gap: 1e-6,
+            element_differences: true,
         }
     }
 }

@@ -29,6 +29,11 @@ pub struct ParameterSensitivity {
     pub kkt_residual: f64,
     /// Refinement steps taken against the exact directional derivative.
     pub refinements: usize,
+    /// Elements the right-hand side `∂Φ/∂p` evaluated in each design of its
+    /// differences, summed over the differences (two with Richardson extrapolation):
+    /// those the parameter changes ([`SensitivitySettings::element_differences`]), or
+    /// every element of the model per difference.
+    pub rhs_elements: usize,
 }
 
 /// Why a row is flagged: the active set is about to change there, so derivatives
@@ -176,10 +181,16 @@ impl Sensitivities {
     ) -> Result<ParameterSensitivity, SensitivityError> {
         let h = settings.relative_step * design.step(j);
         let n = model.dofs().len();
-        let zero_v = vec![0.0; n];
-        let zero_w = vec![0.0; self.active.len()];
         let richardson = settings.richardson && !design.enters_linearly(j);
-        let rhs = self.directional(design, base, j, h, &zero_v, &zero_w, richardson)?;
+        let (rhs, rhs_elements) = self.right_hand_side(
+            design,
+            base,
+            j,
+            h,
+            n,
+            richardson,
+            settings.element_differences,
+        )?;
         let (mut v, mut w) = factor.solve(&rhs);
         let mut best = (v.clone(), w.clone(), f64::INFINITY);
         let mut refinements = 0;
@@ -207,6 +218,7 @@ impl Sensitivities {
             output_step: settings.output_relative_step * design.step(j),
             kkt_residual,
             refinements,
+            rhs_elements,
         })
     }
 
@@ -275,43 +287,54 @@ impl Sensitivities {
         Ok((Kkt { gradient, gaps }, hv))
     }
 
-    /// The directional derivative of `Φ` along `(v, w, e_j)` by central differences
-    /// of steps `h` and `2h`, extrapolated (Richardson: `(4 D(h) − D(2h)) / 3`, error
-    /// `O(h⁴)`), so that `h` can be large enough for the round-off of the gradient
-    /// (`ε` times the axial stiffness) not to matter; without `richardson`, `D(h)`
-    /// alone (error `O(h²)`). With `v = w = 0`: `∂Φ/∂p_j`.
+    /// `∂Φ/∂p_j` by central differences of steps `h` and `2h`, extrapolated
+    /// (Richardson: `(4 D(h) − D(2h)) / 3`, error `O(h⁴)`), so that `h` can be large
+    /// enough for the round-off of the gradient (`ε` times the axial stiffness) not to
+    /// matter; without `richardson`, `D(h)` alone (error `O(h²)`). Each difference
+    /// evaluates only the elements the parameter changes
+    /// ([`SensitivitySettings::element_differences`]; otherwise both sides' whole
+    /// gradients). Also returns the elements evaluated, summed over the differences.
     #[allow(clippy::too_many_arguments)]
-    fn directional<D: Design>(
+    fn right_hand_side<D: Design>(
         &self,
         design: &D,
         base: &SystemState,
         j: usize,
         h: f64,
-        v: &[f64],
-        w: &[f64],
+        n: usize,
         richardson: bool,
-    ) -> Result<Kkt, SensitivityError> {
+        element_differences: bool,
+    ) -> Result<(Kkt, usize), SensitivityError> {
         let steps: &[f64] = if richardson { &[h, 2.0 * h] } else { &[h] };
+        let zero_v = vec![0.0; n];
+        let zero_w = vec![0.0; self.active.len()];
         let mut differences = Vec::with_capacity(2);
+        let mut elements = 0;
         for &step in steps {
-            let mut sides = Vec::with_capacity(2);
-            for sign in [1.0, -1.0] {
-                let (point, delta, mu) = self.path(design, base, j, sign * step, v, w)?;
-                sides.push(kkt::residual(
-                    &point,
-                    &self.active,
-                    &mu,
-                    &delta,
-                    &self.gauge,
-                    j,
-                )?);
-            }
-            differences.push(Kkt::central(&sides[0], &sides[1], step));
+            let (plus, _, mu) = self.path(design, base, j, step, &zero_v, &zero_w)?;
+            let (minus, _, _) = self.path(design, base, j, -step, &zero_v, &zero_w)?;
+            let difference = if element_differences {
+                let (d, count) =
+                    kkt::residual_difference(&plus, &minus, &self.active, &mu, &self.gauge, j)?;
+                elements += count;
+                d
+            } else {
+                let side = |point: &Point<D::Built>| {
+                    kkt::residual(point, &self.active, &mu, &zero_v, &self.gauge, j)
+                };
+                let (a, b) = (side(&plus)?, side(&minus)?);
+                elements += plus.built.model().element_count();
+                Kkt::subtract(&a, &b)
+            };
+            differences.push(difference.divided(2.0 * step));
         }
-        Ok(match differences.as_slice() {
-            [fine, coarse] => Kkt::richardson(fine, coarse),
-            _ => differences.swap_remove(0),
-        })
+        Ok((
+            match differences.as_slice() {
+                [fine, coarse] => Kkt::richardson(fine, coarse),
+                _ => differences.swap_remove(0),
+            },
+            elements,
+        ))
     }
 
     /// The point `(p + t e_j, x ⊕ t v, μ + t w)` of the first-order path.
