@@ -685,6 +685,8 @@ impl<'a> Iteration<'a> {
                 &work.gauge,
                 &active,
                 tau,
+                &mut work.cholesky,
+                &mut work.damped,
             )
         };
         let report = &mut self.report;
