@@ -6,7 +6,8 @@
 //! `S = −δI − A H'⁻¹ Aᵀ` in the rows' order. The same pivots come from the envelope's
 //! unpivoted signed factorisation of `H'` and a dense unpivoted `LDLᵀ` of `S`, which
 //! takes one envelope solve per active row. By Haynsworth's inertia additivity
-//! `neg(K) = neg(H') + neg(S)`, whatever the order.
+//! `neg(K) = neg(H') + neg(S)`, whatever the order. A positive definite `H'` (tried
+//! first, by Cholesky) makes `S` negative definite: then the count is 0.
 
 use strand_system::HessianPattern;
 
@@ -41,6 +42,11 @@ pub(super) fn reduced_inertia(
     let tiny = TINY_PER_TAU * tau;
     let mut count = |sigma: f64| -> Option<usize> {
         let largest_diagonal = fill_shifted(pattern, hessian, gauge, sigma, scratch);
+        // `H'` positive definite (one Cholesky, cheaper than the signed factorisation)
+        // makes `S` negative definite: no direction below the threshold.
+        if cholesky.factor(scratch) {
+            return Some(0);
+        }
         let hessian_block = cholesky.negative_eigenvalues(scratch, tiny)?;
         let schur = schur_complement(cholesky, pattern.dim(), active, largest_diagonal);
         // Every active row adds one negative direction of the border (−δ).
@@ -49,8 +55,9 @@ pub(super) fn reduced_inertia(
                 .saturating_sub(active.len()),
         )
     };
-    let below_plus = count(tau)?;
+    // `H − τD ≤ H + τD`: nothing below −τ leaves nothing below +τ either.
     let below_minus = count(-tau)?;
+    let below_plus = if below_minus == 0 { 0 } else { count(tau)? };
     Some(Inertia {
         negative: below_plus,
         neutral: below_minus.saturating_sub(below_plus),
