@@ -34,7 +34,11 @@ use strand_system::HessianPattern;
 
 use crate::constraints::Row;
 use crate::gauge::Gauge;
-use crate::{LinearError, SolveError};
+use crate::{LinearError, SolveError, SparseCholesky};
+
+mod envelope;
+#[cfg(test)]
+mod random_tests;
 
 /// Curvature counts of the reduced Hessian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,7 +51,32 @@ pub struct Inertia {
 
 /// Classifies the Hessian `hessian` (values of `pattern`, upper triangle) reduced to the
 /// directions that keep `gauge` and the `active` rows, with relative threshold `tau`.
+///
+/// When `cholesky` (the model's factorisation, whose factor this overwrites) works in
+/// the envelope, the inertia is counted there ([`envelope`]: the Hessian block by an
+/// unpivoted signed factorisation, the rows by their Schur complement); otherwise, or
+/// when a pivot there is too small to trust, by faer's sparse `LDLᵀ` of `K(σ)`.
+/// `scratch` holds one value per pattern entry.
 pub fn reduced_inertia(
+    pattern: &HessianPattern,
+    hessian: &[f64],
+    gauge: &Gauge,
+    active: &[&Row],
+    tau: f64,
+    cholesky: &mut SparseCholesky,
+    scratch: &mut [f64],
+) -> Result<Inertia, SolveError> {
+    let counted =
+        envelope::reduced_inertia(pattern, hessian, gauge, active, tau, cholesky, scratch);
+    match counted {
+        Some(inertia) => Ok(inertia),
+        None => faer_reduced_inertia(pattern, hessian, gauge, active, tau),
+    }
+}
+
+/// [`reduced_inertia`] by faer's simplicial `LDLᵀ` of the bordered matrix `K(±τ)` in
+/// the natural order.
+pub fn faer_reduced_inertia(
     pattern: &HessianPattern,
     hessian: &[f64],
     gauge: &Gauge,
@@ -67,6 +96,35 @@ pub fn reduced_inertia(
         negative: below_plus,
         neutral: below_minus.saturating_sub(below_plus),
     })
+}
+
+/// Writes `H + σD` with the gauge held (the Hessian block of `K(σ)`) into `out` and
+/// returns the largest diagonal magnitude of `H`.
+fn fill_shifted(
+    pattern: &HessianPattern,
+    hessian: &[f64],
+    gauge: &Gauge,
+    sigma: f64,
+    out: &mut [f64],
+) -> f64 {
+    out.copy_from_slice(hessian);
+    let mut largest_diagonal = f64::MIN_POSITIVE;
+    for col in 0..pattern.dim() {
+        let end = pattern.col_ptr[col + 1];
+        // The diagonal is the last entry of each upper-triangular column.
+        let d = hessian[end - 1].abs().max(f64::MIN_POSITIVE);
+        largest_diagonal = largest_diagonal.max(d);
+        out[end - 1] += sigma * d;
+    }
+    gauge.fix_matrix(out);
+    largest_diagonal
+}
+
+/// The diagonal entry `−δ` of an active row with gradient norm² `norm_squared`: `δ`
+/// such that the penalty `aᵀa/δ` exceeds every diagonal (largest `largest_diagonal`)
+/// by 1e10.
+fn row_diagonal(norm_squared: f64, largest_diagonal: f64) -> f64 {
+    -1e-10 * norm_squared.max(f64::MIN_POSITIVE) / largest_diagonal
 }
 
 /// The bordered pattern `[H Aᵀ; A −δI]` (upper triangle, CSC) with a simplicial
@@ -125,16 +183,7 @@ impl<'p> Bordered<'p> {
     /// Values of `K(σ)`.
     fn fill(&self, hessian: &[f64], gauge: &Gauge, active: &[&Row], sigma: f64, out: &mut [f64]) {
         let h_nnz = hessian.len();
-        out[..h_nnz].copy_from_slice(hessian);
-        let mut largest_diagonal = f64::MIN_POSITIVE;
-        for col in 0..self.pattern.dim() {
-            let end = self.pattern.col_ptr[col + 1];
-            // The diagonal is the last entry of each upper-triangular column.
-            let d = hessian[end - 1].abs().max(f64::MIN_POSITIVE);
-            largest_diagonal = largest_diagonal.max(d);
-            out[end - 1] += sigma * d;
-        }
-        gauge.fix_matrix(&mut out[..h_nnz]);
+        let largest_diagonal = fill_shifted(self.pattern, hessian, gauge, sigma, &mut out[..h_nnz]);
         for ((offsets, diagonal), row) in self.row_offsets.iter().zip(active) {
             for slot in offsets {
                 out[*slot] = 0.0;
@@ -148,8 +197,7 @@ impl<'p> Bordered<'p> {
                 out[*slot] += a;
                 norm_squared += a * a;
             }
-            // δ such that the penalty AᵀA/δ exceeds every diagonal by 1e10.
-            out[*diagonal] = -1e-10 * norm_squared.max(f64::MIN_POSITIVE) / largest_diagonal;
+            out[*diagonal] = row_diagonal(norm_squared, largest_diagonal);
         }
     }
 
@@ -212,10 +260,35 @@ mod tests {
         (pattern, values)
     }
 
+    /// The inertia by the envelope count, asserted equal to faer's.
+    fn inertia(
+        pattern: &HessianPattern,
+        values: &[f64],
+        gauge: &Gauge,
+        active: &[&Row],
+        tau: f64,
+    ) -> Inertia {
+        let mut cholesky = SparseCholesky::try_new(pattern).unwrap();
+        let mut scratch = vec![0.0; pattern.nnz()];
+        let counted = envelope::reduced_inertia(
+            pattern,
+            values,
+            gauge,
+            active,
+            tau,
+            &mut cholesky,
+            &mut scratch,
+        )
+        .expect("counted in the envelope");
+        let faer = faer_reduced_inertia(pattern, values, gauge, active, tau).unwrap();
+        assert_eq!(counted, faer);
+        counted
+    }
+
     #[test]
     fn counts_negative_and_neutral_directions() {
         let (pattern, values) = toy();
-        let inertia = reduced_inertia(&pattern, &values, &Gauge::default(), &[], 1e-9).unwrap();
+        let inertia = inertia(&pattern, &values, &Gauge::default(), &[], 1e-9);
         assert_eq!(
             inertia,
             Inertia {
@@ -234,7 +307,7 @@ mod tests {
             gradient: vec![(0, 1.0), (1, -1.0)],
             curvature: None,
         };
-        let inertia = reduced_inertia(&pattern, &values, &Gauge::default(), &[&row], 1e-9).unwrap();
+        let inertia = inertia(&pattern, &values, &Gauge::default(), &[&row], 1e-9);
         assert_eq!(inertia.negative, 0);
         assert_eq!(inertia.neutral, 1);
     }
@@ -243,7 +316,7 @@ mod tests {
     fn a_held_unknown_removes_the_neutral_direction_it_spans() {
         let (pattern, values) = toy();
         let gauge = Gauge::holding_in(&pattern, vec![3]);
-        let inertia = reduced_inertia(&pattern, &values, &gauge, &[], 1e-9).unwrap();
+        let inertia = inertia(&pattern, &values, &gauge, &[], 1e-9);
         assert_eq!(
             inertia,
             Inertia {

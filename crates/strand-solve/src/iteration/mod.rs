@@ -662,10 +662,11 @@ impl<'a> Iteration<'a> {
             .filter(|r| self.multiplier(r.key) > 0.0)
             .collect();
         // Fast path: without active rows, `H − τD` positive definite (one Cholesky with
-        // the analysis already done) means no negative and no neutral direction.
+        // the analysis already done) means no negative and no neutral direction. The
+        // envelope's count tries that Cholesky first itself (with rows too).
         let tau = self.settings.neutral_tolerance;
         let work = &mut *self.work;
-        let clearly_stable = active.is_empty() && {
+        let clearly_stable = active.is_empty() && !work.cholesky.is_envelope() && {
             work.damped.copy_from_slice(&work.eval.hessian);
             for &k in &work.diagonal {
                 work.damped[k] -= tau * work.eval.hessian[k].abs();
@@ -685,6 +686,8 @@ impl<'a> Iteration<'a> {
                 &work.gauge,
                 &active,
                 tau,
+                &mut work.cholesky,
+                &mut work.damped,
             )
         };
         let report = &mut self.report;

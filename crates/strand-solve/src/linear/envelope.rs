@@ -14,6 +14,8 @@
 
 use strand_system::HessianPattern;
 
+mod signed;
+
 /// A 3×3 block, row-major: entry `(i, j)` at `3 i + j`.
 type Block = [f64; 9];
 
@@ -36,6 +38,9 @@ pub(crate) struct EnvelopeCholesky {
     blocks: Vec<Block>,
     /// Per block row: the reciprocals of the diagonal of `L_II`.
     inverse_diagonal: Vec<[f64; 3]>,
+    /// Per block row: the signs (±1) of the pivots of the last signed factorisation
+    /// ([`EnvelopeCholesky::factor_signed`]); empty until the first one.
+    signs: Vec<[f64; 3]>,
 }
 
 impl EnvelopeCholesky {
@@ -73,6 +78,7 @@ impl EnvelopeCholesky {
             blocks: vec![[0.0; 9]; start[count]],
             gaps,
             inverse_diagonal: vec![[0.0; 3]; count],
+            signs: Vec::new(),
             first,
             start,
             scatter,
@@ -104,15 +110,7 @@ impl EnvelopeCholesky {
         // Every block the pattern holds is overwritten entirely where it is read: its
         // off-diagonal blocks are full, its diagonal blocks' lower triangles are (their
         // upper triangles are scratch, read by nothing).
-        for &b in &self.gaps {
-            self.blocks[b] = [0.0; 9];
-        }
-        {
-            let flat = self.blocks.as_flattened_mut();
-            for (&lower, &v) in self.scatter.iter().zip(values) {
-                flat[lower] = v;
-            }
-        }
+        self.load(values);
         for i in 0..self.first.len() {
             let fi = self.first[i];
             let (done, rest) = self.blocks.split_at_mut(self.start[i]);
@@ -151,8 +149,26 @@ impl EnvelopeCholesky {
         true
     }
 
+    /// Writes `values` (upper triangle of the pattern) into the envelope's blocks and
+    /// clears the blocks the pattern does not hold.
+    fn load(&mut self, values: &[f64]) {
+        for &b in &self.gaps {
+            self.blocks[b] = [0.0; 9];
+        }
+        let flat = self.blocks.as_flattened_mut();
+        for (&lower, &v) in self.scatter.iter().zip(values) {
+            flat[lower] = v;
+        }
+    }
+
     /// Solves `L Lᵀ x = rhs` in place with the last successful factorisation.
     pub(crate) fn solve_in_place(&self, rhs: &mut [f64]) {
+        self.forward(rhs);
+        self.backward(rhs);
+    }
+
+    /// `rhs ← L⁻¹ rhs`.
+    fn forward(&self, rhs: &mut [f64]) {
         let count = self.first.len();
         for i in 0..count {
             let fi = self.first[i];
@@ -170,6 +186,11 @@ impl EnvelopeCholesky {
             let y2 = (s[2] - l[6] * y0 - l[7] * y1) * inv[2];
             rhs[3 * i..3 * i + 3].copy_from_slice(&[y0, y1, y2]);
         }
+    }
+
+    /// `rhs ← L⁻ᵀ rhs`.
+    fn backward(&self, rhs: &mut [f64]) {
+        let count = self.first.len();
         for i in (0..count).rev() {
             let fi = self.first[i];
             let row = &self.blocks[self.start[i]..self.start[i + 1]];

@@ -26,6 +26,9 @@ use faer_llt::FaerCholesky;
 pub struct SparseCholesky {
     backend: Backend,
     factored: bool,
+    /// Whether the envelope holds a signed factorisation
+    /// ([`SparseCholesky::negative_eigenvalues`]) rather than a Cholesky one.
+    signed: bool,
     components: Components,
     /// The pattern's upper-triangular CSC column pointers and row indices.
     col_ptr: Vec<usize>,
@@ -64,6 +67,7 @@ impl SparseCholesky {
         Ok(Self {
             backend,
             factored: false,
+            signed: false,
             components: Components::of_pattern(pattern),
             col_ptr: pattern.col_ptr.clone(),
             row_idx: pattern.row_idx.clone(),
@@ -93,6 +97,7 @@ impl SparseCholesky {
     /// Numeric factorisation of the matrix with the model's pattern and `values`
     /// (upper triangle). Returns `false` if the matrix is not positive definite.
     pub fn factor(&mut self, values: &[f64]) -> bool {
+        self.signed = false;
         self.factored = match &mut self.backend {
             Backend::Envelope(e) => e.factor(values),
             Backend::Faer(f) => f.factor(values),
@@ -108,6 +113,36 @@ impl SparseCholesky {
     pub(crate) fn matrix(&self) -> (&[usize], &[usize], &[f64]) {
         assert!(self.factored, "matrix before a successful factorisation");
         (&self.col_ptr, &self.row_idx, &self.values)
+    }
+
+    /// The number of negative eigenvalues of the symmetric (possibly indefinite)
+    /// matrix with the pattern's `values`, from an unpivoted `L Σ Lᵀ` factorisation in
+    /// the envelope (Sylvester's law of inertia). `None` for the faer backend, or when
+    /// a pivot is not a number or at most `tiny` times its row's diagonal entry in
+    /// magnitude. Replaces the Cholesky factor: [`SparseCholesky::solve_in_place`]
+    /// needs a new [`SparseCholesky::factor`], [`SparseCholesky::solve_signed_in_place`]
+    /// solves with this factor.
+    pub(crate) fn negative_eigenvalues(&mut self, values: &[f64], tiny: f64) -> Option<usize> {
+        self.factored = false;
+        let Backend::Envelope(e) = &mut self.backend else {
+            return None;
+        };
+        let negative = e.factor_signed(values, tiny);
+        self.signed = negative.is_some();
+        negative
+    }
+
+    /// Solves `A x = rhs` in place with the last successful
+    /// [`SparseCholesky::negative_eigenvalues`] factorisation.
+    pub(crate) fn solve_signed_in_place(&self, rhs: &mut [f64]) {
+        assert!(
+            self.signed,
+            "solve before a successful signed factorisation"
+        );
+        let Backend::Envelope(e) = &self.backend else {
+            unreachable!("a signed factorisation is an envelope one");
+        };
+        e.solve_signed_in_place(rhs);
     }
 
     /// Solves `A x = rhs` in place with the last successful factorisation.

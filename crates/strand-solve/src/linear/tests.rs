@@ -186,3 +186,40 @@ fn blocks_inside_the_envelope_that_the_pattern_lacks_fill_in_correctly() {
         assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() <= 1e-10 * size));
     }
 }
+
+#[test]
+fn the_signed_factorisation_counts_negative_eigenvalues_and_solves_indefinite_systems() {
+    for (edges, seed) in [(1, 0), (3, 1), (19, 2), (19, 3)] {
+        let pattern = rod_pattern(edges);
+        let n = pattern.dim();
+        // Diagonally dominant, then every third diagonal negated: still dominant, so
+        // nonsingular with as many negative eigenvalues as negated diagonals.
+        let mut values = spd_values(&pattern, seed, 1e-1);
+        let mut negated = 0;
+        for col in (0..n).step_by(3) {
+            values[pattern.col_ptr[col + 1] - 1] *= -1.0;
+            negated += 1;
+        }
+        let mut dense = nalgebra::DMatrix::zeros(n, n);
+        for col in 0..n {
+            for k in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
+                dense[(pattern.row_idx[k], col)] = values[k];
+                dense[(col, pattern.row_idx[k])] = values[k];
+            }
+        }
+        let eigenvalues = nalgebra::SymmetricEigen::new(dense).eigenvalues;
+        let below = eigenvalues.iter().filter(|&&l| l < 0.0).count();
+        assert_eq!(below, negated, "{edges} edges: the construction");
+        let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
+        assert!(!cholesky.factor(&values));
+        assert_eq!(cholesky.negative_eigenvalues(&values, 1e-13), Some(below));
+        let mut s = seed + 10;
+        let b: Vec<f64> = (0..n).map(|_| next(&mut s)).collect();
+        let mut x = b.clone();
+        cholesky.solve_signed_in_place(&mut x);
+        assert!(
+            residual_norm(&pattern, &values, &x, &b) < 1e-12,
+            "{edges} edges"
+        );
+    }
+}
