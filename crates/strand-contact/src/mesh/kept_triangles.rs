@@ -29,6 +29,7 @@
 use nalgebra::Point3;
 
 use super::ObstacleMesh;
+use super::near_scan::Reachable;
 use super::work::count_exact;
 use crate::closest::segment_triangle_candidate;
 
@@ -68,25 +69,35 @@ pub struct KeptTriangles {
 
 impl KeptTriangles {
     /// The kept list of a search at `from` (world, m) for `reach` and `slack` (m):
-    /// `kept` as `(triangle, box distance in m)` in the BVH's depth-first order.
+    /// `kept`, the candidates `reachable` (in the BVH's depth-first order, `position`
+    /// their index there) kept, sorted by box distance and then position.
     pub(super) fn new(
         from: [Point3<f64>; 2],
         reach: f64,
         slack: f64,
-        kept: Vec<(u32, f64)>,
+        reachable: &[Reachable],
+        kept: &[Reachable],
         patches: Vec<KeptPatch>,
     ) -> Self {
-        let mut by_bound: Vec<(f64, u32)> = kept
-            .iter()
-            .enumerate()
-            .map(|(i, &(_, bound))| (bound, i as u32))
-            .collect();
-        by_bound.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // The index in `triangles` of every kept position (`u32::MAX`: not kept).
+        let mut index = vec![u32::MAX; reachable.len()];
+        for r in kept {
+            index[r.position] = 0;
+        }
+        let mut triangles = Vec::with_capacity(kept.len());
+        for r in reachable {
+            if index[r.position] != u32::MAX {
+                index[r.position] = triangles.len() as u32;
+                triangles.push(r.triangle as u32);
+            }
+        }
+        // Positions increase with the index: still sorted by (distance, index).
+        let by_bound = kept.iter().map(|r| (r.bound, index[r.position])).collect();
         Self {
             from,
             reach,
             slack,
-            triangles: kept.into_iter().map(|(t, _)| t).collect(),
+            triangles,
             by_bound,
             patches,
         }

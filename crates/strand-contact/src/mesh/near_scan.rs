@@ -120,7 +120,15 @@ impl ObstacleMesh {
             radius,
             None,
         );
-        let scan = self.scan_near(&l0, &l1, radius, reachable.clone(), guard);
+        // Sorted once here for both the scan (sorted input costs it one pass) and the
+        // kept list.
+        let mut sorted = reachable.clone();
+        sorted.sort_by(|a, b| {
+            a.bound
+                .total_cmp(&b.bound)
+                .then(a.position.cmp(&b.position))
+        });
+        let scan = self.scan_near(&l0, &l1, radius, sorted.clone(), guard);
         // The nearest triangle of every patch: (patch, nearest).
         let mut nearest: Vec<(usize, KeptPatch)> = Vec::new();
         for n in &scan.near {
@@ -141,13 +149,16 @@ impl ObstacleMesh {
             .reduce(f64::max)
             .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
-        let kept = reachable
-            .into_iter()
-            .filter(|r| r.bound <= keep)
-            .map(|r| (r.triangle as u32, r.bound))
-            .collect();
+        let count = sorted.partition_point(|r| r.bound <= keep);
         let patches = nearest.into_iter().map(|(_, k)| k).collect();
-        KeptTriangles::new([*p0, *p1], reach, slack, kept, patches)
+        KeptTriangles::new(
+            [*p0, *p1],
+            reach,
+            slack,
+            &reachable,
+            &sorted[..count],
+            patches,
+        )
     }
 
     /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own
