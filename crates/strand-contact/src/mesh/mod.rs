@@ -23,6 +23,9 @@ mod flat_bvh_query_tests;
 mod from_triangles;
 #[cfg(test)]
 mod grid_surface_tests;
+mod kept_triangles;
+#[cfg(test)]
+mod kept_triangles_tests;
 mod load_obj;
 mod local_contacts;
 mod near_scan;
@@ -43,6 +46,7 @@ pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use error::MeshError;
 pub(crate) use flat_bvh::FlatBvh;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
+pub use kept_triangles::KeptTriangles;
 pub(crate) use load_obj::{check_placement, name_of};
 pub use local_contacts::LocalContact;
 pub use obstacle_mesh::ObstacleMesh;

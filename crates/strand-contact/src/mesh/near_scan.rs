@@ -28,6 +28,7 @@
 use nalgebra::Point3;
 
 use super::ObstacleMesh;
+use super::kept_triangles::{KeptPatch, KeptTriangles};
 use super::segment_proximity::SegmentBound;
 use super::work::{count_box, count_exact, count_node};
 use crate::closest::{
@@ -95,9 +96,23 @@ impl ObstacleMesh {
         reach: f64,
         slack: f64,
     ) -> Vec<u32> {
+        self.keep_triangles_near(p0, p1, reach, slack)
+            .all()
+            .to_vec()
+    }
+
+    /// The list of [`ObstacleMesh::triangles_near`], kept with the box distance of every
+    /// triangle and the nearest triangle of every patch, so that a later evaluation
+    /// looks only at the part that can matter ([`ObstacleMesh::local_contacts_kept`]).
+    pub fn keep_triangles_near(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        reach: f64,
+        slack: f64,
+    ) -> KeptTriangles {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
-        let [min, max] = self.bounding_box;
-        let tolerance = TIE_TOLERANCE * ((l1 - l0).norm() + (max - min).norm());
+        let tolerance = self.tie_tolerance(&l0, &l1);
         let radius = (reach + slack).next_up();
         let guard = near_guard(tolerance, radius);
         let reachable = self.reachable(
@@ -105,24 +120,52 @@ impl ObstacleMesh {
             radius,
             None,
         );
-        let scan = self.scan_near(&l0, &l1, radius, reachable.clone(), guard);
-        let mut nearest: Vec<(usize, f64)> = Vec::new();
+        // Sorted once here for both the scan (sorted input costs it one pass) and the
+        // kept list.
+        let mut sorted = reachable.clone();
+        sorted.sort_by(|a, b| {
+            a.bound
+                .total_cmp(&b.bound)
+                .then(a.position.cmp(&b.position))
+        });
+        let scan = self.scan_near(&l0, &l1, radius, sorted.clone(), guard);
+        // The nearest triangle of every patch: (patch, nearest).
+        let mut nearest: Vec<(usize, KeptPatch)> = Vec::new();
         for n in &scan.near {
             let (patch, d) = (self.patch_of(n.triangle), n.candidate.squared.sqrt());
+            let here = KeptPatch {
+                triangle: n.triangle as u32,
+                distance: d,
+            };
             match nearest.iter_mut().find(|(p, _)| *p == patch) {
-                Some(kept) => kept.1 = kept.1.min(d),
-                None => nearest.push((patch, d)),
+                Some(kept) if d < kept.1.distance => kept.1 = here,
+                Some(_) => {}
+                None => nearest.push((patch, here)),
             }
         }
-        let Some(farthest) = nearest.iter().map(|(_, d)| *d).reduce(f64::max) else {
-            return Vec::new();
-        };
+        let farthest = nearest
+            .iter()
+            .map(|(_, k)| k.distance)
+            .reduce(f64::max)
+            .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
-        reachable
-            .into_iter()
-            .filter(|r| r.bound <= keep)
-            .map(|r| r.triangle as u32)
-            .collect()
+        let count = sorted.partition_point(|r| r.bound <= keep);
+        let patches = nearest.into_iter().map(|(_, k)| k).collect();
+        KeptTriangles::new(
+            [*p0, *p1],
+            reach,
+            slack,
+            &reachable,
+            &sorted[..count],
+            patches,
+        )
+    }
+
+    /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own
+    /// frame): `TIE_TOLERANCE` times the segment's length plus the mesh's diagonal.
+    pub(super) fn tie_tolerance(&self, l0: &Point3<f64>, l1: &Point3<f64>) -> f64 {
+        let [min, max] = self.bounding_box;
+        TIE_TOLERANCE * ((l1 - l0).norm() + (max - min).norm())
     }
 
     /// The triangles (in the mesh's own frame) whose boxes are within `limit` (m) of the

@@ -12,7 +12,7 @@ use crate::{ObstacleMesh, closest_segment_triangle};
 
 /// A wavy square `x, y ∈ [−0.5, 0.5]` m, `z = 0.02 sin(6x) cos(5y)` m, of `2 n²`
 /// triangles (one smooth patch: the slopes stay below 0.15).
-fn wavy(n: usize) -> ObstacleMesh {
+pub(super) fn wavy(n: usize) -> ObstacleMesh {
     grid_surface("wavy", n, -0.5, |_, _, x, y| {
         0.02 * (6.0 * x).sin() * (5.0 * y).cos()
     })
@@ -20,7 +20,7 @@ fn wavy(n: usize) -> ObstacleMesh {
 
 /// A faceted box corner: many patches (a floor and two walls meeting), for the scan's
 /// patch bookkeeping.
-fn corner() -> ObstacleMesh {
+pub(super) fn corner() -> ObstacleMesh {
     let vertices = vec![
         Point3::new(0.0, 0.0, 0.0),
         Point3::new(0.3, 0.0, 0.0),
@@ -42,7 +42,7 @@ fn corner() -> ObstacleMesh {
 }
 
 /// A random segment (a point half the time) near `centre`, within `spread` (m).
-fn segment(rng: &mut ChaCha8Rng, centre: Point3<f64>, spread: f64) -> [Point3<f64>; 2] {
+pub(super) fn segment(rng: &mut ChaCha8Rng, centre: Point3<f64>, spread: f64) -> [Point3<f64>; 2] {
     let offset = |rng: &mut ChaCha8Rng| Vector3::from_fn(|_, _| rng.random_range(-spread..spread));
     let a = centre + offset(rng);
     let b = if rng.random_bool(0.5) {
@@ -54,7 +54,7 @@ fn segment(rng: &mut ChaCha8Rng, centre: Point3<f64>, spread: f64) -> [Point3<f6
 }
 
 /// A random move of at most `length` (m).
-fn moved(rng: &mut ChaCha8Rng, p: &Point3<f64>, length: f64) -> Point3<f64> {
+pub(super) fn moved(rng: &mut ChaCha8Rng, p: &Point3<f64>, length: f64) -> Point3<f64> {
     let d = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
     p + d.normalize() * rng.random_range(0.0..length)
 }

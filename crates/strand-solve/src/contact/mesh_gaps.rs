@@ -76,8 +76,8 @@ impl Contact {
             };
             let contacts = match lists.as_mut() {
                 Some(lists) => {
-                    let list = lists.near(false, j, mesh, p, p, reach);
-                    mesh.local_contacts_among(p, p, reach, list)
+                    let kept = lists.near(false, j, mesh, p, p, reach);
+                    mesh.local_contacts_kept(p, p, reach, kept, kept.moved_by(p, p))
                 }
                 None => mesh.local_contacts(p, p, reach),
             };
@@ -104,11 +104,14 @@ impl Contact {
             // The edge's candidates serve its nearest points too: the contact of such a
             // point on patch P depends only on triangles within the edge's distance to
             // P (plus a guard) of it, all kept for the edge (`triangles_near`).
-            let list = lists
+            // The edge and its points look only at the part of its list that can matter
+            // after the edge's move (`local_contacts_kept`).
+            let kept = lists
                 .as_mut()
                 .map(|l| l.near(true, edge, mesh, a, b, reach));
-            let contacts_of = |p0: &Point3<f64>, p1: &Point3<f64>| match list {
-                Some(list) => mesh.local_contacts_among(p0, p1, reach, list),
+            let moved = kept.map_or(0.0, |kept| kept.moved_by(a, b));
+            let contacts_of = |p0: &Point3<f64>, p1: &Point3<f64>| match kept {
+                Some(kept) => mesh.local_contacts_kept(p0, p1, reach, kept, moved),
                 None => mesh.local_contacts(p0, p1, reach),
             };
             for contact in contacts_of(a, b) {

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use nalgebra::Point3;
-use strand_contact::ObstacleMesh;
+use strand_contact::{KeptTriangles, ObstacleMesh};
 
 /// How contact asks the meshes for the triangles near each rod feature.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,20 +54,9 @@ impl ProximitySettings {
     }
 }
 
-/// One feature's kept candidates.
-struct Kept {
-    /// The feature's ends where it was searched, m (world).
-    from: [Point3<f64>; 2],
-    /// The reach searched for, m.
-    reach: f64,
-    /// The slack searched with, m.
-    slack: f64,
-    triangles: Vec<u32>,
-}
-
 /// The kept candidates of the features of one rod near one mesh: vertex `j` at `2 j`,
 /// edge `j` at `2 j + 1`.
-type RodMeshLists = Vec<Option<Kept>>;
+type RodMeshLists = Vec<Option<KeptTriangles>>;
 
 /// The kept candidates of every feature: shared by the evaluations of one solve.
 /// A clone starts empty (a clone is another solve).
@@ -132,7 +121,9 @@ impl FeatureLists<'_> {
     /// The triangles of `mesh` that can matter within `reach` (m) of vertex or edge
     /// `index` (`edge`) at segment `[p0, p1]` (world, m): its kept list if neither end
     /// moved by more than the slack searched with and the reach is not longer, else a
-    /// new search.
+    /// new search. Ask it for the contacts with [`ObstacleMesh::local_contacts_kept`]
+    /// (only the part that can matter after the move) or look at all of it
+    /// ([`KeptTriangles::all`]).
     pub(super) fn near(
         &mut self,
         edge: bool,
@@ -141,24 +132,14 @@ impl FeatureLists<'_> {
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         reach: f64,
-    ) -> &[u32] {
+    ) -> &KeptTriangles {
         let slot = &mut self.lists[2 * index + usize::from(edge)];
-        let still = |kept: &Kept| {
-            let moved = (p0 - kept.from[0]).norm().max((p1 - kept.from[1]).norm());
-            moved <= kept.slack && reach <= kept.reach
-        };
-        if !slot.as_ref().is_some_and(still) {
+        if !slot.as_ref().is_some_and(|kept| kept.covers(p0, p1, reach)) {
             #[cfg(test)]
             SEARCHES.with(|c| c.set(c.get() + 1));
-            let slack = self.slack_m;
-            *slot = Some(Kept {
-                from: [*p0, *p1],
-                reach,
-                slack,
-                triangles: mesh.triangles_near(p0, p1, reach, slack),
-            });
+            *slot = Some(mesh.keep_triangles_near(p0, p1, reach, self.slack_m));
         }
-        &slot.as_ref().expect("just kept").triangles
+        slot.as_ref().expect("just kept")
     }
 }
 

@@ -102,7 +102,7 @@ fn rows_equal_a_full_search_and_a_feature_moved_beyond_its_slack_is_searched_aga
 }
 
 #[test]
-fn a_later_evaluation_searches_no_bvh_and_its_exact_tests_do_not_grow_with_density() {
+fn a_later_evaluation_searches_no_bvh_and_its_exact_and_box_tests_do_not_grow_with_density() {
     // The same floor at 2 · 30² and 2 · 300² triangles (100×).
     let mut work = Vec::new();
     for n in [30, 300] {
@@ -132,5 +132,13 @@ fn a_later_evaluation_searches_no_bvh_and_its_exact_tests_do_not_grow_with_densi
         "exact tests {} -> {}",
         coarse.exact_tests,
         fine.exact_tests
+    );
+    // Each feature box-tests only the part of its kept list that can matter after its
+    // 0.5 mm move, not the whole disc kept for a 2 mm one (208 -> 4552 before).
+    assert!(
+        fine.box_tests <= 3 * coarse.box_tests,
+        "box tests {} -> {}",
+        coarse.box_tests,
+        fine.box_tests
     );
 }
