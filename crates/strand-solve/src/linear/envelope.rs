@@ -103,6 +103,45 @@ impl EnvelopeCholesky {
             .sum()
     }
 
+    /// The off-diagonal blocks of block row `i` in place: `S = A_ij − Σ_k X_ik L_jkᵀ`
+    /// (`k` over the blocks both rows store), then `X_ij = S L_jj⁻ᵀ`, for `j` from
+    /// `first[i]` to `i − 1`. `done` holds the finished rows before `i`, `row` row `i`
+    /// from its first stored block. In [`EnvelopeCholesky::factor`] `X = L`; in
+    /// `factor_signed` `X = W = L Σ` while the row is computed.
+    /// (A function of the fields it reads, as `done` and `row` borrow `blocks`.)
+    #[inline]
+    fn eliminate_off_diagonal(
+        first: &[usize],
+        start: &[usize],
+        inverse_diagonal: &[[f64; 3]],
+        i: usize,
+        done: &[Block],
+        row: &mut [Block],
+    ) {
+        let fi = first[i];
+        for j in fi..i {
+            let fj = first[j];
+            let k0 = fi.max(fj);
+            let row_j = &done[start[j]..start[j + 1]];
+            let (before, current) = row.split_at_mut(j - fi);
+            let s = &mut current[0];
+            for (a, b) in before[k0 - fi..].iter().zip(&row_j[k0 - fj..j - fj]) {
+                subtract_product_transposed(s, a, b);
+            }
+            // X_ij = S L_jj⁻ᵀ: forward substitution on each row of S.
+            let l = &row_j[j - fj];
+            let inv = &inverse_diagonal[j];
+            for r in 0..3 {
+                let x0 = s[3 * r] * inv[0];
+                let x1 = (s[3 * r + 1] - x0 * l[3]) * inv[1];
+                let x2 = (s[3 * r + 2] - x0 * l[6] - x1 * l[7]) * inv[2];
+                s[3 * r] = x0;
+                s[3 * r + 1] = x1;
+                s[3 * r + 2] = x2;
+            }
+        }
+    }
+
     /// Factorises the matrix with the pattern's `values` (upper triangle). Returns
     /// `false` if a pivot is not positive (or not a number): the matrix is not
     /// positive definite.
@@ -115,27 +154,14 @@ impl EnvelopeCholesky {
             let fi = self.first[i];
             let (done, rest) = self.blocks.split_at_mut(self.start[i]);
             let row = &mut rest[..i - fi + 1];
-            for j in fi..i {
-                let fj = self.first[j];
-                let k0 = fi.max(fj);
-                let row_j = &done[self.start[j]..self.start[j + 1]];
-                let (before, current) = row.split_at_mut(j - fi);
-                let s = &mut current[0];
-                for (a, b) in before[k0 - fi..].iter().zip(&row_j[k0 - fj..j - fj]) {
-                    subtract_product_transposed(s, a, b);
-                }
-                // L_ij = S L_jj⁻ᵀ: forward substitution on each row of S.
-                let l = &row_j[j - fj];
-                let inv = &self.inverse_diagonal[j];
-                for r in 0..3 {
-                    let x0 = s[3 * r] * inv[0];
-                    let x1 = (s[3 * r + 1] - x0 * l[3]) * inv[1];
-                    let x2 = (s[3 * r + 2] - x0 * l[6] - x1 * l[7]) * inv[2];
-                    s[3 * r] = x0;
-                    s[3 * r + 1] = x1;
-                    s[3 * r + 2] = x2;
-                }
-            }
+            Self::eliminate_off_diagonal(
+                &self.first,
+                &self.start,
+                &self.inverse_diagonal,
+                i,
+                done,
+                row,
+            );
             let (off, diagonal) = row.split_at_mut(i - fi);
             let d = &mut diagonal[0];
             for a in off.iter() {

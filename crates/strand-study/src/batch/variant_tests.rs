@@ -35,6 +35,16 @@ fn solved_base(case: &Case) -> Solved {
     }
 }
 
+/// The cooler hose solved, hose 2 longer by 5 mm as the variant's changes, and the
+/// variant's cold build.
+fn variant_of_solved_cooler() -> (Case, Solved, Vec<VariantChange>, BuiltCase) {
+    let case = cooler();
+    let base = solved_base(&case);
+    let changes = longer(5.0);
+    let cold = case.build_with_changes("v", &changes, None).unwrap();
+    (case, base, changes, cold)
+}
+
 fn evaluation(built: &BuiltCase, state: &SystemState) -> (f64, Vec<f64>) {
     let mut eval = built.model.new_evaluation();
     built.model.evaluate(state, &mut eval, false);
@@ -43,10 +53,7 @@ fn evaluation(built: &BuiltCase, state: &SystemState) -> (f64, Vec<f64>) {
 
 #[test]
 fn a_variant_built_for_its_warm_start_has_the_cold_builds_model_and_no_guess() {
-    let case = cooler();
-    let base = solved_base(&case);
-    let changes = longer(5.0);
-    let cold = case.build_with_changes("v", &changes, None).unwrap();
+    let (case, base, changes, cold) = variant_of_solved_cooler();
     let warm = case
         .build_with_changes_for_start("v", &changes, None, &base.state, Some(&base.built.model))
         .unwrap();
@@ -80,10 +87,7 @@ fn a_variant_built_for_its_warm_start_has_the_cold_builds_model_and_no_guess() {
 
 #[test]
 fn a_warm_start_that_does_not_converge_falls_back_to_the_cold_solve() {
-    let case = cooler();
-    let base = solved_base(&case);
-    let changes = longer(5.0);
-    let cold = case.build_with_changes("v", &changes, None).unwrap();
+    let (case, base, changes, cold) = variant_of_solved_cooler();
     let reference = cold
         .solve_from(cold.initial.clone(), &cold.settings)
         .unwrap();

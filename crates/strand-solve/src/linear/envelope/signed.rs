@@ -8,7 +8,7 @@
 //! compared with its row's diagonal entry; then it reports failure and the caller
 //! counts the inertia another way.
 
-use super::{Block, EnvelopeCholesky, subtract_product_transposed};
+use super::{Block, EnvelopeCholesky};
 
 impl EnvelopeCholesky {
     /// Factorises `values` (upper triangle of the pattern) as `L Σ Lᵀ` and returns the
@@ -26,29 +26,17 @@ impl EnvelopeCholesky {
             let (done, rest) = self.blocks.split_at_mut(self.start[i]);
             let row = &mut rest[..i - fi + 1];
             // While row i is computed its blocks hold W_ik = L_ik Σ_k (Σ_k² = I), so
-            // that Σ_k L_ik Σ_k L_jkᵀ = Σ_k W_ik L_jkᵀ needs no sign in the inner loop;
-            // the signs are applied once per block when the row is done.
-            for j in fi..i {
-                let fj = self.first[j];
-                let k0 = fi.max(fj);
-                let row_j = &done[self.start[j]..self.start[j + 1]];
-                let (before, current) = row.split_at_mut(j - fi);
-                let s = &mut current[0];
-                for (a, b) in before[k0 - fi..].iter().zip(&row_j[k0 - fj..j - fj]) {
-                    subtract_product_transposed(s, a, b);
-                }
-                // W_ij = S L_jj⁻ᵀ: forward substitution on each row of S.
-                let l = &row_j[j - fj];
-                let inv = &self.inverse_diagonal[j];
-                for r in 0..3 {
-                    let x0 = s[3 * r] * inv[0];
-                    let x1 = (s[3 * r + 1] - x0 * l[3]) * inv[1];
-                    let x2 = (s[3 * r + 2] - x0 * l[6] - x1 * l[7]) * inv[2];
-                    s[3 * r] = x0;
-                    s[3 * r + 1] = x1;
-                    s[3 * r + 2] = x2;
-                }
-            }
+            // that Σ_k L_ik Σ_k L_jkᵀ = Σ_k W_ik L_jkᵀ needs no sign in the inner loop
+            // (the recurrence is the Cholesky factor's); the signs are applied once per
+            // block when the row is done.
+            Self::eliminate_off_diagonal(
+                &self.first,
+                &self.start,
+                &self.inverse_diagonal,
+                i,
+                done,
+                row,
+            );
             let (off, diagonal) = row.split_at_mut(i - fi);
             let d = &mut diagonal[0];
             let original = [d[0], d[4], d[8]];
