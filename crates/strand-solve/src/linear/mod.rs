@@ -190,4 +190,4 @@ pub(crate) fn symmetric_product(
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -8,7 +8,7 @@ use super::faer_llt::FaerCholesky;
 use super::{SparseCholesky, symmetric_product};
 
 /// A deterministic pseudo-random number in [-1, 1).
-fn next(seed: &mut u64) -> f64 {
+pub(crate) fn next(seed: &mut u64) -> f64 {
     *seed = seed
         .wrapping_mul(6_364_136_223_846_793_005)
         .wrapping_add(1_442_695_040_888_963_407);
@@ -18,7 +18,7 @@ fn next(seed: &mut u64) -> f64 {
 /// The pattern of a rod of `edges` edges numbered as the model numbers it (vertex
 /// position, edge rotation, vertex position, …): a stretch-shear element couples
 /// `(v_i, e_i, v_i+1)`, a bend-twist element `(e_i, e_i+1)`.
-fn rod_pattern(edges: usize) -> HessianPattern {
+pub(crate) fn rod_pattern(edges: usize) -> HessianPattern {
     let mut elements: Vec<Vec<usize>> = Vec::new();
     for e in 0..edges {
         elements.push(vec![2 * e, 2 * e + 1, 2 * e + 2]);

@@ -10,31 +10,11 @@ use super::{Inertia, envelope, faer_reduced_inertia, reduced_inertia};
 use crate::SparseCholesky;
 use crate::constraints::{Row, RowKey};
 use crate::gauge::Gauge;
-
-/// A deterministic pseudo-random number in [-1, 1).
-fn next(seed: &mut u64) -> f64 {
-    *seed = seed
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-}
+use crate::linear::tests::{next, rod_pattern};
 
 /// A pseudo-random index below `n`.
 fn index(seed: &mut u64, n: usize) -> usize {
     (((next(seed) + 1.0) * 0.5 * n as f64) as usize).min(n - 1)
-}
-
-/// The pattern of a rod of `edges` edges in the model's numbering (vertex, edge
-/// rotation, vertex, …).
-fn rod_pattern(edges: usize) -> HessianPattern {
-    let mut elements: Vec<Vec<usize>> = Vec::new();
-    for e in 0..edges {
-        elements.push(vec![2 * e, 2 * e + 1, 2 * e + 2]);
-        if e + 1 < edges {
-            elements.push(vec![2 * e + 1, 2 * e + 3]);
-        }
-    }
-    HessianPattern::new(2 * edges + 1, elements.iter().map(|e| e.as_slice()))
 }
 
 /// Random symmetric values on `pattern` with diagonals of random sign and magnitude
