@@ -1,8 +1,10 @@
 //! Properties of the exact closest points on arbitrary inputs (proptest): no feasible
-//! pair of points is closer than the returned one, and segment–segment is symmetric.
+//! pair of points is closer than the returned one, and segment–segment is symmetric
+//! (to the tie tolerance).
 
 use nalgebra::Point3;
 use proptest::prelude::*;
+use strand_contact::closest::TIE_TOLERANCE;
 use strand_contact::{closest_segment_segment, closest_segment_triangle};
 
 fn point() -> impl Strategy<Value = Point3<f64>> {
@@ -30,10 +32,17 @@ proptest! {
         }
     }
 
+    /// Swapping the segments gives the same distance up to the tie tolerance (plus
+    /// round-off): candidates within `TIE_TOLERANCE` times the segments' size of the
+    /// smallest distance are ties, resolved towards the midpoint of an overlap measured
+    /// along the first segment, so the two orders may pick different tied pairs (the
+    /// case in `closest_properties.proptest-regressions`: 1.8e-12 m apart for segments
+    /// of 3.3 m).
     #[test]
     fn segment_segment_is_symmetric(p0 in point(), p1 in point(), q0 in point(), q1 in point()) {
         let forward = closest_segment_segment(&p0, &p1, &q0, &q1);
         let backward = closest_segment_segment(&q0, &q1, &p0, &p1);
-        prop_assert!((forward.distance - backward.distance).abs() <= 1e-12);
+        let size = (p1 - p0).norm().max((q1 - q0).norm());
+        prop_assert!((forward.distance - backward.distance).abs() <= TIE_TOLERANCE * size + 1e-14);
     }
 }

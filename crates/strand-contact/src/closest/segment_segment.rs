@@ -60,7 +60,6 @@ pub(crate) fn segment_segment_parameters(
     let c = d1.dot(&r);
     let f = d2.dot(&r);
 
-    let tolerance = TIE_TOLERANCE * a.max(e).sqrt();
     let evaluate = |s: f64, t: f64, interval: f64| Candidate {
         squared: (r + d1 * s - d2 * t).norm_squared(),
         interval,
@@ -102,27 +101,15 @@ pub(crate) fn segment_segment_parameters(
                 push(evaluate(s, t, 0.0));
             }
         }
-        // Parallel segments: the midpoint of the overlap of the projections. It stands
-        // for an interval of closest pairs only where the pairs at both ends of the
-        // overlap are as close as it (to the tie tolerance): segments that are not
-        // parallel have one closest pair, and a midpoint that happens to lie within
-        // the tolerance of it must not win the tie by a length it does not have (the
-        // answer would then depend on the order of the segments).
+        // Parallel segments: the midpoint of the overlap of the projections.
         let (s_q0, s_q1) = (-c / a, (b - c) / a);
         let low = s_q0.min(s_q1).max(0.0);
         let high = s_q0.max(s_q1).min(1.0);
         if low <= high {
             let s = 0.5 * (low + high);
-            let middle = evaluate(s, best_t(s), high - low);
-            let limit = (middle.squared.sqrt() + tolerance).powi(2);
-            let tied = |s: f64| evaluate(s, best_t(s), 0.0).squared <= limit;
-            let interval = if high > low && tied(low) && tied(high) {
-                high - low
-            } else {
-                0.0
-            };
-            push(Candidate { interval, ..middle });
+            push(evaluate(s, best_t(s), high - low));
         }
     }
-    pick(&candidates[..count], tolerance)
+    let size = a.max(e).sqrt();
+    pick(&candidates[..count], TIE_TOLERANCE * size)
 }
