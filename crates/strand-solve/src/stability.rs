@@ -13,7 +13,9 @@
 //!
 //! whose sparse `LDLᵀ` factorisation has `neg(K) = neg(H + σD + AᵀA/δ) + m` negative
 //! pivots (Sylvester's law of inertia; a tiny `δ` makes the penalty `AᵀA/δ` exclude the
-//! constrained directions and keeps dependent rows harmless). `D` is the Hessian's own
+//! constrained directions). Rows in the span of others are left out first
+//! ([`independent_rows`]): in the natural order they would leave a border pivot of the
+//! size of `δ` whose sign round-off decides. `D` is the Hessian's own
 //! diagonal, so `σ` is a relative eigenvalue threshold, the same for positions,
 //! rotations and joints. Two factorisations classify every eigenvalue:
 //! `neg(K(+τ)) − m` directions are negative beyond round-off and
@@ -37,8 +39,11 @@ use crate::gauge::Gauge;
 use crate::{LinearError, SolveError, SparseCholesky};
 
 mod envelope;
+mod independent_rows;
 #[cfg(test)]
 mod random_tests;
+
+pub use independent_rows::{DEPENDENCE_TOLERANCE, independent_rows};
 
 /// Curvature counts of the reduced Hessian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,7 +61,9 @@ pub struct Inertia {
 /// the envelope, the inertia is counted there ([`envelope`]: the Hessian block by an
 /// unpivoted signed factorisation, the rows by their Schur complement); otherwise, or
 /// when a pivot there is too small to trust, by faer's sparse `LDLᵀ` of `K(σ)`.
-/// `scratch` holds one value per pattern entry.
+/// `scratch` holds one value per pattern entry. Active rows in the span of others are
+/// left out first ([`independent_rows`]): they constrain nothing more, and in the
+/// bordered matrix they would leave a pivot whose sign round-off decides.
 pub fn reduced_inertia(
     pattern: &HessianPattern,
     hessian: &[f64],
@@ -66,6 +73,8 @@ pub fn reduced_inertia(
     cholesky: &mut SparseCholesky,
     scratch: &mut [f64],
 ) -> Result<Inertia, SolveError> {
+    let independent = independent_rows(active);
+    let active = independent.as_slice();
     let counted =
         envelope::reduced_inertia(pattern, hessian, gauge, active, tau, cholesky, scratch);
     match counted {
@@ -75,7 +84,8 @@ pub fn reduced_inertia(
 }
 
 /// [`reduced_inertia`] by faer's simplicial `LDLᵀ` of the bordered matrix `K(±τ)` in
-/// the natural order.
+/// the natural order, with the rows as given (independent rows: see
+/// [`independent_rows`]).
 pub fn faer_reduced_inertia(
     pattern: &HessianPattern,
     hessian: &[f64],

@@ -98,6 +98,7 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
     let tau = 1e-11;
     let mut seed = 7u64;
     let (mut compared, mut by_envelope, mut with_rows, mut neutral_seen) = (0, 0, 0, 0);
+    let (mut dependent_seen, mut combined_seen) = (0, 0);
     for case in 0..60 {
         let edges = 1 + index(&mut seed, 8);
         let pattern = rod_pattern(edges);
@@ -119,10 +120,17 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
             })
             .collect();
         let dependent = case % 7 == 3 && !rows.is_empty();
+        let mut combined = false;
         if dependent {
-            // A dependent row: the same constraint twice.
+            // A dependent row: the same constraint twice, or (with two rows) a
+            // combination of the first two.
             let mut twice = rows[0].clone();
             twice.key = RowKey::Contact(99);
+            combined = rows.len() >= 2 && case % 2 == 0;
+            if combined {
+                let scaled = rows[1].gradient.iter().map(|&(k, a)| (k, -0.5 * a));
+                twice.gradient.extend(scaled);
+            }
             rows.push(twice);
         }
         let mut sorted_held = held.clone();
@@ -144,12 +152,20 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
         let active: Vec<&Row> = rows.iter().collect();
         let faer = faer_reduced_inertia(&pattern, &values, &gauge, &active, tau).ok();
         // With a dependent row the border's Schur complement has a pivot of the size
-        // of δ left by cancellation: faer's count can miss a negative direction there
-        // (it does in case 31) or fail on an exact zero pivot; the envelope count declines
-        // such a pivot.
+        // of δ left by cancellation: faer's count of the rows as given can miss a
+        // negative direction there (it does in case 31) or fail on an exact zero pivot;
+        // the envelope count declines such a pivot. `reduced_inertia` leaves the
+        // dependent row out first, below.
         if !dependent {
             assert_eq!(faer, Some(expected), "case {case}: faer");
         }
+        let independent = super::independent_rows(&active);
+        assert_eq!(independent.len(), active.len() - usize::from(dependent));
+        assert_eq!(
+            faer_reduced_inertia(&pattern, &values, &gauge, &independent, tau).ok(),
+            Some(expected),
+            "case {case}: faer with the independent rows"
+        );
         let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
         let mut scratch = vec![0.0; pattern.nnz()];
         let counted = envelope::reduced_inertia(
@@ -175,7 +191,13 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
             &mut cholesky,
             &mut scratch,
         );
-        assert_eq!(either.ok(), counted.or(faer), "case {case}: dispatch");
+        // Whatever the path and the rows, the count is the dense eigenvalues'.
+        assert_eq!(either.ok(), Some(expected), "case {case}: reduced_inertia");
+        if !dependent {
+            assert_eq!(counted.or(faer), Some(expected), "case {case}: dispatch");
+        }
+        dependent_seen += usize::from(dependent);
+        combined_seen += usize::from(combined);
         compared += 1;
         neutral_seen += usize::from(expected.neutral > 0);
     }
@@ -187,6 +209,11 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
         "{by_envelope} of {compared} in the envelope"
     );
     assert!(with_rows >= 20, "{with_rows} with rows");
+    assert!(dependent_seen >= 5, "{dependent_seen} with a dependent row");
+    assert!(
+        combined_seen >= 2,
+        "{combined_seen} with a combination of two rows"
+    );
     assert!(
         neutral_seen >= 30,
         "{neutral_seen} with a neutral direction"
