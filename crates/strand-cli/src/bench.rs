@@ -7,9 +7,10 @@
 //! bundled contact cases (`strand bench --contact`); [`motion`] the engine-roll motion
 //! (`strand bench --motion`); [`sensitivity`] the cost of the sensitivities against the
 //! solve (`strand bench --sensitivity`); [`mesh`] the cold and cached load of a mesh file
-//! (`strand bench --mesh FILE`).
+//! (`strand bench --mesh FILE`), run by the binary in fresh memory ([`fresh_memory`]).
 
 pub mod contact;
+pub mod fresh_memory;
 pub mod grid;
 pub mod mesh;
 pub mod motion;

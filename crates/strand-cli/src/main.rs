@@ -36,12 +36,11 @@ fn main() -> ExitCode {
     // writes to the same stream while the main thread waits for it — the batch
     // progress bar draws to stderr from the rayon workers (only when stderr is a
     // terminal), and so does the panic message of a worker (issue 12).
-    strand_cli::run(
-        std::env::args_os(),
-        &mut std::io::stdout(),
-        &mut std::io::stderr(),
-    )
-    .into()
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if let Some(code) = strand_cli::bench::fresh_memory::rerun_mesh_bench(&args) {
+        return code;
+    }
+    strand_cli::run(args, &mut std::io::stdout(), &mut std::io::stderr()).into()
 }
 
 /// Prints `error: internal error: <info>` on stderr without taking the `Stderr` lock,

@@ -86,8 +86,15 @@ pub fn format_mesh(path: &Path, repeats: usize, b: &MeshBench) -> String {
             "NOT MET"
         }
     };
+    // See `fresh_memory`: the binary runs this benchmark with glibc's mmap threshold
+    // fixed, so every load faults its pages in as a new process does.
+    let memory = if std::env::var("GLIBC_TUNABLES").is_ok_and(|t| t.contains("mmap_threshold")) {
+        "each load in fresh memory"
+    } else {
+        "memory reused between repeats"
+    };
     format!(
-        "{}: mesh load, median of {repeats}, {} thread(s)\n\
+        "{}: mesh load, median of {repeats}, {} thread(s), {memory}\n\
          triangles  bytes/triangle  cold [ms]  build+write cache [ms]  cached [ms]  cold/cached\n\
          {:>9}  {:>14.1}  {:>9.1}  {:>22.1}  {:>11.1}  {:>10.1}x\n\
          targets per 1M triangles: cold <= {:.0} ms ({}), cached <= {:.0} ms ({})\n",
