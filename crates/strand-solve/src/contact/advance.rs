@@ -234,11 +234,13 @@ impl Contact {
             // Shorten the stride until every edge's move fits between the distances.
             let fits =
                 |next: f64, there: &[Vec<f64>]| {
-                    moves.iter().zip(&here).zip(there).all(|((edges, a), b)| {
-                        edges.iter().zip(a).zip(b).all(|((&moved, &d0), &d1)| {
-                            moved == 0.0 || (next - t) * moved < d0 + d1
-                        })
-                    })
+                    moves.iter().zip(&here).zip(there).zip(&radii).all(
+                        |(((edges, a), b), &radius)| {
+                            edges.iter().zip(a).zip(b).all(|((&moved, &d0), &d1)| {
+                                moved == 0.0 || (next - t) * moved < path_room(d0, d1, radius)
+                            })
+                        },
+                    )
                 };
             let mut tries = 0;
             while !fits(next, &there) {
@@ -259,6 +261,24 @@ impl Contact {
     }
 }
 
+/// How far (m) an edge may move between two samples of [`Contact::mesh_advancement`]
+/// whose centreline distances to the meshes are `d0` and `d1` (m), its radius
+/// `radius`: the distance changes by at most the move, so below `d0 + d1 − 2f` it
+/// stays above `f` on the way. `f` is [`KEPT_CENTRELINE_DEPTH`] of the radius, or half
+/// of `d0` where that is less: a step may sink an edge's centreline to within that of
+/// the surface but no further, so a trial cannot leave a centreline on a surface (a
+/// tube sunk through its whole radius), from where no later move fits (`d0 = 0`); an
+/// edge already deeper may at most halve its distance per step (continuous in `d0`).
+fn path_room(d0: f64, d1: f64, radius: f64) -> f64 {
+    let floor = (KEPT_CENTRELINE_DEPTH * radius).min(0.5 * d0);
+    d0 + d1 - 2.0 * floor
+}
+
+/// The distance from a mesh, as a fraction of its radius, that [`path_room`] keeps an
+/// edge's centreline above while it is farther: below 0.2 an edge in contact (`d`
+/// about its radius) still slides [`PATH_STRIDE`] radii per sample.
+const KEPT_CENTRELINE_DEPTH: f64 = 0.1;
+
 /// Largest number of samples of [`Contact::mesh_advancement`] along a step.
 const PATH_SAMPLES: usize = 8;
 
@@ -266,3 +286,59 @@ const PATH_SAMPLES: usize = 8;
 /// fraction of its distance to the meshes there (at least its radius): below 2, the
 /// next sample is found clear when the distance there is at least `stride − 1` of it.
 const PATH_STRIDE: f64 = 1.6;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lowest centreline distance a path of length `moved` between samples at
+    /// distances `d0` and `d1` can reach when the distance is 1-Lipschitz in the move.
+    fn lowest_on_path(d0: f64, d1: f64, moved: f64) -> f64 {
+        0.5 * (d0 + d1 - moved)
+    }
+
+    #[test]
+    fn a_move_that_fits_keeps_the_centreline_off_the_surface() {
+        let radius = 2e-3;
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..10_000 {
+            let d0 = 3.0 * radius * next();
+            let d1 = 3.0 * radius * next();
+            let moved = 0.999 * path_room(d0, d1, radius) * next();
+            if moved <= 0.0 {
+                continue;
+            }
+            let lowest = lowest_on_path(d0, d1, moved);
+            // Above the kept depth, or above half of a start that was already deeper.
+            let floor = (KEPT_CENTRELINE_DEPTH * radius).min(0.5 * d0);
+            assert!(lowest > floor, "{d0} {d1} {moved}: {lowest} <= {floor}");
+            assert!(lowest > 0.0);
+        }
+    }
+
+    #[test]
+    fn an_edge_in_contact_slides_a_whole_stride_and_a_deep_one_can_still_move() {
+        let radius = 1.75e-3;
+        // Touching (centreline a radius away) at both samples: a whole stride fits.
+        assert!(PATH_STRIDE * radius < path_room(radius, radius, radius));
+        // Sinking from touching to the surface does not fit any move longer than the
+        // room left above the kept depth.
+        let room = path_room(radius, 0.0, radius);
+        assert!(room < radius);
+        assert!((room - (1.0 - 2.0 * KEPT_CENTRELINE_DEPTH) * radius).abs() < 1e-15);
+        // An edge already deeper than the kept depth may move outwards or sideways by
+        // a positive amount (the room is continuous in its distance, and positive).
+        let deep = 0.05 * radius;
+        assert!(path_room(deep, deep, radius) > 0.0);
+        let just_above = KEPT_CENTRELINE_DEPTH * radius * (1.0 + 1e-9);
+        let just_below = KEPT_CENTRELINE_DEPTH * radius * (1.0 - 1e-9);
+        let gap = path_room(just_above, radius, radius) - path_room(just_below, radius, radius);
+        assert!(gap.abs() < 1e-9 * radius, "{gap}");
+    }
+}

@@ -112,7 +112,7 @@ impl Iteration<'_> {
         let model = self.sqp_model();
         let damping = self.damping;
         let work = &mut *self.work;
-        work.set_damped(model.as_ref().map(|(h, _)| &h[..]), damping);
+        work.set_damped(model.as_ref().map(|m| &m.hessian[..]), damping);
         work.cholesky.factor(&work.damped)
     }
 }

@@ -196,6 +196,18 @@ fn built_rotations<'g>(
     slot.get_or_insert_with(|| Gauge::holding_in(pattern, std::mem::take(unknowns)))
 }
 
+/// The SQP model of one step where it differs from the energy's (see
+/// [`Iteration::sqp_model`]).
+struct SqpModel {
+    /// Upper-triangular Hessian values in the model's pattern, J per unknown².
+    hessian: Vec<f64>,
+    /// Gradient, J per unknown.
+    gradient: Vec<f64>,
+    /// Per row: the shortfall of [`add_row_penalty`], added back to the row's QP
+    /// multiplier when held.
+    penalty_shifts: Vec<f64>,
+}
+
 /// The state of one Newton/SQP iteration sequence.
 pub(crate) struct Iteration<'a> {
     model: &'a Model,
@@ -207,6 +219,11 @@ pub(crate) struct Iteration<'a> {
     rows: Vec<Row>,
     /// Multipliers of the last step by key (sorted).
     multipliers: Vec<(RowKey, f64)>,
+    /// Per row of the SQP model being stepped: the amount (N, or N·m for an angular
+    /// limit) by which the QP's multiplier of that row falls short of the true one when
+    /// the row is held (see [`add_row_penalty`]); empty without the augmented-Lagrangian
+    /// term.
+    penalty_shifts: Vec<f64>,
     merit_weight: f64,
     /// Relative Levenberg–Marquardt damping of the last accepted step (0: pure Newton).
     damping: f64,
@@ -292,6 +309,7 @@ impl<'a> Iteration<'a> {
             state,
             rows: Vec::new(),
             multipliers: Vec::new(),
+            penalty_shifts: Vec::new(),
             merit_weight: 0.0,
             damping: 0.0,
             radius: 1.0,
@@ -452,9 +470,13 @@ impl<'a> Iteration<'a> {
         let mut damping = self.damping;
         let mut failed = false;
         let model = self.sqp_model();
+        self.penalty_shifts = model
+            .as_ref()
+            .map(|m| m.penalty_shifts.clone())
+            .unwrap_or_default();
         let work = &mut *self.work;
-        work.model_gradient = model.as_ref().map(|(_, g)| g.clone());
-        let hessian = model.as_ref().map(|(h, _)| &h[..]);
+        work.model_gradient = model.as_ref().map(|m| m.gradient.clone());
+        let hessian = model.as_ref().map(|m| &m.hessian[..]);
         if self.try_undamped && damping > 0.0 {
             // The last step was exact: the undamped Newton step may be positive definite
             // already (one factorisation to find out, instead of an eighth per step).
@@ -509,7 +531,7 @@ impl<'a> Iteration<'a> {
     /// stiffness; setting `constraint_curvature`), plus the augmented-Lagrangian term
     /// `½ Σ ρ_i (value_i + a_i·d)²` of those rows (setting `active_row_penalty`, see
     /// [`add_row_penalty`]). `None` when neither applies.
-    fn sqp_model(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+    fn sqp_model(&self) -> Option<SqpModel> {
         let settings = self.settings;
         if self.multipliers.is_empty()
             || self.plain_model
@@ -522,7 +544,8 @@ impl<'a> Iteration<'a> {
         let mut hessian = energy.hessian.clone();
         let mut gradient = energy.gradient.clone();
         let mut changed = false;
-        for row in &self.rows {
+        let mut penalty_shifts = vec![0.0; self.rows.len()];
+        for (row, shift) in self.rows.iter().zip(&mut penalty_shifts) {
             let lambda = self.multiplier(row.key);
             if lambda <= 0.0 {
                 continue;
@@ -533,18 +556,27 @@ impl<'a> Iteration<'a> {
                 curvature.add_into(pattern, &mut hessian, -lambda);
                 changed = true;
             }
-            if settings.active_row_penalty {
-                changed |= add_row_penalty(
+            if settings.active_row_penalty
+                && let Some(shortfall) = add_row_penalty(
                     pattern,
                     &self.work.diagonal,
                     &energy.hessian,
                     row,
+                    settings.release_open_rows.then_some(lambda),
+                    settings.constraint_tolerance,
                     &mut hessian,
                     &mut gradient,
-                );
+                )
+            {
+                *shift = shortfall;
+                changed = true;
             }
         }
-        changed.then_some((hessian, gradient))
+        changed.then_some(SqpModel {
+            hessian,
+            gradient,
+            penalty_shifts,
+        })
     }
 
     /// A direction of negative curvature of the Hessian (the generalised eigenvector of
@@ -612,12 +644,16 @@ impl<'a> Iteration<'a> {
         )
         .map_err(|_| Termination::SubproblemFailed)?;
         work.step.copy_from_slice(&constrained.step);
+        // A held row's multiplier in the penalised model falls short of the true one
+        // by the pull the model leaves out (see `add_row_penalty`).
+        let shifts = &self.penalty_shifts;
         self.multipliers = self
             .rows
             .iter()
             .zip(&constrained.multipliers)
-            .filter(|(_, l)| **l > 0.0)
-            .map(|(r, l)| (r.key, *l))
+            .enumerate()
+            .filter(|(_, (_, l))| **l > 0.0)
+            .map(|(i, (r, l))| (r.key, *l + shifts.get(i).copied().unwrap_or(0.0)))
             .collect();
         self.multipliers.sort_by_key(|a| a.0);
         // The ℓ∞ penalty is exact above the sum of the multipliers.
@@ -766,23 +802,32 @@ pub(crate) fn residual_floor(model: &Model) -> f64 {
     FLOOR_ULPS * f64::EPSILON * stiffest
 }
 
-/// Adds the augmented-Lagrangian term `½ ρ (value + a·d)²` of an active `row` to the
-/// SQP model (`ρ a aᵀ` to `hessian`, `ρ·value·a` to `gradient`), `ρ` the energy
-/// Hessian's stiffness along the row (`Σ a_k² H_kk / Σ a_k²`, N/m for a gap). On the
-/// rows held active by the QP it is constant (`value + a·d = 0`), so the step and the
-/// multipliers are those of the unpenalised QP; but it makes the model positive
-/// definite wherever only the tangent space of the contacts is (a hose draped over a
-/// pipe, whose energy alone is indefinite along the normals), so the Newton step needs
-/// no Levenberg–Marquardt damping there. Returns `false` (and adds nothing) when the
-/// pattern does not couple the row's unknowns (two rods in contact).
+/// Adds the augmented-Lagrangian term `½ ρ (pulled + a·d)²` of an active `row` to the
+/// SQP model (`ρ a aᵀ` to `hessian`, `ρ·pulled·a` to `gradient`), `ρ` the energy
+/// Hessian's stiffness along the row (`Σ a_k² H_kk / Σ a_k²`, N/m for a gap). It makes
+/// the model positive definite wherever only the tangent space of the contacts is (a
+/// hose draped over a pipe, whose energy alone is indefinite along the normals), so the
+/// Newton step needs no Levenberg–Marquardt damping there. `pulled` is the row's whole
+/// value, unless `released_multiplier` (setting `release_open_rows`: the row's last
+/// multiplier λ, N) is given: then only while the row is open by less than
+/// `max(tolerance, λ/ρ)`, none beyond twice that ([`pulled_value`]): a row the rod
+/// lifted off since the QP held it gets the curvature but is not pulled shut, which
+/// lets cables creeping along a groove converge (see the setting). On a row held by
+/// the QP (`value + a·d = 0`) the term's gradient is `ρ·(pulled − value)·a`: the step
+/// is that of the unpenalised QP and the QP's multiplier falls short of the true one by
+/// `ρ·(value − pulled)` (zero without the release), which is returned for the caller
+/// to add back. Returns `None` (and adds nothing) when the pattern does not couple the
+/// row's unknowns (two rods in contact).
 pub(crate) fn add_row_penalty(
     pattern: &strand_system::HessianPattern,
     diagonal: &[usize],
     energy_hessian: &[f64],
     row: &Row,
+    released_multiplier: Option<f64>,
+    tolerance: f64,
     hessian: &mut [f64],
     gradient: &mut [f64],
-) -> bool {
+) -> Option<f64> {
     // The stored offset of entry (p, q) of the upper triangle (block-wise CSC).
     let offset = |p: usize, q: usize| -> Option<usize> {
         let (p, q) = if p <= q { (p, q) } else { (q, p) };
@@ -802,19 +847,25 @@ pub(crate) fn add_row_penalty(
         .iter()
         .any(|&(p, _)| entries.iter().any(|&(q, _)| offset(p, q).is_none()))
     {
-        return false;
+        return None;
     }
     let norm: f64 = entries.iter().map(|(_, a)| a * a).sum();
     if norm == 0.0 {
-        return false;
+        return None;
     }
     let rho = entries
         .iter()
         .map(|&(k, a)| a * a * energy_hessian[diagonal[k]].abs())
         .sum::<f64>()
         / norm;
+    let pulled = match released_multiplier {
+        // Released beyond the gap the row's last force opens in the rod's own
+        // stiffness along it (`λ/ρ`, m).
+        Some(multiplier) => pulled_value(row.value, tolerance.max(multiplier / rho)),
+        None => row.value,
+    };
     for (i, &(p, a)) in entries.iter().enumerate() {
-        gradient[p] += rho * row.value * a;
+        gradient[p] += rho * pulled * a;
         for &(q, b) in &entries[i..] {
             // One stored value stands for both (p, q) and (q, p).
             if let Some(at) = offset(p, q) {
@@ -822,5 +873,47 @@ pub(crate) fn add_row_penalty(
             }
         }
     }
-    true
+    Some(rho * (row.value - pulled))
+}
+
+/// The part of a released held row's `value` that [`add_row_penalty`] pulls shut: all
+/// of it while the row is closed to within `reach` (or violated), none once it is open
+/// by `2·reach`, linear in between (continuous, so the model does not jump).
+pub(crate) fn pulled_value(value: f64, reach: f64) -> f64 {
+    if value <= reach {
+        value
+    } else {
+        (2.0 * reach - value).max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pulled_value;
+
+    #[test]
+    fn a_held_row_is_pulled_shut_while_closed_and_let_go_once_open() {
+        let tolerance = 1e-9;
+        // Closed, touching within the tolerance or violated: the whole value is pulled.
+        for value in [-1e-3, -1e-9, 0.0, 5e-10, 1e-9] {
+            assert_eq!(pulled_value(value, tolerance), value);
+        }
+        // Open by twice the tolerance or more (lifted off since the QP held it): none.
+        for value in [2e-9, 1e-6, 1e-2] {
+            assert_eq!(pulled_value(value, tolerance), 0.0);
+        }
+        // Continuous between (the model does not jump when a gap crosses the
+        // tolerance) and never more than the value itself.
+        let mut last = pulled_value(0.0, tolerance);
+        for k in 1..=3000 {
+            let value = k as f64 * 1e-12;
+            let pulled = pulled_value(value, tolerance);
+            assert!(
+                (pulled - last).abs() <= 1.0000001e-12,
+                "{value}: {last} -> {pulled}"
+            );
+            assert!((0.0..=value).contains(&pulled));
+            last = pulled;
+        }
+    }
 }
