@@ -4,10 +4,11 @@
 //!
 //! The bound is `⌊d⌋`, the exact distance `d` rounded down to a fixed grid of
 //! [`DISTANCE_GRID_STEPS`] geometric steps per binary octave ([`distance_grid_floor`]),
-//! so `15/16 d < ⌊d⌋ ≤ d`. The search keeps the
-//! least exact distance `b` found so far and prunes every node and triangle whose box is
-//! at least `⌊b⌋` away: once nothing is left, every triangle not tested is at least `⌊b⌋`
-//! away and `b` is one triangle's distance, so `⌊b⌋ ≤ d ≤ b` and `⌊d⌋ = ⌊b⌋`. The search
+//! so `15/16 d < ⌊d⌋ ≤ d`. The search keeps the least exact distance `b` found so far
+//! (starting from a hinted triangle's, if any) and prunes every node and triangle whose
+//! box is at least `⌊b⌋` away (less a rounding margin): once nothing is left, every
+//! triangle not tested is at least `⌊b⌋` away and `b` is one triangle's distance, so
+//! `⌊b⌋ ≤ d ≤ b` and, the floor being monotone, `⌊d⌋ = ⌊b⌋`. The search
 //! stops as soon as the boxes left are no nearer than the grid point below the best
 //! triangle, instead of descending until they are no nearer than the triangle itself
 //! (an edge lying along a finely tessellated floor has a whole strip of boxes just
@@ -37,7 +38,7 @@ const OCTAVE: [f64; DISTANCE_GRID_STEPS] = [
     1.189207115002721,
     1.2599210498948732,
     1.3348398541700344,
-    1.4142135623730951,
+    std::f64::consts::SQRT_2,
     1.4983070768766815,
     1.5874010519681994,
     1.681792830507429,
@@ -84,19 +85,49 @@ impl ObstacleMesh {
         p1: &Point3<f64>,
         max_distance: f64,
     ) -> Option<f64> {
-        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
-        self.distance_bound_here(&l0, &l1, max_distance)
+        self.segment_distance_bound_from(p0, p1, max_distance, None)
+            .map(|found| found.bound)
     }
 
-    /// [`ObstacleMesh::segment_distance_bound`] of a segment in the mesh's own frame.
+    /// [`ObstacleMesh::segment_distance_bound`] starting from triangle `hint` (its
+    /// index, ignored when out of range or farther than `max_distance`), with the
+    /// nearest triangle the search tested, to hint the next query of a segment that
+    /// moved a little. The bound is the same whatever the hint (see the module
+    /// documentation: it is `⌊d⌋` for any starting triangle); a hint near the nearest
+    /// triangle only prunes the descent from the start, so the search need not find
+    /// the nearest triangle before it can stop.
+    pub fn segment_distance_bound_from(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+        hint: Option<usize>,
+    ) -> Option<DistanceBound> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        self.distance_bound_here(&l0, &l1, max_distance, hint)
+    }
+
+    /// [`ObstacleMesh::segment_distance_bound_from`] of a segment in the mesh's own
+    /// frame.
     pub(super) fn distance_bound_here(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         max_distance: f64,
-    ) -> Option<f64> {
+        hint: Option<usize>,
+    ) -> Option<DistanceBound> {
         let bound = SegmentBound::new(p0, p1, &self.bounding_box);
         let mut best = Bounded::within(max_distance);
+        if let Some(t) = hint.filter(|&t| t < self.triangle_count()) {
+            count_exact();
+            let [a, b, c] = self.local_triangle(t);
+            best.offer(
+                t,
+                segment_triangle_candidate(p0, p1, &a, &b, &c)
+                    .squared
+                    .sqrt(),
+            );
+        }
         self.tree.bvh.nearer_first(
             &mut best,
             |best, node| {
@@ -116,6 +147,7 @@ impl ObstacleMesh {
                     count_exact();
                     let [a, b, c] = corners;
                     best.offer(
+                        t as usize,
                         segment_triangle_candidate(p0, p1, &a, &b, &c)
                             .squared
                             .sqrt(),
@@ -123,7 +155,10 @@ impl ObstacleMesh {
                 }
             },
         );
-        best.found.then(|| distance_grid_floor(best.distance))
+        best.found.then(|| DistanceBound {
+            bound: distance_grid_floor(best.distance),
+            nearest_tested: best.triangle,
+        })
     }
 
     /// [`ObstacleMesh::segment_distance_bound`] (in the mesh's frame) from every
@@ -148,12 +183,26 @@ impl ObstacleMesh {
     }
 }
 
+/// What [`ObstacleMesh::segment_distance_bound_from`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistanceBound {
+    /// The lower bound of the distance, m: the exact distance rounded down to the grid
+    /// of [`distance_grid_floor`].
+    pub bound: f64,
+    /// The nearest of the triangles the search computed exact distances of (the
+    /// nearest one, or one at most `1/15` of the distance farther; which one depends on
+    /// the tree), a hint for the next query.
+    pub nearest_tested: usize,
+}
+
 /// The state of a [`ObstacleMesh::segment_distance_bound`] search.
 struct Bounded {
     /// The least exact distance found (at first `max_distance`), m.
     distance: f64,
     /// Whether a triangle within `max_distance` was found.
     found: bool,
+    /// That triangle.
+    triangle: usize,
     /// [`distance_grid_floor`] of `distance` once found, m: everything at least this
     /// far is pruned.
     floor: f64,
@@ -165,6 +214,7 @@ impl Bounded {
         Self {
             distance: max_distance,
             found: false,
+            triangle: 0,
             floor: max_distance,
         }
     }
@@ -187,9 +237,9 @@ impl Bounded {
         }
     }
 
-    /// Keeps a triangle at exact distance `distance` (m) if it is nearer.
+    /// Keeps triangle `triangle` at exact distance `distance` (m) if it is nearer.
     #[inline]
-    fn offer(&mut self, distance: f64) {
+    fn offer(&mut self, triangle: usize, distance: f64) {
         let nearer = if self.found {
             distance < self.distance
         } else {
@@ -199,6 +249,7 @@ impl Bounded {
             *self = Self {
                 distance,
                 found: true,
+                triangle,
                 floor: distance_grid_floor(distance),
             };
         }

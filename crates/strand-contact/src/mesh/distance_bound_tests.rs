@@ -39,7 +39,7 @@ fn the_grid_floor_is_a_lower_bound_within_a_sixteenth() {
 #[test]
 fn the_bound_is_the_grid_floor_of_every_triangles_distance_bit_for_bit() {
     let mut rng = ChaCha8Rng::seed_from_u64(6);
-    let mut found = 0;
+    let (mut found, mut hinted) = (0, 0);
     for mesh in meshes() {
         for _ in 0..1500 {
             let (a, b, reach) = query(&mut rng, &mesh);
@@ -50,6 +50,23 @@ fn the_bound_is_the_grid_floor_of_every_triangles_distance_bit_for_bit() {
                 scanned.map(f64::to_bits),
                 "{a} {b} {reach}: {bound:?} vs {scanned:?}"
             );
+            // The same from any starting triangle: a random one, and the nearest one
+            // the search tested.
+            let count = mesh.triangle_count();
+            for hint in [
+                rng.random_range(0..count),
+                rng.random_range(0..count),
+                count,
+            ] {
+                let hinted = mesh.segment_distance_bound_from(&a, &b, reach, Some(hint));
+                assert_eq!(hinted.map(|h| h.bound.to_bits()), bound.map(f64::to_bits));
+            }
+            if let Some(first) = mesh.segment_distance_bound_from(&a, &b, reach, None) {
+                let again =
+                    mesh.segment_distance_bound_from(&a, &b, reach, Some(first.nearest_tested));
+                assert_eq!(again.map(|h| h.bound), Some(first.bound));
+                hinted += 1;
+            }
             // Against the exact nearest point: found within the same reach, never
             // above its distance, never below 15/16 of it (to within rounding).
             let exact = mesh.segment_proximity(&a, &b, reach);
@@ -67,6 +84,7 @@ fn the_bound_is_the_grid_floor_of_every_triangles_distance_bit_for_bit() {
         }
     }
     assert!(found > 2000, "the queries must find the meshes ({found})");
+    assert_eq!(hinted, found);
 }
 
 /// The square `x, y ∈ [0, 1]` m of `2 n²` triangles over a wave, and, with `extra`,

@@ -46,7 +46,7 @@ mod triangle_tree;
 mod work;
 
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
-pub use distance_bound::{DISTANCE_GRID_STEPS, distance_grid_floor};
+pub use distance_bound::{DISTANCE_GRID_STEPS, DistanceBound, distance_grid_floor};
 pub use error::MeshError;
 pub(crate) use flat_bvh::FlatBvh;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
