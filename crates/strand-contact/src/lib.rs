@@ -28,8 +28,9 @@ pub mod mesh_cache;
 pub use mesh_cache::{MeshCacheSettings, MeshCacheUse};
 
 pub use mesh::{
-    KeptTriangles, LocalContact, MeshDiagnostics, MeshError, MeshFormat, ObstacleMesh, Proximity,
-    QueryWork, SMOOTH_PATCH_ANGLE_RAD, STL_WELD_RELATIVE_TOLERANCE, query_work, write_ascii_stl,
+    DISTANCE_GRID_STEPS, DistanceBound, KeptTriangles, LocalContact, MeshDiagnostics, MeshError,
+    MeshFormat, ObstacleMesh, Proximity, QueryWork, SMOOTH_PATCH_ANGLE_RAD,
+    STL_WELD_RELATIVE_TOLERANCE, distance_grid_floor, query_work, write_ascii_stl,
     write_binary_stl,
 };
 pub mod gaps;

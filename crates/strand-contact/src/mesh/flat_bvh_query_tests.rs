@@ -15,7 +15,7 @@ use crate::closest::segment_triangle_candidate;
 
 /// `n` random triangles in `[−1, 1]³` of sizes 0.01 to 0.5 m, a third of them sharing a
 /// corner with the one before.
-fn soup(rng: &mut ChaCha8Rng, n: usize) -> ObstacleMesh {
+pub(super) fn soup(rng: &mut ChaCha8Rng, n: usize) -> ObstacleMesh {
     let mut vertices: Vec<Point3<f64>> = Vec::new();
     let mut triangles = Vec::new();
     for t in 0..n {
@@ -37,7 +37,7 @@ fn soup(rng: &mut ChaCha8Rng, n: usize) -> ObstacleMesh {
 
 /// A tessellated wavy square of `2 n²` triangles, `x, y ∈ [0, 1]` m (every seventh
 /// diagonal of grid points flat, so that shared edges make exact ties).
-fn surface(n: usize) -> ObstacleMesh {
+pub(super) fn surface(n: usize) -> ObstacleMesh {
     grid_surface("surface", n, 0.0, |i, j, x, y| {
         if (i + j) % 7 == 0 {
             0.0
@@ -49,7 +49,7 @@ fn surface(n: usize) -> ObstacleMesh {
 
 /// A query: a segment (a point a quarter of the time, often right above a vertex of
 /// the mesh so that the nearest points tie) and a reach.
-fn query(rng: &mut ChaCha8Rng, mesh: &ObstacleMesh) -> (Point3<f64>, Point3<f64>, f64) {
+pub(super) fn query(rng: &mut ChaCha8Rng, mesh: &ObstacleMesh) -> (Point3<f64>, Point3<f64>, f64) {
     let a = if rng.random_bool(0.3) {
         let vertex = mesh.tree.vertices[rng.random_range(0..mesh.vertex_count())];
         Point3::from(vertex) + Vector3::new(0.0, 0.0, rng.random_range(0.0..0.2))
@@ -94,7 +94,7 @@ fn tie_interval_by_scan(
     (low, high)
 }
 
-fn meshes() -> Vec<ObstacleMesh> {
+pub(super) fn meshes() -> Vec<ObstacleMesh> {
     let mut rng = ChaCha8Rng::seed_from_u64(23);
     vec![
         soup(&mut rng, 7),

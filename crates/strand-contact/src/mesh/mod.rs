@@ -14,6 +14,9 @@
 
 mod convert;
 mod diagnostics;
+mod distance_bound;
+#[cfg(test)]
+mod distance_bound_tests;
 mod edge_uses;
 mod encloses;
 mod error;
@@ -43,6 +46,7 @@ mod triangle_tree;
 mod work;
 
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
+pub use distance_bound::{DISTANCE_GRID_STEPS, DistanceBound, distance_grid_floor};
 pub use error::MeshError;
 pub(crate) use flat_bvh::FlatBvh;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;

@@ -121,9 +121,10 @@ impl ObstacleMesh {
             None,
         );
         // Sorted once here for both the scan (sorted input costs it one pass) and the
-        // kept list.
+        // kept list. The positions are distinct, so the order is total and an unstable
+        // sort gives the stable sort's order (without its scratch buffer).
         let mut sorted = reachable.clone();
-        sorted.sort_by(|a, b| {
+        sorted.sort_unstable_by(|a, b| {
             a.bound
                 .total_cmp(&b.bound)
                 .then(a.position.cmp(&b.position))

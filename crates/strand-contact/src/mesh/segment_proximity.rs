@@ -276,7 +276,7 @@ pub(super) struct SegmentBound {
     /// triangle's box and exact distance finds (which rounding could otherwise change
     /// by an ulp, and a tie with it). [`ROUNDING`] times the largest coordinate
     /// magnitude of the segment and the mesh's bounding box.
-    rounding: f64,
+    pub(super) rounding: f64,
 }
 
 /// Relative size of [`SegmentBound::rounding`] (about 4500 ulps).
