@@ -713,6 +713,7 @@ impl<'a> Iteration<'a> {
             report: self.report,
             state: self.state,
             constraints,
+            analysis: Some(self.work.cholesky.analysis()),
         }
     }
 }

@@ -54,6 +54,7 @@ impl Sensitivities {
             state: point.state,
             report: base.report.clone(),
             constraints,
+            analysis: base.analysis.clone(),
         };
         Ok((point.built, solution))
     }
