@@ -202,6 +202,24 @@ impl<'c> CaseDesign<'c> {
         Ok(next)
     }
 
+    /// The line along which parameter `parameter` moves the design's model where it
+    /// moves it affinely ([`CaseDesign::is_affine`]): the base design (built on first
+    /// use), its model's real numbers ([`strand_system::System::reals`]) and their
+    /// change per unit of the parameter. The model at offset `t` is the base's with
+    /// the real numbers `reals + t · direction`, as [`Design::build`] makes it. `None`
+    /// where the parameter is not affine.
+    pub fn affine_line(&self, parameter: usize) -> Result<Option<AffineLine<'_>>, CaseError> {
+        let Some(direction) = self.direction(parameter)? else {
+            return Ok(None);
+        };
+        let (base, reals) = self.base()?;
+        Ok(Some(AffineLine {
+            base,
+            reals,
+            direction,
+        }))
+    }
+
     /// Whether every parameter has been probed ([`CaseDesign::analyse`], or taken over
     /// by [`CaseDesign::recentred`]).
     pub fn is_analysed(&self) -> bool {
@@ -310,6 +328,32 @@ impl<'c> CaseDesign<'c> {
                 }),
             })
             .collect()
+    }
+}
+
+/// How a design's model moves along one affine parameter
+/// ([`CaseDesign::affine_line`]).
+#[derive(Clone, Copy)]
+pub struct AffineLine<'d> {
+    /// The design at zero offsets.
+    pub base: &'d DesignedCase,
+    /// Its model's real numbers ([`strand_system::System::reals`]; m, kg, N, …).
+    pub reals: &'d [f64],
+    /// Their change per unit of the parameter (the parameter's unit).
+    pub direction: &'d [f64],
+}
+
+impl AffineLine<'_> {
+    /// The base model's system with its real numbers moved to the parameter's offset
+    /// `t` (its unit): the system of the design built there.
+    pub fn system_at(&self, t: f64) -> Result<strand_system::System, strand_system::SystemError> {
+        let reals: Vec<f64> = self
+            .reals
+            .iter()
+            .zip(self.direction)
+            .map(|(x, d)| x + t * d)
+            .collect();
+        self.base.built.model.system().with_reals(&reals)
     }
 }
 

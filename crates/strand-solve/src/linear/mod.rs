@@ -142,7 +142,9 @@ impl SparseCholesky {
         Ok(Self {
             backend: match &analysis.backend {
                 AnalysedBackend::Envelope(e) => Backend::Envelope((**e).clone()),
-                AnalysedBackend::Faer(f) => Backend::Faer(Box::new(FaerCholesky::with_analysis(f)?)),
+                AnalysedBackend::Faer(f) => {
+                    Backend::Faer(Box::new(FaerCholesky::with_analysis(f)?))
+                }
             },
             factored: false,
             signed: false,

@@ -7,9 +7,9 @@ use strand_system::Model;
 
 use super::SensitivityError;
 use super::kkt::Kkt;
-use crate::{PatternAnalysis, SparseCholesky};
 use crate::constraints::Row;
 use crate::gauge::Gauge;
+use crate::{PatternAnalysis, SparseCholesky};
 
 /// Singular values of the Schur complement below this fraction of the largest are
 /// dropped (dependent rows: one contact seen twice).

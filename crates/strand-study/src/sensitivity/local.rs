@@ -11,16 +11,20 @@
 //! reactions, free junctions' poses and the energy (where the table has it). A case
 //! with clips, contacts or clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
 
+mod path;
+
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
 use strand_report::{OutputValue, magnitude};
-use strand_rod::sectional::sectional;
+use strand_rod::sectional::{BoundaryFrames, sectional};
 use strand_rod::sectional_at::sectional_at;
 use strand_solve::Solution;
 use strand_solve::sensitivity::{PathPlace, Sample};
-use strand_system::Model;
+use strand_system::{Model, System, SystemState};
 
 use super::ENERGY;
+pub use path::LocalPath;
+use path::Window;
 
 /// What a local reading reads.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,6 +56,11 @@ pub struct LocalOutputs {
     readings: Vec<Reading>,
     /// The base's args (the vertex of a peak; 0 for a smooth output).
     args: Vec<usize>,
+    /// Per reaction (in the order of [`Model::reactions`]): its rod and whether it
+    /// holds the rod's end (vertex N) rather than its start.
+    reaction_ends: Vec<(usize, bool)>,
+    /// Per rod, the vertices and edges the readings look at.
+    windows: Vec<Window>,
 }
 
 /// Largest relative difference between a local reading and the whole table at the
@@ -105,7 +114,12 @@ impl LocalOutputs {
         // Reactions and bodies carry their document names (connectors renamed); their
         // order is the document's, checked by the values below.
         let mut rest = outputs[next..].iter();
-        for index in 0..model.reactions(&solution.state).len() {
+        let reaction_ends: Vec<(usize, bool)> = model
+            .reactions(&solution.state)
+            .iter()
+            .map(|r| (r.rod, r.at_end))
+            .collect();
+        for index in 0..reaction_ends.len() {
             for (moment, axis) in (0..6).map(|c| (c >= 3, c % 3)) {
                 let stem = if moment { ".moment_Nm." } else { ".force_N." };
                 let o = rest.next()?;
@@ -148,9 +162,35 @@ impl LocalOutputs {
             }
             Some(_) => return None,
         }
+        let mut windows = vec![Window::default(); system.rods.len()];
+        let segments = |rod: usize| system.rods[rod].rod.segments();
+        for (reading, o) in readings.iter().zip(outputs) {
+            match *reading {
+                // The two edges around the vertex and their vertices.
+                Reading::Force { rod, .. }
+                | Reading::Moment { rod, .. }
+                | Reading::BendRadius { rod, .. } => {
+                    windows[rod].add(o.arg.saturating_sub(1), o.arg + 1, segments(rod));
+                }
+                // The end edge and its vertices.
+                Reading::Reaction { index, .. } => {
+                    let (rod, at_end) = reaction_ends[index];
+                    let n = segments(rod);
+                    if at_end {
+                        windows[rod].add(n - 1, n, n);
+                    } else {
+                        windows[rod].add(0, 1, n);
+                    }
+                }
+                Reading::Position { .. } | Reading::Rotation { .. } | Reading::Energy => {}
+            }
+        }
+        windows.iter_mut().for_each(Window::finish);
         let plan = Self {
             readings,
             args: outputs.iter().map(|o| o.arg).collect(),
+            reaction_ends,
+            windows,
         };
         let local = plan.read(model, solution, PathPlace::Base);
         let agrees = local.iter().zip(outputs).all(|(l, o)| {
@@ -164,20 +204,27 @@ impl LocalOutputs {
     /// [`PathPlace::Outermost`] points each peak's and minimum's own arg is found
     /// from the whole rod (elsewhere the base's is reported).
     pub fn read(&self, model: &Model, solution: &Solution, place: PathPlace) -> Vec<Sample> {
-        let system = model.system();
         let state = &solution.state;
-        let frames: Vec<_> = (0..system.rods.len())
+        let frames: Vec<_> = (0..model.system().rods.len())
             .map(|r| model.boundary_frames(r, state))
             .collect();
-        let needs_reactions = self
-            .readings
-            .iter()
-            .any(|r| matches!(r, Reading::Reaction { .. }));
-        let reactions = if needs_reactions {
-            model.reactions(state)
-        } else {
-            Vec::new()
-        };
+        let mut samples = self.read_with(model.system(), state, &frames, place);
+        if let Some(k) = self.readings.iter().position(|r| *r == Reading::Energy) {
+            samples[k].value = model.energy(state);
+        }
+        samples
+    }
+
+    /// [`LocalOutputs::read`] of `system` in `state` with every rod's boundary frames
+    /// `frames` (the energy, which needs the model, as NaN).
+    fn read_with(
+        &self,
+        system: &System,
+        state: &SystemState,
+        frames: &[BoundaryFrames],
+        place: PathPlace,
+    ) -> Vec<Sample> {
+        let mut reactions = vec![None; self.reaction_ends.len()];
         let whole: Vec<_> = match place {
             PathPlace::Outermost => system
                 .rods
@@ -225,14 +272,17 @@ impl LocalOutputs {
                         moment,
                         axis,
                     } => {
-                        let r = &reactions[index];
-                        ((if moment { r.moment } else { r.force })[axis], None)
+                        let (force, torque) = *reactions[index].get_or_insert_with(|| {
+                            let (rod, at_end) = self.reaction_ends[index];
+                            system.end_reaction(rod, at_end, &state.rods[rod], &frames[rod])
+                        });
+                        ((if moment { torque } else { force })[axis], None)
                     }
                     Reading::Position { body, axis } => (state.bodies[body].position[axis], None),
                     Reading::Rotation { body, axis } => {
                         (rotation_vector(&state.bodies[body].orientation)[axis], None)
                     }
-                    Reading::Energy => (model.energy(state), None),
+                    Reading::Energy => (f64::NAN, None),
                 };
                 Sample {
                     value,

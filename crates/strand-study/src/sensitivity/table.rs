@@ -10,7 +10,7 @@ use strand_solve::sensitivity::{
     Design, Sample, Sensitivities, SensitivityError, SensitivitySettings,
 };
 
-use super::local::LocalOutputs;
+use super::local::{LocalOutputs, LocalPath};
 use crate::error::{Result, StudyError};
 
 /// Every output of a solved design with its derivative per parameter.
@@ -147,11 +147,29 @@ pub fn output_table_with(
     let mut one_sided = vec![vec![false; count]; outputs.len()];
     for j in 0..count {
         let mut failure = None;
-        let d = match &plan {
-            Some(plan) => sensitivities.derivative_at(design, solution, j, |built, at, place| {
-                plan.read(&built.built.model, at, place)
-            }),
-            None => sensitivities.derivative(design, solution, j, |built, at| {
+        // Along an affine parameter the local readings need no design built at the
+        // path's points ([`LocalPath`]); the energy has no local reading there.
+        let line = match &plan {
+            Some(plan) if !plan.reads_energy() => design.affine_line(j)?,
+            _ => None,
+        };
+        let d = match (&plan, line) {
+            (Some(plan), Some(line)) => {
+                let tangent = &sensitivities.parameters[j].state;
+                let path = LocalPath::new(plan, line, &solution.state, tangent);
+                sensitivities.derivative_along(j, |t, place| {
+                    path.read(t, place).map_err(|e| SensitivityError::Design {
+                        parameter: j,
+                        source: Box::new(e),
+                    })
+                })
+            }
+            (Some(plan), None) => {
+                sensitivities.derivative_at(design, solution, j, |built, at, place| {
+                    plan.read(&built.built.model, at, place)
+                })
+            }
+            (None, _) => sensitivities.derivative(design, solution, j, |built, at| {
                 whole_table_samples(built, at, &outputs, energy, &mut failure)
             }),
         }
