@@ -16,7 +16,7 @@ mod path;
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
 use strand_report::{OutputValue, magnitude};
-use strand_rod::sectional::{BoundaryFrames, sectional};
+use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::sectional_at;
 use strand_solve::Solution;
 use strand_solve::sensitivity::{PathPlace, Sample};
@@ -225,12 +225,10 @@ impl LocalOutputs {
         place: PathPlace,
     ) -> Vec<Sample> {
         let mut reactions = vec![None; self.reaction_ends.len()];
-        let whole: Vec<_> = match place {
-            PathPlace::Outermost => system
-                .rods
-                .iter()
-                .enumerate()
-                .map(|(r, spec)| Some(sectional(&spec.rod, &state.rods[r], &frames[r])))
+        // Each rod's peaks' own args, at the outermost points only.
+        let whole: Vec<Option<PeakArgs>> = match place {
+            PathPlace::Outermost => (0..system.rods.len())
+                .map(|r| Some(PeakArgs::of(system, state, &frames[r], r)))
                 .collect(),
             _ => vec![None; system.rods.len()],
         };
@@ -242,30 +240,20 @@ impl LocalOutputs {
                 vertex,
             )
         };
-        let norm = |v: &Vector3<f64>| magnitude(&[v.x, v.y, v.z]);
-        let radius = |k: &Vector3<f64>| 1.0 / k.x.hypot(k.y);
         self.readings
             .iter()
             .zip(&self.args)
             .map(|(reading, &arg)| {
                 let (value, found) = match *reading {
-                    Reading::Force { rod, vertex } => (
-                        norm(&at(rod, vertex).force),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| largest(s.forces.iter().map(norm))),
-                    ),
-                    Reading::Moment { rod, vertex } => (
-                        norm(&at(rod, vertex).moment),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| largest(s.moments.iter().map(norm))),
-                    ),
+                    Reading::Force { rod, vertex } => {
+                        (norm(&at(rod, vertex).force), whole[rod].map(|a| a.force))
+                    }
+                    Reading::Moment { rod, vertex } => {
+                        (norm(&at(rod, vertex).moment), whole[rod].map(|a| a.moment))
+                    }
                     Reading::BendRadius { rod, vertex } => (
                         radius(&at(rod, vertex).curvature),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| smallest(s.curvatures.iter().map(radius))),
+                        whole[rod].map(|a| a.bend_radius),
                     ),
                     Reading::Reaction {
                         index,
@@ -291,6 +279,51 @@ impl LocalOutputs {
             })
             .collect()
     }
+}
+
+/// Where a rod's peaks are: the vertices of its largest `|f̄|` and `|m|` and of its
+/// smallest bend radius, as the whole table finds them from every vertex's sectional
+/// quantities ([`sectional_at`] per vertex: the numbers of the whole rod's
+/// [`strand_rod::sectional::sectional`] without the quantities no peak reads).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct PeakArgs {
+    force: usize,
+    moment: usize,
+    bend_radius: usize,
+}
+
+impl PeakArgs {
+    /// The peaks' vertices of rod `rod` of `system` in `state` with its `frames`.
+    fn of(system: &System, state: &SystemState, frames: &BoundaryFrames, rod: usize) -> Self {
+        let spec = &system.rods[rod];
+        let n = spec.rod.segments();
+        let (mut forces, mut moments, mut radii) = (
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(n + 1),
+        );
+        for j in 0..=n {
+            let s = sectional_at(&spec.rod, &state.rods[rod], frames, j);
+            forces.push(norm(&s.force));
+            moments.push(norm(&s.moment));
+            radii.push(radius(&s.curvature));
+        }
+        Self {
+            force: largest(forces.into_iter()),
+            moment: largest(moments.into_iter()),
+            bend_radius: smallest(radii.into_iter()),
+        }
+    }
+}
+
+/// `|v|` as the whole table computes a peak's magnitude.
+fn norm(v: &Vector3<f64>) -> f64 {
+    magnitude(&[v.x, v.y, v.z])
+}
+
+/// The bend radius `1 / |K_⊥|` (m) of a material curvature `k` (1/m).
+fn radius(k: &Vector3<f64>) -> f64 {
+    1.0 / k.x.hypot(k.y)
 }
 
 /// The vertex of the largest value (the first on ties; NaN wins), as the whole table

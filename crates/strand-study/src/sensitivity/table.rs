@@ -136,13 +136,19 @@ pub fn output_table_with(
 ) -> Result<OutputTable> {
     let count = design.parameter_count();
     let failed = |e: SensitivityError| StudyError::sensitivity(&design.case().origin, e);
-    let sensitivities = Sensitivities::compute(design, solution, settings).map_err(failed)?;
     let base_built = design.build(&vec![0.0; count])?;
     let outputs = outputs_with(&base_built, solution, None, energy)?;
     let plan = match evaluation {
         OutputEvaluation::Local => LocalOutputs::plan(&base_built, solution, &outputs),
         OutputEvaluation::WholeTable => None,
     };
+    // Read along the affine parameters' lines, the outputs build no design at the
+    // path's points: the designs the state's right-hand sides move need not be kept.
+    let local_lines = plan.as_ref().is_some_and(|p| !p.reads_energy());
+    let kept = design.keep_moved_designs(!local_lines);
+    let sensitivities = Sensitivities::compute(design, solution, settings);
+    design.keep_moved_designs(kept);
+    let sensitivities = sensitivities.map_err(failed)?;
     let mut derivatives = vec![vec![f64::NAN; count]; outputs.len()];
     let mut one_sided = vec![vec![false; count]; outputs.len()];
     for j in 0..count {
