@@ -139,7 +139,7 @@ fn readings_along_an_affine_line_equal_those_of_the_built_design() {
             continue;
         };
         lines += 1;
-        let path = LocalPath::new(&plan, line, &solution.state, &s.parameters[j].state);
+        let mut path = LocalPath::new(&plan, line, &solution.state, &s.parameters[j].state);
         let h = s.parameters[j].output_step;
         for t in [0.0, h, -2.0 * h, 1e-2 * h, 10.0 * h, 500.0 * h, -50.0 * h] {
             let (point, at) = s.path_point(&design, &solution, j, t).unwrap();

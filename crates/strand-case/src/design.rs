@@ -369,6 +369,16 @@ impl AffineLine<'_> {
     pub fn system_at(&self, t: f64) -> Result<strand_system::System, strand_system::SystemError> {
         moved_system(self.base, self.reals, self.direction, &self.moved, t)
     }
+
+    /// Moves `system` (the base's, or one [`AffineLine::system_at`] or this method made)
+    /// to the offset `t` in place: the system at `t` without a copy.
+    pub fn move_system(
+        &self,
+        system: &mut strand_system::System,
+        t: f64,
+    ) -> Result<(), strand_system::SystemError> {
+        system.set_reals_changed(&self.moved, &|k| self.reals[k] + t * self.direction[k])
+    }
 }
 
 /// A built case with its contact constraints.

@@ -71,6 +71,21 @@ impl System {
         value: &dyn Fn(usize) -> f64,
     ) -> Result<System, SystemError> {
         let mut out = self.clone();
+        out.set_reals_changed(changed, value)?;
+        Ok(out)
+    }
+
+    /// Sets the real numbers at the indices `changed` (in the order of
+    /// [`System::reals`], ascending, each once) to `value(index)` in place, as
+    /// [`System::with_reals_changed`] does on a copy: a system moved again and again
+    /// along one parameter (every point of a path sets the same indices) is not
+    /// copied per point. Errors as [`System::with_reals_changed`] (the system is then
+    /// left as far as it was changed).
+    pub fn set_reals_changed(
+        &mut self,
+        changed: &[usize],
+        value: &dyn Fn(usize) -> f64,
+    ) -> Result<(), SystemError> {
         // The index of the next real number visited, and of the next change in
         // `changed`.
         let (index, pending) = (Cell::new(0usize), Cell::new(0usize));
@@ -90,7 +105,7 @@ impl System {
             }
             untouched
         };
-        visit(&mut out, &mut set, &skip_rod)?;
+        visit(self, &mut set, &skip_rod)?;
         if pending.get() < changed.len() {
             return Err(SystemError::NotFinite {
                 rod: "-".into(),
@@ -101,7 +116,7 @@ impl System {
                 ),
             });
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -200,6 +215,18 @@ mod tests {
             let sparse = system.with_reals_changed(&changed, &value).unwrap();
             assert_eq!(sparse, expected);
             assert_eq!(sparse.reals(), all);
+            // In place, again and again: the last values set.
+            let mut scratch = system.clone();
+            for scale in [2.0, 0.5] {
+                scratch
+                    .set_reals_changed(&changed, &|k| reals[k] * scale)
+                    .unwrap();
+            }
+            let mut halved = reals.clone();
+            for &k in &changed {
+                halved[k] *= 0.5;
+            }
+            assert_eq!(scratch, system.with_reals(&halved).unwrap());
             // Nothing changed is the system itself; an index past the end is an error.
             assert_eq!(system.with_reals_changed(&[], &value).unwrap(), system);
             assert!(system.with_reals_changed(&[last + 1], &value).is_err());

@@ -162,7 +162,7 @@ pub fn output_table_with(
         let d = match (&plan, line) {
             (Some(plan), Some(line)) => {
                 let tangent = &sensitivities.parameters[j].state;
-                let path = LocalPath::new(plan, line, &solution.state, tangent);
+                let mut path = LocalPath::new(plan, line, &solution.state, tangent);
                 sensitivities.derivative_along(j, |t, place| {
                     path.read(t, place).map_err(|e| SensitivityError::Design {
                         parameter: j,

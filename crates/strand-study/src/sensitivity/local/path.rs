@@ -7,8 +7,6 @@
 //! The numbers are those of [`LocalOutputs::read`] on the built design and the
 //! retracted state, to round-off.
 
-use std::borrow::Cow;
-
 use strand_case::AffineLine;
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::so3;
@@ -49,6 +47,8 @@ pub struct LocalPath<'a> {
     base: &'a SystemState,
     /// `dδ/dp` of the parameter (the solver's chart at the base state).
     tangent: &'a [f64],
+    /// The system at the last point read (moved in place from point to point).
+    system: System,
 }
 
 impl<'a> LocalPath<'a> {
@@ -61,29 +61,28 @@ impl<'a> LocalPath<'a> {
         base: &'a SystemState,
         tangent: &'a [f64],
     ) -> Self {
+        let system = line.base.built.model.system().clone();
         Self {
             plan,
             line,
             base,
             tangent,
+            system,
         }
     }
 
     /// The plan's outputs at the point `t` (the parameter's unit) of the path, as
     /// [`LocalOutputs::read`] reads them there; at [`PathPlace::Outermost`] every
     /// vertex of every rod is moved (for the peaks' own args).
-    pub fn read(&self, t: f64, place: PathPlace) -> Result<Vec<Sample>, SystemError> {
+    pub fn read(&mut self, t: f64, place: PathPlace) -> Result<Vec<Sample>, SystemError> {
         let model = &self.line.base.built.model;
-        let system: Cow<'_, System> = if t == 0.0 {
-            Cow::Borrowed(model.system())
-        } else {
-            Cow::Owned(self.line.system_at(t)?)
-        };
-        let state = self.moved_state(&system, model, t, place == PathPlace::Outermost);
+        self.line.move_system(&mut self.system, t)?;
+        let system = &self.system;
+        let state = self.moved_state(system, model, t, place == PathPlace::Outermost);
         let frames: Vec<BoundaryFrames> = (0..system.rods.len())
             .map(|r| system.ends_boundary(r, &state.bodies))
             .collect();
-        Ok(self.plan.read_with(&system, &state, &frames, place))
+        Ok(self.plan.read_with(system, &state, &frames, place))
     }
 
     /// The base state moved by `t · tangent` where the readings look (every vertex and
