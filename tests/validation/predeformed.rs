@@ -147,6 +147,7 @@ fn mounted_at_its_nominal_ends_a_moulded_rod_keeps_its_shape_without_stress() {
                 state: guess.clone(),
                 report: at_rest.report.clone(),
                 constraints: Vec::new(),
+                analysis: None,
             },
         )
         .0;

@@ -10,8 +10,8 @@ use strand_case::{Case, CaseDesign, DesignParameter};
 use strand_solve::Solution;
 use strand_solve::sensitivity::{Design, PathPlace, Sensitivities, SensitivitySettings};
 use strand_study::sensitivity::{
-    ENERGY, EnergyOutput, LocalOutputs, OutputEvaluation, output_table, output_table_with,
-    outputs_at,
+    ENERGY, EnergyOutput, LocalOutputs, LocalPath, OutputEvaluation, output_table,
+    output_table_with, outputs_at,
 };
 
 use crate::common::cases_dir;
@@ -114,6 +114,56 @@ fn local_outputs_equal_the_whole_table_along_the_path_and_far_from_the_base() {
         }
     }
     assert!(moved_args > 0, "no peak moved: the args were not tested");
+}
+
+/// Along an affine parameter the readings are taken without building the design at
+/// the path's points (`LocalPath`: the base system with its real numbers moved, only
+/// the vertices and edges read moved by the state's derivative): the same values and
+/// args as the plan reading the built design and the retracted state, near the base
+/// and far from it, at the outermost points (every vertex moved for the args) and
+/// inside.
+#[test]
+fn readings_along_an_affine_line_equal_those_of_the_built_design() {
+    let (case, solution) = solved("cooler_hose.ron");
+    let params = cooler_parameters();
+    let design = CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
+    let base = design.build(&vec![0.0; params.len()]).unwrap();
+    let with_energy = outputs_at(&base, &solution, None).unwrap();
+    let outputs = &with_energy[..with_energy.len() - 1];
+    let plan = LocalOutputs::plan(&base, &solution, outputs).expect("a local plan");
+    assert!(!plan.reads_energy());
+    let s = Sensitivities::compute(&design, &solution, &SensitivitySettings::default()).unwrap();
+    let mut lines = 0;
+    for j in 0..params.len() {
+        let Some(line) = design.affine_line(j).unwrap() else {
+            continue;
+        };
+        lines += 1;
+        let mut path = LocalPath::new(&plan, line, &solution.state, &s.parameters[j].state);
+        let h = s.parameters[j].output_step;
+        for t in [0.0, h, -2.0 * h, 1e-2 * h, 10.0 * h, 500.0 * h, -50.0 * h] {
+            let (point, at) = s.path_point(&design, &solution, j, t).unwrap();
+            for place in [PathPlace::Outermost, PathPlace::Inner] {
+                let built = plan.read(&point.built.model, &at, place);
+                let local = path.read(t, place).unwrap();
+                assert_eq!(built.len(), local.len());
+                for ((b, l), o) in built.iter().zip(&local).zip(outputs) {
+                    let scale = b.value.abs().max(l.value.abs());
+                    assert!(
+                        (b.value - l.value).abs() <= 1e-13 * scale,
+                        "{} at {t} of {} ({place:?}): along the line {} vs built {}",
+                        o.name,
+                        params[j].item,
+                        l.value,
+                        b.value
+                    );
+                    assert_eq!(b.arg, l.arg, "{} at {t} of {}", o.name, params[j].item);
+                }
+            }
+        }
+    }
+    // Every parameter but the connector's turn is affine.
+    assert_eq!(lines, params.len() - 1);
 }
 
 #[test]

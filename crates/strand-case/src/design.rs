@@ -14,7 +14,7 @@
 //! ```
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
 use strand_solve::Constraints;
@@ -63,6 +63,9 @@ pub struct CaseDesign<'c> {
     /// points (`±h`, `±2h`), so the second visit takes the first one's design (and
     /// a third moves it anew).
     moved: Mutex<HashMap<(usize, u64), DesignedCase>>,
+    /// Whether moved designs are kept for a second visit
+    /// ([`CaseDesign::keep_moved_designs`]).
+    keep_moved: AtomicBool,
 }
 
 /// Most designs moved along one parameter that a [`CaseDesign`] keeps (ten
@@ -107,6 +110,7 @@ impl<'c> CaseDesign<'c> {
             directions,
             full_builds: AtomicUsize::new(0),
             moved: Mutex::new(HashMap::new()),
+            keep_moved: AtomicBool::new(true),
         }
     }
 
@@ -200,6 +204,38 @@ impl<'c> CaseDesign<'c> {
             }
         }
         Ok(next)
+    }
+
+    /// The line along which parameter `parameter` moves the design's model where it
+    /// moves it affinely ([`CaseDesign::is_affine`]): the base design (built on first
+    /// use), its model's real numbers ([`strand_system::System::reals`]) and their
+    /// change per unit of the parameter. The model at offset `t` is the base's with
+    /// the real numbers `reals + t · direction`, as [`Design::build`] makes it. `None`
+    /// where the parameter is not affine.
+    pub fn affine_line(&self, parameter: usize) -> Result<Option<AffineLine<'_>>, CaseError> {
+        let Some(direction) = self.direction(parameter)? else {
+            return Ok(None);
+        };
+        let (base, reals) = self.base()?;
+        Ok(Some(AffineLine {
+            base,
+            reals,
+            direction,
+            moved: nonzero(direction),
+        }))
+    }
+
+    /// Whether a design moved along one affine parameter is kept for a second visit
+    /// at the same offset ([`MOVED_KEPT`]; the default) or dropped after use: a caller
+    /// whose outputs are read without building the design at the path's points
+    /// (`strand_study`'s local readings) visits each offset once, and keeping would
+    /// only copy the designs. Returns the previous setting; turning it off drops the
+    /// designs kept.
+    pub fn keep_moved_designs(&self, keep: bool) -> bool {
+        if !keep && let Ok(mut moved) = self.moved.lock() {
+            moved.clear();
+        }
+        self.keep_moved.swap(keep, Ordering::Relaxed)
     }
 
     /// Whether every parameter has been probed ([`CaseDesign::analyse`], or taken over
@@ -313,6 +349,38 @@ impl<'c> CaseDesign<'c> {
     }
 }
 
+/// How a design's model moves along one affine parameter
+/// ([`CaseDesign::affine_line`]).
+#[derive(Clone)]
+pub struct AffineLine<'d> {
+    /// The design at zero offsets.
+    pub base: &'d DesignedCase,
+    /// Its model's real numbers ([`strand_system::System::reals`]; m, kg, N, …).
+    pub reals: &'d [f64],
+    /// Their change per unit of the parameter (the parameter's unit).
+    pub direction: &'d [f64],
+    /// The indices where `direction` is not zero (ascending).
+    pub moved: Vec<usize>,
+}
+
+impl AffineLine<'_> {
+    /// The base model's system with its real numbers moved to the parameter's offset
+    /// `t` (its unit): the system of the design built there.
+    pub fn system_at(&self, t: f64) -> Result<strand_system::System, strand_system::SystemError> {
+        moved_system(self.base, self.reals, self.direction, &self.moved, t)
+    }
+
+    /// Moves `system` (the base's, or one [`AffineLine::system_at`] or this method made)
+    /// to the offset `t` in place: the system at `t` without a copy.
+    pub fn move_system(
+        &self,
+        system: &mut strand_system::System,
+        t: f64,
+    ) -> Result<(), strand_system::SystemError> {
+        system.set_reals_changed(&self.moved, &|k| self.reals[k] + t * self.direction[k])
+    }
+}
+
 /// A built case with its contact constraints.
 #[derive(Clone)]
 pub struct DesignedCase {
@@ -379,7 +447,8 @@ impl Design for CaseDesign<'_> {
                     }
                     let (base, reals) = self.base()?;
                     let built = along(base, reals, direction, offsets[j], &self.case.origin)?;
-                    if let Ok(mut moved) = self.moved.lock()
+                    if self.keep_moved.load(Ordering::Relaxed)
+                        && let Ok(mut moved) = self.moved.lock()
                         && moved.len() < MOVED_KEPT
                     {
                         moved.insert(key, built.clone());
@@ -464,6 +533,29 @@ fn same_beyond_reals(b: &BuiltCase, o: &BuiltCase) -> bool {
         && o.sections == b.sections
 }
 
+/// The indices of the entries of `direction` that are not zero.
+fn nonzero(direction: &[f64]) -> Vec<usize> {
+    (0..direction.len())
+        .filter(|&k| direction[k] != 0.0)
+        .collect()
+}
+
+/// The base design's system with its real numbers `base_reals` moved by
+/// `t · direction` (`moved`: the indices where `direction` is not zero; the others
+/// keep their values, and the rods none of them falls in are not visited).
+fn moved_system(
+    base: &DesignedCase,
+    base_reals: &[f64],
+    direction: &[f64],
+    moved: &[usize],
+    t: f64,
+) -> Result<strand_system::System, strand_system::SystemError> {
+    base.built
+        .model
+        .system()
+        .with_reals_changed(moved, &|k| base_reals[k] + t * direction[k])
+}
+
 /// The base design (its model's real numbers `base_reals`) with them moved by
 /// `t · direction` (the
 /// base's symbolic phase reused, the model validated); everything else is the base's.
@@ -475,17 +567,12 @@ fn along(
     origin: &str,
 ) -> Result<DesignedCase, CaseError> {
     let b = &base.built;
-    let system = b.model.system();
-    let reals: Vec<f64> = base_reals
-        .iter()
-        .zip(direction)
-        .map(|(x, d)| x + t * d)
-        .collect();
     let system_error = |source| CaseError::System {
         origin: origin.to_string(),
         source,
     };
-    let moved = system.with_reals(&reals).map_err(system_error)?;
+    let moved =
+        moved_system(base, base_reals, direction, &nonzero(direction), t).map_err(system_error)?;
     let model = Model::try_new_like(moved, &b.model).map_err(system_error)?;
     Ok(DesignedCase::new(BuiltCase {
         name: b.name.clone(),

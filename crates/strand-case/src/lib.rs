@@ -65,7 +65,7 @@ use std::path::Path;
 use strand_system::SystemState;
 
 pub use build::{BuiltCase, ROUTE_END_TOLERANCE};
-pub use design::{CaseDesign, DesignParameter, DesignedCase};
+pub use design::{AffineLine, CaseDesign, DesignParameter, DesignedCase};
 pub use ends::{FrameError, frame_from_tangent_normal};
 pub use environment::EnvironmentCache;
 pub use error::CaseError;

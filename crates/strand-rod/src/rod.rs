@@ -162,6 +162,12 @@ impl Rod {
         }
     }
 
+    /// How many real numbers [`Rod::visit_reals`] visits: the section's eight, one per
+    /// edge length and three per rest strain and rest curvature.
+    pub fn real_count(&self) -> usize {
+        8 + self.edge_lengths.len() + 3 * (self.rest_strains.len() + self.rest_curvatures.len())
+    }
+
     /// Visits every real number of the reference data in a fixed order — the
     /// section's stiffnesses (N, N·m²), mass per length (kg/m) and outer radius (m),
     /// then the edge lengths (m), rest strains and rest curvatures (1/m) — letting `f`

@@ -32,7 +32,7 @@ pub mod stiffness;
 pub use activity::{Activity, activity};
 pub use constraints::{ConstraintError, Constraints, Row, RowKey, StartHint, limit_rows};
 pub use iteration::ROUND_OFF_STALL;
-pub use linear::SparseCholesky;
+pub use linear::{PatternAnalysis, SparseCholesky};
 pub use newton::{Solver, solve, solve_constrained};
 pub use report::{Solution, SolveReport, Termination};
 pub use settings::{SettingsError, SolverSettings};

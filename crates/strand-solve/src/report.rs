@@ -125,4 +125,8 @@ pub struct Solution {
     /// The inequality constraints (joint limits, contact) at the final state with their
     /// multipliers: the force (N) or moment (N·m) each one exerts, zero when inactive.
     pub constraints: Vec<(Row, f64)>,
+    /// The solver's symbolic analysis of the model's Hessian pattern, handed on so that
+    /// the sensitivities of this equilibrium ([`crate::sensitivity`]) factor the
+    /// Hessian without analysing the pattern again; `None` where no solver made it.
+    pub analysis: Option<crate::PatternAnalysis>,
 }

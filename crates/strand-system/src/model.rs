@@ -206,41 +206,18 @@ impl Model {
 
     /// Boundary frames of rod `rod` in `state` (a port's frame moves with its body).
     pub fn boundary_frames(&self, rod: usize, state: &SystemState) -> BoundaryFrames {
-        let spec = &self.system.rods[rod];
-        BoundaryFrames {
-            start: self
-                .system
-                .end_placement(&spec.start, false, &state.bodies)
-                .1,
-            end: self.system.end_placement(&spec.end, true, &state.bodies).1,
-            clips: self
-                .dofs
-                .clips()
-                .on_rod(rod)
-                .iter()
-                .map(|&(vertex, c)| {
-                    let output = self.system.clip_output(c, &state.clips, &state.bodies);
-                    (vertex, output.orientation)
-                })
-                .collect(),
-            end_loads: [0, spec.rod.segments()].map(|j| self.end_vertex_load(rod, j)),
-        }
-    }
-
-    /// The external force (N) on end vertex `j` of rod `rod` that the sectional force
-    /// at that end includes: the half cell's weight `h̄_j ρ_L g`, and at a held end also
-    /// the dead end load, which goes straight into the support. With it the sectional
-    /// force at a held end is the support's reaction, and at a free end the applied
-    /// end load (see [`BoundaryFrames::end_loads`]).
-    fn end_vertex_load(&self, rod: usize, j: usize) -> Vector3<f64> {
-        let spec = &self.system.rods[rod];
-        let end = if j == 0 { &spec.start } else { &spec.end };
-        let weight = spec.rod.vertex_mass(j) * self.system.gravity;
-        if end.support.is_held() {
-            weight + end.load.force
-        } else {
-            weight
-        }
+        let mut frames = self.system.ends_boundary(rod, &state.bodies);
+        frames.clips = self
+            .dofs
+            .clips()
+            .on_rod(rod)
+            .iter()
+            .map(|&(vertex, c)| {
+                let output = self.system.clip_output(c, &state.clips, &state.bodies);
+                (vertex, output.orientation)
+            })
+            .collect();
+        frames
     }
 
     /// An evaluation buffer of the right sizes.

@@ -9,11 +9,12 @@
 
 use nalgebra::Vector3;
 use serde::Serialize;
+use strand_rod::RodState;
 use strand_rod::element::{BendTwist, bend_twist_gradient, stretch_shear_gradient};
-use strand_rod::sectional::{edge_element, vertex_frames};
+use strand_rod::sectional::{BoundaryFrames, edge_element, vertex_frames};
 
 use crate::model::Model;
-use crate::system::{Support, SystemState};
+use crate::system::{Support, System, SystemState};
 
 /// What holds a rod end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -49,6 +50,51 @@ pub struct Reaction {
     pub moment: Vector3<f64>,
 }
 
+impl System {
+    /// The force (N) and moment (N·m, about the end vertex) the support of rod `rod`'s
+    /// start (`at_end == false`) or end exerts on it, in the world frame, with the rod in
+    /// `rod_state` and its `boundary` frames ([`System::ends_boundary`]): the end edge's
+    /// and end vertex's elements only. Zero moment where the end has no boundary frame.
+    pub fn end_reaction(
+        &self,
+        rod: usize,
+        at_end: bool,
+        rod_state: &RodState,
+        boundary: &BoundaryFrames,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let spec = &self.rods[rod];
+        let n = spec.rod.segments();
+        let end = if at_end { &spec.end } else { &spec.start };
+        let c = spec.rod.section().strain_stiffness();
+        let (vertex, edge, local) = if at_end { (n, n - 1, 3) } else { (0, 0, 0) };
+        let edge_derivatives =
+            stretch_shear_gradient(&edge_element(&spec.rod, rod_state, &c, edge));
+        let force = edge_derivatives
+            .gradient
+            .fixed_rows::<3>(local)
+            .into_owned()
+            - spec.rod.vertex_mass(vertex) * self.gravity
+            - end.load.force;
+        let moment = match vertex_frames(rod_state, boundary, vertex) {
+            Some((q_a, q_b)) => {
+                let curvature_stiffness = spec.rod.section().curvature_stiffness();
+                let d = bend_twist_gradient(&BendTwist {
+                    frame_a: q_a,
+                    frame_b: q_b,
+                    weight: spec.rod.vertex_weight(vertex),
+                    stiffness: &curvature_stiffness,
+                    rest_curvature: spec.rod.rest_curvature(vertex),
+                });
+                // The boundary frame is q_a at the start, q_b at the end.
+                let (frame, local) = if at_end { (q_b, 3) } else { (q_a, 0) };
+                frame * d.gradient.fixed_rows::<3>(local).into_owned()
+            }
+            None => Vector3::zeros(),
+        };
+        (force, moment)
+    }
+}
+
 impl Model {
     /// The reactions of every support of `state`.
     pub fn reactions(&self, state: &SystemState) -> Vec<Reaction> {
@@ -57,7 +103,6 @@ impl Model {
         for (r, spec) in system.rods.iter().enumerate() {
             let rod_state = &state.rods[r];
             let n = spec.rod.segments();
-            let c = spec.rod.section().strain_stiffness();
             let boundary = self.boundary_frames(r, state);
             for (at_end, end) in [(false, &spec.start), (true, &spec.end)] {
                 let (kind, name) = match end.support {
@@ -74,31 +119,8 @@ impl Model {
                         )
                     }
                 };
-                let (vertex, edge, local) = if at_end { (n, n - 1, 3) } else { (0, 0, 0) };
-                let edge_derivatives =
-                    stretch_shear_gradient(&edge_element(&spec.rod, rod_state, &c, edge));
-                let force = edge_derivatives
-                    .gradient
-                    .fixed_rows::<3>(local)
-                    .into_owned()
-                    - spec.rod.vertex_mass(vertex) * system.gravity
-                    - end.load.force;
-                let moment = match vertex_frames(rod_state, &boundary, vertex) {
-                    Some((q_a, q_b)) => {
-                        let curvature_stiffness = spec.rod.section().curvature_stiffness();
-                        let d = bend_twist_gradient(&BendTwist {
-                            frame_a: q_a,
-                            frame_b: q_b,
-                            weight: spec.rod.vertex_weight(vertex),
-                            stiffness: &curvature_stiffness,
-                            rest_curvature: spec.rod.rest_curvature(vertex),
-                        });
-                        // The boundary frame is q_a at the start, q_b at the end.
-                        let (frame, local) = if at_end { (q_b, 3) } else { (q_a, 0) };
-                        frame * d.gradient.fixed_rows::<3>(local).into_owned()
-                    }
-                    None => Vector3::zeros(),
-                };
+                let vertex = if at_end { n } else { 0 };
+                let (force, moment) = system.end_reaction(r, at_end, rod_state, &boundary);
                 out.push(Reaction {
                     name,
                     kind,

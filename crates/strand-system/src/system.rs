@@ -1,6 +1,7 @@
 //! The description of a system: rods, their supports and loads.
 
 use nalgebra::{UnitQuaternion, Vector3};
+use strand_rod::sectional::BoundaryFrames;
 use strand_rod::{Rod, RodState};
 
 /// Typed index of a rod in a [`System`].
@@ -462,6 +463,30 @@ impl System {
                     clamped.then(|| pose.orientation * self.port_offset(body, port, at_end));
                 (Some(position), frame)
             }
+        }
+    }
+
+    /// The boundary frames of rod `rod`'s ends for the given body poses (a port's frame
+    /// moves with its body) and the external forces lumped at its end vertices (the
+    /// half cell's weight `h̄ ρ_L g`, and at a held end the dead end load, which goes
+    /// straight into the support: see [`BoundaryFrames::end_loads`]), without clips:
+    /// [`crate::Model::boundary_frames`] adds the clips' frames.
+    pub fn ends_boundary(&self, rod: usize, poses: &[Pose]) -> BoundaryFrames {
+        let spec = &self.rods[rod];
+        let end_load = |j: usize| {
+            let end = if j == 0 { &spec.start } else { &spec.end };
+            let weight = spec.rod.vertex_mass(j) * self.gravity;
+            if end.support.is_held() {
+                weight + end.load.force
+            } else {
+                weight
+            }
+        };
+        BoundaryFrames {
+            start: self.end_placement(&spec.start, false, poses).1,
+            end: self.end_placement(&spec.end, true, poses).1,
+            clips: Vec::new(),
+            end_loads: [0, spec.rod.segments()].map(end_load),
         }
     }
 

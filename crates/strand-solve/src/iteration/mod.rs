@@ -749,6 +749,7 @@ impl<'a> Iteration<'a> {
             report: self.report,
             state: self.state,
             constraints,
+            analysis: Some(self.work.cholesky.analysis()),
         }
     }
 }

@@ -20,6 +20,7 @@ mod signed;
 type Block = [f64; 9];
 
 /// Numeric block envelope factorisation of matrices with one fixed pattern.
+#[derive(Clone)]
 pub(crate) struct EnvelopeCholesky {
     /// Per block row of `L`: its first stored block column.
     first: Vec<usize>,

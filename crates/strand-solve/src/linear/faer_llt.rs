@@ -11,15 +11,26 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use std::sync::Arc;
+
 use faer::{Conj, MatMut, Par, Side};
 use strand_system::HessianPattern;
 
 use crate::{LinearError, SolveError};
 
+/// The pattern and faer's symbolic analysis of it (ordering, elimination tree).
+#[derive(Clone)]
+pub(crate) struct FaerAnalysis {
+    structure: Arc<SymbolicSparseColMat<usize>>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+}
+
 /// faer's sparse `LLᵀ` factorisation of matrices with one fixed pattern.
 pub(crate) struct FaerCholesky {
-    structure: SymbolicSparseColMat<usize>,
-    symbolic: SymbolicCholesky<usize>,
+    /// The pattern and its symbolic analysis, shared by the factorisers of one pattern
+    /// ([`FaerCholesky::sharing_analysis`]).
+    structure: Arc<SymbolicSparseColMat<usize>>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
     factor_values: Vec<f64>,
     factor_buffer: MemBuffer,
     solve_buffer: MemBuffer,
@@ -61,6 +72,25 @@ impl FaerCholesky {
                 symbolic = amd;
             }
         }
+        Self::with_analysis(&FaerAnalysis {
+            structure: Arc::new(structure),
+            symbolic: Arc::new(symbolic),
+        })
+    }
+
+    /// The pattern and its symbolic analysis, shared ([`FaerCholesky::with_analysis`]
+    /// makes a factoriser of them without ordering or analysing again).
+    pub(crate) fn analysis(&self) -> FaerAnalysis {
+        FaerAnalysis {
+            structure: Arc::clone(&self.structure),
+            symbolic: Arc::clone(&self.symbolic),
+        }
+    }
+
+    /// A factoriser of an analysed pattern: its own numeric storage and workspaces.
+    pub(crate) fn with_analysis(analysis: &FaerAnalysis) -> Result<Self, SolveError> {
+        let structure = Arc::clone(&analysis.structure);
+        let symbolic = Arc::clone(&analysis.symbolic);
         let factor_req =
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
         let solve_req = symbolic.solve_in_place_scratch::<f64>(1, Par::Seq);
@@ -88,7 +118,7 @@ impl FaerCholesky {
     /// Numeric factorisation of the matrix with the model's pattern and `values`
     /// (upper triangle). Returns `false` if the matrix is not positive definite.
     pub(crate) fn factor(&mut self, values: &[f64]) -> bool {
-        let matrix = SparseColMatRef::new(self.structure.as_ref(), values);
+        let matrix = SparseColMatRef::new((*self.structure).as_ref(), values);
         let result = self.symbolic.factorize_numeric_llt::<f64>(
             &mut self.factor_values,
             matrix,

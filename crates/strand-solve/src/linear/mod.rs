@@ -15,12 +15,14 @@ mod components;
 mod envelope;
 mod faer_llt;
 
+use std::sync::Arc;
+
 use strand_system::HessianPattern;
 
 use crate::SolveError;
 pub(crate) use components::{Components, union_find_root};
 use envelope::EnvelopeCholesky;
-use faer_llt::FaerCholesky;
+use faer_llt::{FaerAnalysis, FaerCholesky};
 
 /// A reusable sparse `LLᵀ` factorisation of matrices with one fixed pattern.
 pub struct SparseCholesky {
@@ -29,10 +31,10 @@ pub struct SparseCholesky {
     /// Whether the envelope holds a signed factorisation
     /// ([`SparseCholesky::negative_eigenvalues`]) rather than a Cholesky one.
     signed: bool,
-    components: Components,
+    components: Arc<Components>,
     /// The pattern's upper-triangular CSC column pointers and row indices.
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    col_ptr: Arc<[usize]>,
+    row_idx: Arc<[usize]>,
     /// The values of the last successful factorisation (upper triangle, in the
     /// pattern's order): the matrix the factor stands for, read by the active set's
     /// KKT system (`sqp::kkt`).
@@ -42,6 +44,52 @@ pub struct SparseCholesky {
 enum Backend {
     Envelope(EnvelopeCholesky),
     Faer(Box<FaerCholesky>),
+}
+
+/// The symbolic analysis of one Hessian pattern by a [`SparseCholesky`] (the backend
+/// chosen, faer's fill-reducing ordering and elimination tree, the independent
+/// blocks): what a factoriser of the same pattern needs besides its numeric storage.
+/// A solver hands its analysis on with its [`crate::Solution`], so that the
+/// sensitivities of the equilibrium factor its Hessian without analysing the pattern
+/// again ([`SparseCholesky::from_analysis`]).
+#[derive(Clone)]
+pub struct PatternAnalysis {
+    backend: AnalysedBackend,
+    components: Arc<Components>,
+    col_ptr: Arc<[usize]>,
+    row_idx: Arc<[usize]>,
+}
+
+#[derive(Clone)]
+enum AnalysedBackend {
+    /// The envelope's layout (its numeric blocks are overwritten by every factorisation).
+    Envelope(Box<EnvelopeCholesky>),
+    /// faer's pattern and symbolic analysis.
+    Faer(FaerAnalysis),
+}
+
+impl std::fmt::Debug for PatternAnalysis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PatternAnalysis")
+            .field("unknowns", &(self.col_ptr.len() - 1))
+            .field("entries", &self.row_idx.len())
+            .field(
+                "backend",
+                &match self.backend {
+                    AnalysedBackend::Envelope(_) => "envelope",
+                    AnalysedBackend::Faer(_) => "faer",
+                },
+            )
+            .finish()
+    }
+}
+
+impl PatternAnalysis {
+    /// Whether this is the analysis of `pattern` (the same upper-triangular CSC
+    /// structure).
+    pub fn is_of(&self, pattern: &HessianPattern) -> bool {
+        *self.col_ptr == *pattern.col_ptr && *self.row_idx == *pattern.row_idx
+    }
 }
 
 impl SparseCholesky {
@@ -68,10 +116,42 @@ impl SparseCholesky {
             backend,
             factored: false,
             signed: false,
-            components: Components::of_pattern(pattern),
-            col_ptr: pattern.col_ptr.clone(),
-            row_idx: pattern.row_idx.clone(),
+            components: Arc::new(Components::of_pattern(pattern)),
+            col_ptr: pattern.col_ptr.as_slice().into(),
+            row_idx: pattern.row_idx.as_slice().into(),
             values: vec![0.0; pattern.nnz()],
+        })
+    }
+
+    /// This factoriser's symbolic analysis, to hand on ([`PatternAnalysis`]).
+    pub fn analysis(&self) -> PatternAnalysis {
+        PatternAnalysis {
+            backend: match &self.backend {
+                Backend::Envelope(e) => AnalysedBackend::Envelope(Box::new(e.clone())),
+                Backend::Faer(f) => AnalysedBackend::Faer(f.analysis()),
+            },
+            components: Arc::clone(&self.components),
+            col_ptr: Arc::clone(&self.col_ptr),
+            row_idx: Arc::clone(&self.row_idx),
+        }
+    }
+
+    /// A factoriser from a pattern's `analysis` ([`SparseCholesky::analysis`]): the one
+    /// [`SparseCholesky::try_new`] makes of that pattern, without analysing it again.
+    pub fn from_analysis(analysis: &PatternAnalysis) -> Result<Self, SolveError> {
+        Ok(Self {
+            backend: match &analysis.backend {
+                AnalysedBackend::Envelope(e) => Backend::Envelope((**e).clone()),
+                AnalysedBackend::Faer(f) => {
+                    Backend::Faer(Box::new(FaerCholesky::with_analysis(f)?))
+                }
+            },
+            factored: false,
+            signed: false,
+            components: Arc::clone(&analysis.components),
+            col_ptr: Arc::clone(&analysis.col_ptr),
+            row_idx: Arc::clone(&analysis.row_idx),
+            values: vec![0.0; analysis.row_idx.len()],
         })
     }
 

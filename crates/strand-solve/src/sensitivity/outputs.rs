@@ -54,6 +54,7 @@ impl Sensitivities {
             state: point.state,
             report: base.report.clone(),
             constraints,
+            analysis: base.analysis.clone(),
         };
         Ok((point.built, solution))
     }
@@ -95,10 +96,26 @@ impl Sensitivities {
         parameter: usize,
         mut outputs: impl FnMut(&D::Built, &Solution, PathPlace) -> Vec<Sample>,
     ) -> Result<Vec<OutputDerivative>, SensitivityError> {
-        let (built, at) = self.path_point(design, base, parameter, 0.0)?;
-        let centre = outputs(&built, &at, PathPlace::Base);
+        self.derivative_along(parameter, |t, place| {
+            let (built, at) = self.path_point(design, base, parameter, t)?;
+            Ok(outputs(&built, &at, place))
+        })
+    }
+
+    /// [`Sensitivities::derivative_at`] with the outputs at the point `t` of the
+    /// first-order path of parameter `parameter` (in the parameter's unit; `t = 0` is
+    /// the base, [`PathPlace::Base`]) computed by `outputs`: the same steps, the same
+    /// choice among them and the same one-sided marks, for a caller that evaluates the
+    /// outputs at a point without building the design there (e.g. from the few
+    /// elements each output reads).
+    pub fn derivative_along<E>(
+        &self,
+        parameter: usize,
+        mut outputs: impl FnMut(f64, PathPlace) -> Result<Vec<Sample>, E>,
+    ) -> Result<Vec<OutputDerivative>, E> {
+        let centre = outputs(0.0, PathPlace::Base)?;
         let count = centre.len();
-        let mut rung = |k: i32| -> Result<Vec<OutputDerivative>, SensitivityError> {
+        let mut rung = |k: i32| -> Result<Vec<OutputDerivative>, E> {
             let h = self.parameters[parameter].output_step * 0.1f64.powi(k);
             let mut samples = Vec::with_capacity(4);
             for t in [h, -h, 2.0 * h, -2.0 * h] {
@@ -107,8 +124,7 @@ impl Sensitivities {
                 } else {
                     PathPlace::Inner
                 };
-                let (built, solution) = self.path_point(design, base, parameter, t)?;
-                samples.push(outputs(&built, &solution, place));
+                samples.push(outputs(t, place)?);
             }
             Ok((0..count)
                 .map(|j| {

@@ -7,9 +7,9 @@ use strand_system::Model;
 
 use super::SensitivityError;
 use super::kkt::Kkt;
-use crate::SparseCholesky;
 use crate::constraints::Row;
 use crate::gauge::Gauge;
+use crate::{PatternAnalysis, SparseCholesky};
 
 /// Singular values of the Schur complement below this fraction of the largest are
 /// dropped (dependent rows: one contact seen twice).
@@ -100,14 +100,20 @@ pub(crate) struct KktFactor {
 
 impl KktFactor {
     /// Factorises `hessian` (values of the model's pattern at the equilibrium) with the
-    /// gauge held, and the Schur complement of the `active` rows.
+    /// gauge held, and the Schur complement of the `active` rows. The pattern's
+    /// symbolic analysis is taken from `analysis` where it is that pattern's (the
+    /// solver's, handed on with its solution), else computed.
     pub(crate) fn new(
         model: &Model,
         hessian: &[f64],
         gauge: &Gauge,
         active: &[&Row],
+        analysis: Option<&PatternAnalysis>,
     ) -> Result<Self, SensitivityError> {
-        let mut cholesky = SparseCholesky::try_new(model.pattern())?;
+        let mut cholesky = match analysis.filter(|a| a.is_of(model.pattern())) {
+            Some(analysis) => SparseCholesky::from_analysis(analysis)?,
+            None => SparseCholesky::try_new(model.pattern())?,
+        };
         let mut values = hessian.to_vec();
         gauge.fix_matrix(&mut values);
         let held = gauge.held();

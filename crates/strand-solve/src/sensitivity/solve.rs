@@ -141,7 +141,13 @@ impl Sensitivities {
         }
         let mut eval = model.new_evaluation();
         model.evaluate(&solution.state, &mut eval, true);
-        let mut factor = KktFactor::new(model, &eval.hessian, &gauge, &active_rows)?;
+        let mut factor = KktFactor::new(
+            model,
+            &eval.hessian,
+            &gauge,
+            &active_rows,
+            solution.analysis.as_ref(),
+        )?;
         let mut this = Self {
             active,
             multipliers,

@@ -11,16 +11,20 @@
 //! reactions, free junctions' poses and the energy (where the table has it). A case
 //! with clips, contacts or clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
 
+mod path;
+
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
 use strand_report::{OutputValue, magnitude};
-use strand_rod::sectional::sectional;
+use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::sectional_at;
 use strand_solve::Solution;
 use strand_solve::sensitivity::{PathPlace, Sample};
-use strand_system::Model;
+use strand_system::{Model, System, SystemState};
 
 use super::ENERGY;
+pub use path::LocalPath;
+use path::Window;
 
 /// What a local reading reads.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,6 +56,11 @@ pub struct LocalOutputs {
     readings: Vec<Reading>,
     /// The base's args (the vertex of a peak; 0 for a smooth output).
     args: Vec<usize>,
+    /// Per reaction (in the order of [`Model::reactions`]): its rod and whether it
+    /// holds the rod's end (vertex N) rather than its start.
+    reaction_ends: Vec<(usize, bool)>,
+    /// Per rod, the vertices and edges the readings look at.
+    windows: Vec<Window>,
 }
 
 /// Largest relative difference between a local reading and the whole table at the
@@ -105,7 +114,12 @@ impl LocalOutputs {
         // Reactions and bodies carry their document names (connectors renamed); their
         // order is the document's, checked by the values below.
         let mut rest = outputs[next..].iter();
-        for index in 0..model.reactions(&solution.state).len() {
+        let reaction_ends: Vec<(usize, bool)> = model
+            .reactions(&solution.state)
+            .iter()
+            .map(|r| (r.rod, r.at_end))
+            .collect();
+        for index in 0..reaction_ends.len() {
             for (moment, axis) in (0..6).map(|c| (c >= 3, c % 3)) {
                 let stem = if moment { ".moment_Nm." } else { ".force_N." };
                 let o = rest.next()?;
@@ -148,9 +162,35 @@ impl LocalOutputs {
             }
             Some(_) => return None,
         }
+        let mut windows = vec![Window::default(); system.rods.len()];
+        let segments = |rod: usize| system.rods[rod].rod.segments();
+        for (reading, o) in readings.iter().zip(outputs) {
+            match *reading {
+                // The two edges around the vertex and their vertices.
+                Reading::Force { rod, .. }
+                | Reading::Moment { rod, .. }
+                | Reading::BendRadius { rod, .. } => {
+                    windows[rod].add(o.arg.saturating_sub(1), o.arg + 1, segments(rod));
+                }
+                // The end edge and its vertices.
+                Reading::Reaction { index, .. } => {
+                    let (rod, at_end) = reaction_ends[index];
+                    let n = segments(rod);
+                    if at_end {
+                        windows[rod].add(n - 1, n, n);
+                    } else {
+                        windows[rod].add(0, 1, n);
+                    }
+                }
+                Reading::Position { .. } | Reading::Rotation { .. } | Reading::Energy => {}
+            }
+        }
+        windows.iter_mut().for_each(Window::finish);
         let plan = Self {
             readings,
             args: outputs.iter().map(|o| o.arg).collect(),
+            reaction_ends,
+            windows,
         };
         let local = plan.read(model, solution, PathPlace::Base);
         let agrees = local.iter().zip(outputs).all(|(l, o)| {
@@ -164,26 +204,31 @@ impl LocalOutputs {
     /// [`PathPlace::Outermost`] points each peak's and minimum's own arg is found
     /// from the whole rod (elsewhere the base's is reported).
     pub fn read(&self, model: &Model, solution: &Solution, place: PathPlace) -> Vec<Sample> {
-        let system = model.system();
         let state = &solution.state;
-        let frames: Vec<_> = (0..system.rods.len())
+        let frames: Vec<_> = (0..model.system().rods.len())
             .map(|r| model.boundary_frames(r, state))
             .collect();
-        let needs_reactions = self
-            .readings
-            .iter()
-            .any(|r| matches!(r, Reading::Reaction { .. }));
-        let reactions = if needs_reactions {
-            model.reactions(state)
-        } else {
-            Vec::new()
-        };
-        let whole: Vec<_> = match place {
-            PathPlace::Outermost => system
-                .rods
-                .iter()
-                .enumerate()
-                .map(|(r, spec)| Some(sectional(&spec.rod, &state.rods[r], &frames[r])))
+        let mut samples = self.read_with(model.system(), state, &frames, place);
+        if let Some(k) = self.readings.iter().position(|r| *r == Reading::Energy) {
+            samples[k].value = model.energy(state);
+        }
+        samples
+    }
+
+    /// [`LocalOutputs::read`] of `system` in `state` with every rod's boundary frames
+    /// `frames` (the energy, which needs the model, as NaN).
+    fn read_with(
+        &self,
+        system: &System,
+        state: &SystemState,
+        frames: &[BoundaryFrames],
+        place: PathPlace,
+    ) -> Vec<Sample> {
+        let mut reactions = vec![None; self.reaction_ends.len()];
+        // Each rod's peaks' own args, at the outermost points only.
+        let whole: Vec<Option<PeakArgs>> = match place {
+            PathPlace::Outermost => (0..system.rods.len())
+                .map(|r| Some(PeakArgs::of(system, state, &frames[r], r)))
                 .collect(),
             _ => vec![None; system.rods.len()],
         };
@@ -195,44 +240,37 @@ impl LocalOutputs {
                 vertex,
             )
         };
-        let norm = |v: &Vector3<f64>| magnitude(&[v.x, v.y, v.z]);
-        let radius = |k: &Vector3<f64>| 1.0 / k.x.hypot(k.y);
         self.readings
             .iter()
             .zip(&self.args)
             .map(|(reading, &arg)| {
                 let (value, found) = match *reading {
-                    Reading::Force { rod, vertex } => (
-                        norm(&at(rod, vertex).force),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| largest(s.forces.iter().map(norm))),
-                    ),
-                    Reading::Moment { rod, vertex } => (
-                        norm(&at(rod, vertex).moment),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| largest(s.moments.iter().map(norm))),
-                    ),
+                    Reading::Force { rod, vertex } => {
+                        (norm(&at(rod, vertex).force), whole[rod].map(|a| a.force))
+                    }
+                    Reading::Moment { rod, vertex } => {
+                        (norm(&at(rod, vertex).moment), whole[rod].map(|a| a.moment))
+                    }
                     Reading::BendRadius { rod, vertex } => (
                         radius(&at(rod, vertex).curvature),
-                        whole[rod]
-                            .as_ref()
-                            .map(|s| smallest(s.curvatures.iter().map(radius))),
+                        whole[rod].map(|a| a.bend_radius),
                     ),
                     Reading::Reaction {
                         index,
                         moment,
                         axis,
                     } => {
-                        let r = &reactions[index];
-                        ((if moment { r.moment } else { r.force })[axis], None)
+                        let (force, torque) = *reactions[index].get_or_insert_with(|| {
+                            let (rod, at_end) = self.reaction_ends[index];
+                            system.end_reaction(rod, at_end, &state.rods[rod], &frames[rod])
+                        });
+                        ((if moment { torque } else { force })[axis], None)
                     }
                     Reading::Position { body, axis } => (state.bodies[body].position[axis], None),
                     Reading::Rotation { body, axis } => {
                         (rotation_vector(&state.bodies[body].orientation)[axis], None)
                     }
-                    Reading::Energy => (model.energy(state), None),
+                    Reading::Energy => (f64::NAN, None),
                 };
                 Sample {
                     value,
@@ -241,6 +279,51 @@ impl LocalOutputs {
             })
             .collect()
     }
+}
+
+/// Where a rod's peaks are: the vertices of its largest `|f̄|` and `|m|` and of its
+/// smallest bend radius, as the whole table finds them from every vertex's sectional
+/// quantities ([`sectional_at`] per vertex: the numbers of the whole rod's
+/// [`strand_rod::sectional::sectional`] without the quantities no peak reads).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct PeakArgs {
+    force: usize,
+    moment: usize,
+    bend_radius: usize,
+}
+
+impl PeakArgs {
+    /// The peaks' vertices of rod `rod` of `system` in `state` with its `frames`.
+    fn of(system: &System, state: &SystemState, frames: &BoundaryFrames, rod: usize) -> Self {
+        let spec = &system.rods[rod];
+        let n = spec.rod.segments();
+        let (mut forces, mut moments, mut radii) = (
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(n + 1),
+            Vec::with_capacity(n + 1),
+        );
+        for j in 0..=n {
+            let s = sectional_at(&spec.rod, &state.rods[rod], frames, j);
+            forces.push(norm(&s.force));
+            moments.push(norm(&s.moment));
+            radii.push(radius(&s.curvature));
+        }
+        Self {
+            force: largest(forces.into_iter()),
+            moment: largest(moments.into_iter()),
+            bend_radius: smallest(radii.into_iter()),
+        }
+    }
+}
+
+/// `|v|` as the whole table computes a peak's magnitude.
+fn norm(v: &Vector3<f64>) -> f64 {
+    magnitude(&[v.x, v.y, v.z])
+}
+
+/// The bend radius `1 / |K_⊥|` (m) of a material curvature `k` (1/m).
+fn radius(k: &Vector3<f64>) -> f64 {
+    1.0 / k.x.hypot(k.y)
 }
 
 /// The vertex of the largest value (the first on ties; NaN wins), as the whole table

@@ -10,7 +10,7 @@ use strand_solve::sensitivity::{
     Design, Sample, Sensitivities, SensitivityError, SensitivitySettings,
 };
 
-use super::local::LocalOutputs;
+use super::local::{LocalOutputs, LocalPath};
 use crate::error::{Result, StudyError};
 
 /// Every output of a solved design with its derivative per parameter.
@@ -136,22 +136,46 @@ pub fn output_table_with(
 ) -> Result<OutputTable> {
     let count = design.parameter_count();
     let failed = |e: SensitivityError| StudyError::sensitivity(&design.case().origin, e);
-    let sensitivities = Sensitivities::compute(design, solution, settings).map_err(failed)?;
     let base_built = design.build(&vec![0.0; count])?;
     let outputs = outputs_with(&base_built, solution, None, energy)?;
     let plan = match evaluation {
         OutputEvaluation::Local => LocalOutputs::plan(&base_built, solution, &outputs),
         OutputEvaluation::WholeTable => None,
     };
+    // Read along the affine parameters' lines, the outputs build no design at the
+    // path's points: the designs the state's right-hand sides move need not be kept.
+    let local_lines = plan.as_ref().is_some_and(|p| !p.reads_energy());
+    let kept = design.keep_moved_designs(!local_lines);
+    let sensitivities = Sensitivities::compute(design, solution, settings);
+    design.keep_moved_designs(kept);
+    let sensitivities = sensitivities.map_err(failed)?;
     let mut derivatives = vec![vec![f64::NAN; count]; outputs.len()];
     let mut one_sided = vec![vec![false; count]; outputs.len()];
     for j in 0..count {
         let mut failure = None;
-        let d = match &plan {
-            Some(plan) => sensitivities.derivative_at(design, solution, j, |built, at, place| {
-                plan.read(&built.built.model, at, place)
-            }),
-            None => sensitivities.derivative(design, solution, j, |built, at| {
+        // Along an affine parameter the local readings need no design built at the
+        // path's points ([`LocalPath`]); the energy has no local reading there.
+        let line = match &plan {
+            Some(plan) if !plan.reads_energy() => design.affine_line(j)?,
+            _ => None,
+        };
+        let d = match (&plan, line) {
+            (Some(plan), Some(line)) => {
+                let tangent = &sensitivities.parameters[j].state;
+                let mut path = LocalPath::new(plan, line, &solution.state, tangent);
+                sensitivities.derivative_along(j, |t, place| {
+                    path.read(t, place).map_err(|e| SensitivityError::Design {
+                        parameter: j,
+                        source: Box::new(e),
+                    })
+                })
+            }
+            (Some(plan), None) => {
+                sensitivities.derivative_at(design, solution, j, |built, at, place| {
+                    plan.read(&built.built.model, at, place)
+                })
+            }
+            (None, _) => sensitivities.derivative(design, solution, j, |built, at| {
                 whole_table_samples(built, at, &outputs, energy, &mut failure)
             }),
         }
