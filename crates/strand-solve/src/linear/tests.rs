@@ -131,12 +131,11 @@ fn a_matrix_that_is_not_positive_definite_is_rejected_like_faer_rejects_it() {
     assert!(envelope.factor(&values));
 }
 
-#[test]
-fn two_rods_joined_at_their_far_ends_use_faer_where_its_ordering_wins() {
-    // Two rods of 40 edges, the last block of the second coupled to the first block of
-    // the first (a closed loop): the envelope of the natural numbering spans the whole
-    // matrix, a fill-reducing ordering does not.
-    let edges = 40;
+/// Two rods of `edges` edges (position and frame blocks alternating, each edge coupling
+/// its two vertices and its frame to the next), the last block of the second coupled to
+/// the first block of the first: a closed loop, whose natural numbering's envelope spans
+/// the whole matrix.
+fn two_rods_in_a_loop(edges: usize) -> HessianPattern {
     let blocks_per_rod = 2 * edges + 1;
     let mut elements: Vec<Vec<usize>> = Vec::new();
     for rod in 0..2 {
@@ -149,7 +148,15 @@ fn two_rods_joined_at_their_far_ends_use_faer_where_its_ordering_wins() {
         }
     }
     elements.push(vec![0, 2 * blocks_per_rod - 1]);
-    let pattern = HessianPattern::new(2 * blocks_per_rod, elements.iter().map(|e| e.as_slice()));
+    HessianPattern::new(2 * blocks_per_rod, elements.iter().map(|e| e.as_slice()))
+}
+
+#[test]
+fn two_rods_joined_at_their_far_ends_use_faer_where_its_ordering_wins() {
+    // Two rods of 40 edges, the last block of the second coupled to the first block of
+    // the first (a closed loop): the envelope of the natural numbering spans the whole
+    // matrix, a fill-reducing ordering does not.
+    let pattern = two_rods_in_a_loop(40);
     let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
     assert!(!cholesky.is_envelope());
     let values = spd_values(&pattern, 3, 1e-3);
@@ -229,20 +236,7 @@ fn a_factoriser_from_a_handed_on_analysis_solves_as_the_analysing_one_does() {
     // One rod (the envelope) and two rods in a loop (faer): a factoriser made from the
     // first one's analysis gives the same solution to the last bit, and the analysis
     // says which pattern it is of.
-    let loop_pattern = {
-        let edges = 20;
-        let blocks_per_rod = 2 * edges + 1;
-        let mut elements: Vec<Vec<usize>> = Vec::new();
-        for rod in 0..2 {
-            let base = rod * blocks_per_rod;
-            for e in 0..edges {
-                elements.push(vec![base + 2 * e, base + 2 * e + 1, base + 2 * e + 2]);
-            }
-        }
-        elements.push(vec![0, 2 * blocks_per_rod - 1]);
-        HessianPattern::new(2 * blocks_per_rod, elements.iter().map(|e| e.as_slice()))
-    };
-    for (pattern, envelope) in [(rod_pattern(30), true), (loop_pattern, false)] {
+    for (pattern, envelope) in [(rod_pattern(30), true), (two_rods_in_a_loop(20), false)] {
         let mut first = SparseCholesky::try_new(&pattern).unwrap();
         assert_eq!(first.is_envelope(), envelope);
         let analysis = first.analysis();
