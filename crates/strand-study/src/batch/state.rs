@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use strand_rod::RodState;
 use strand_system::{JointState, Pose, SystemState};
 
-use super::checksum::{Fnv, fnv1a};
+use super::checksum::{Fnv, fnv1a_words, matches_checksum};
 
 /// A [`SystemState`] as the IEEE-754 bit patterns of its numbers (exact in JSON).
 #[derive(Debug, Serialize, Deserialize)]
@@ -23,8 +23,9 @@ pub(crate) struct StoredState {
     bodies: Vec<[u64; 7]>,
     /// Per clip: value and rotation (w, i, j, k).
     clips: Vec<[u64; 5]>,
-    /// FNV-1a of the bytes of the variant's `result.json` (absent in files written
-    /// before checksums existed).
+    /// Checksum of the bytes of the variant's `result.json`: word-wise FNV-1a
+    /// (`w…`, [`super::checksum::fnv1a_words`]), byte-wise in files of earlier
+    /// versions (16 hex digits), absent in files written before checksums existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     result_json: Option<String>,
     /// FNV-1a of the numbers above and `result_json` ([`StoredState::digest`]).
@@ -83,7 +84,7 @@ impl StoredState {
                     [c.value, w, i, j, k].map(f64::to_bits)
                 })
                 .collect(),
-            result_json: Some(fnv1a(result_json)),
+            result_json: Some(fnv1a_words(result_json)),
             checksum: None,
         };
         stored.checksum = Some(stored.digest());
@@ -116,7 +117,7 @@ impl StoredState {
             return Err(ChecksumError::State);
         }
         match (&self.result_json, result_json) {
-            (Some(recorded), Some(bytes)) if *recorded != fnv1a(bytes) => {
+            (Some(recorded), Some(bytes)) if !matches_checksum(recorded, bytes) => {
                 Err(ChecksumError::Result)
             }
             _ => Ok(()),
