@@ -93,6 +93,7 @@ pub(crate) fn build(
         tree: std::sync::Arc::new(tree),
         bounding_box: [min, max],
         patch: topology.patch.into(),
+        node_patches: Default::default(),
         diagnostics: topology.diagnostics,
         placement: None,
         cache_use: crate::mesh_cache::MeshCacheUse::Off,

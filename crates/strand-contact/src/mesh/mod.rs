@@ -35,6 +35,9 @@ mod near_scan;
 #[cfg(test)]
 mod near_scan_tests;
 mod obstacle_mesh;
+mod patch_search;
+#[cfg(test)]
+mod patch_search_tests;
 mod placed;
 mod plain_obj;
 mod radix_sort;

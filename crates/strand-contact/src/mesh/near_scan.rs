@@ -29,7 +29,7 @@
 use nalgebra::Point3;
 
 use super::ObstacleMesh;
-use super::kept_triangles::{KeptPatch, KeptTriangles};
+use super::kept_triangles::KeptTriangles;
 use super::segment_proximity::SegmentBound;
 use super::work::{count_box, count_exact, count_node};
 use crate::closest::{
@@ -116,46 +116,31 @@ impl ObstacleMesh {
         let tolerance = self.tie_tolerance(&l0, &l1);
         let radius = (reach + slack).next_up();
         let guard = near_guard(tolerance, radius);
-        let reachable = self.reachable(
-            &SegmentBound::new(&l0, &l1, &self.bounding_box),
-            radius,
-            None,
-        );
-        let scan = self.scan_near(&l0, &l1, radius, reachable.clone(), guard);
-        // The nearest triangle of every patch: (patch, nearest).
-        let mut nearest: Vec<(usize, KeptPatch)> = Vec::new();
-        for n in &scan.near {
-            let (patch, d) = (self.patch_of(n.triangle), n.candidate.squared.sqrt());
-            let here = KeptPatch {
-                triangle: n.triangle as u32,
-                distance: d,
-            };
-            match nearest.iter_mut().find(|(p, _)| *p == patch) {
-                Some(kept) if d < kept.1.distance => kept.1 = here,
-                Some(_) => {}
-                None => nearest.push((patch, here)),
-            }
-        }
-        let farthest = nearest
+        let bound = SegmentBound::new(&l0, &l1, &self.bounding_box);
+        // The nearest triangle of every patch within reach plus slack, then the part
+        // kept: every triangle whose box is within the farthest of them plus twice the
+        // slack and guard (and within reach plus slack), in depth-first order.
+        let patches = self.patch_nearest(&bound, &l0, &l1, radius, guard);
+        let farthest = patches
             .iter()
-            .map(|(_, k)| k.distance)
+            .map(|k| k.distance)
             .reduce(f64::max)
             .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
-        // Only the kept part is sorted (by box distance, then position: distinct keys,
-        // so an unstable sort gives the stable sort's order without its scratch).
-        let mut kept: Vec<Reachable> = reachable
-            .iter()
-            .filter(|r| r.bound <= keep)
-            .copied()
-            .collect();
+        let in_order = if keep >= 0.0 {
+            self.reachable(&bound, keep.min(radius), None)
+        } else {
+            Vec::new()
+        };
+        // Sorted by box distance, then position (distinct keys: an unstable sort gives
+        // the stable sort's order without its scratch).
+        let mut kept = in_order.clone();
         kept.sort_unstable_by(|a, b| {
             a.bound
                 .total_cmp(&b.bound)
                 .then(a.position.cmp(&b.position))
         });
-        let patches = nearest.into_iter().map(|(_, k)| k).collect();
-        KeptTriangles::new([*p0, *p1], reach, slack, &reachable, &kept, patches)
+        KeptTriangles::new([*p0, *p1], reach, slack, &in_order, &kept, patches)
     }
 
     /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own

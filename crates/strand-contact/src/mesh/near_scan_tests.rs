@@ -158,7 +158,11 @@ fn exact_tests_per_query_do_not_grow_with_the_mesh_density() {
         coarse.exact_tests,
         fine.exact_tests
     );
-    // The BVH visits and box tests of a full search do grow (the triangles within
-    // reach), which is what the kept candidates spare the later evaluations.
-    assert!(fine.box_tests > 20 * coarse.box_tests);
+    // The box tests of full searches do grow: `local_contacts` box-tests every
+    // triangle within reach, and the kept list of `triangles_near` (a disc of the
+    // triangles within the nearest distance plus twice the slack) grows with the
+    // density too (since the search finds each patch's nearest triangle first it no
+    // longer box-tests all within reach: 15× here for 100× the triangles, was 23×).
+    // That is what the kept candidates spare the later evaluations.
+    assert!(fine.box_tests > 10 * coarse.box_tests);
 }

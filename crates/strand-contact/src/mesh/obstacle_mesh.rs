@@ -25,6 +25,9 @@ pub struct ObstacleMesh {
     pub(crate) bounding_box: [Point3<f64>; 2],
     /// The smooth patch of every triangle (named by its smallest triangle index).
     pub(crate) patch: Arc<[u32]>,
+    /// The patch of every BVH node, computed on the first full search
+    /// ([`ObstacleMesh::node_patches`]).
+    pub(crate) node_patches: Arc<super::patch_search::NodePatches>,
     /// Diagnostics, with the bounding box in world coordinates.
     pub(crate) diagnostics: MeshDiagnostics,
     /// The map from the mesh's own frame to the world (`None`: the identity).
@@ -105,6 +108,10 @@ impl ObstacleMesh {
         std::mem::size_of::<Self>()
             + self.tree.memory_bytes()
             + self.patch.len() * std::mem::size_of::<u32>()
+            + self
+                .node_patches
+                .get()
+                .map_or(0, |p| p.len() * std::mem::size_of::<u32>())
             + self.name.capacity()
     }
 }

@@ -81,6 +81,7 @@ fn from_cached(name: String, cached: CachedMesh) -> ObstacleMesh {
         bounding_box: cached.diagnostics.bounding_box_m,
         tree: Arc::new(cached.tree),
         patch: cached.patch.into(),
+        node_patches: Default::default(),
         diagnostics: cached.diagnostics,
         placement: None,
         cache_use: MeshCacheUse::Off,
