@@ -31,6 +31,7 @@ mod predeformed;
 mod proximity;
 mod report;
 mod sensitivity;
+mod sensitivity_exact;
 mod sensitivity_local;
 mod start_checks;
 mod study;

@@ -182,8 +182,11 @@ fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
         )
         .unwrap()
     };
+    // The local readings differentiated along the path as the whole table is (the
+    // exact derivatives of `OutputEvaluation::Local` are checked against these in
+    // `sensitivity_exact.rs`).
     let (local, whole) = (
-        table(OutputEvaluation::Local),
+        table(OutputEvaluation::LocalDifferences),
         table(OutputEvaluation::WholeTable),
     );
     assert_eq!(local.outputs, whole.outputs);
@@ -210,33 +213,29 @@ fn local_output_derivatives_equal_the_whole_tables_for_every_output() {
 
 /// Without the energy (the default table, what `sensitivity.json` lists) every
 /// other output keeps its value, derivatives and one-sided flags bit for bit, read
-/// locally and as the whole table: the energy is only left out, nothing shifts.
+/// locally (exact derivatives along affine lines, the energy along the path) and as
+/// the whole table (each against the same evaluation with the energy): the energy is
+/// only left out, nothing shifts.
 #[test]
 fn a_table_without_the_energy_is_the_table_with_it_less_the_energy() {
     let (case, solution) = solved("cooler_hose.ron");
     let params = cooler_parameters();
     let settings = SensitivitySettings::default();
     let design = || CaseDesign::new(&case, params.clone()).starting_from(&solution.state);
-    let with = output_table_with(
-        &design(),
-        &solution,
-        &settings,
-        OutputEvaluation::Local,
-        EnergyOutput::Included,
-    )
-    .unwrap();
-    assert_eq!(with.outputs.last().map(|o| o.name.as_str()), Some(ENERGY));
-    for without in [
-        output_table(&design(), &solution, &settings).unwrap(),
-        output_table_with(
-            &design(),
-            &solution,
-            &settings,
-            OutputEvaluation::WholeTable,
-            EnergyOutput::Omitted,
-        )
-        .unwrap(),
+    let table = |evaluation, energy| {
+        output_table_with(&design(), &solution, &settings, evaluation, energy).unwrap()
+    };
+    for (without, with) in [
+        (
+            output_table(&design(), &solution, &settings).unwrap(),
+            table(OutputEvaluation::Local, EnergyOutput::Included),
+        ),
+        (
+            table(OutputEvaluation::WholeTable, EnergyOutput::Omitted),
+            table(OutputEvaluation::WholeTable, EnergyOutput::Included),
+        ),
     ] {
+        assert_eq!(with.outputs.last().map(|o| o.name.as_str()), Some(ENERGY));
         assert!(
             without.find(ENERGY).is_none(),
             "the energy was not left out"

@@ -12,7 +12,8 @@
 //! - [`nominal`]: pre-deformed (moulded) rods whose stress-free shape is a nominal
 //!   centreline ([`Rod::try_from_nominal`]);
 //! - [`sectional`]: sectional forces, moments and the first integrals of paper §3;
-//!   [`sectional_at`]: force, moment and curvature of one vertex alone.
+//!   [`sectional_at`]: force, moment and curvature of one vertex alone;
+//!   [`sectional_tangent`]: their exact first-order changes along a tangent.
 //!
 //! Units are SI throughout: m, N, N·m, kg, rad. No I/O happens here.
 
@@ -22,6 +23,7 @@ mod rod;
 mod section;
 pub mod sectional;
 pub mod sectional_at;
+pub mod sectional_tangent;
 pub mod so3;
 
 pub use nominal::{NominalError, NominalRod, NominalShape};

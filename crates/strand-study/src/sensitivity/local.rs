@@ -12,6 +12,7 @@
 //! with clips, contacts or clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
 
 mod path;
+mod tangent;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
@@ -25,6 +26,7 @@ use strand_system::{Model, System, SystemState};
 use super::ENERGY;
 pub use path::LocalPath;
 use path::Window;
+pub use tangent::{ExactDerivatives, LocalTangents, PEAK_MARGIN, SECOND_ORDER};
 
 /// What a local reading reads.
 #[derive(Clone, Copy, Debug, PartialEq)]

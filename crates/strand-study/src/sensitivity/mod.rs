@@ -15,7 +15,7 @@ use strand_report::{SensitivityDoc, SensitivityOutput, SensitivityParameter};
 use strand_solve::Solution;
 use strand_solve::sensitivity::SensitivitySettings;
 
-pub use local::{LocalOutputs, LocalPath};
+pub use local::{ExactDerivatives, LocalOutputs, LocalPath, LocalTangents};
 pub use table::{
     ENERGY, EnergyOutput, OutputEvaluation, OutputTable, output_table, output_table_with,
     outputs_at,

@@ -10,7 +10,7 @@ use strand_solve::sensitivity::{
     Design, Sample, Sensitivities, SensitivityError, SensitivitySettings,
 };
 
-use super::local::{LocalOutputs, LocalPath};
+use super::local::{LocalOutputs, LocalPath, LocalTangents};
 use crate::error::{Result, StudyError};
 
 /// Every output of a solved design with its derivative per parameter.
@@ -26,6 +26,12 @@ pub struct OutputTable {
     pub one_sided: Vec<Vec<bool>>,
     /// The sensitivities of the equilibrium (state and multiplier derivatives).
     pub sensitivities: Sensitivities,
+    /// Vertices whose sectional quantities were evaluated at the outermost points of
+    /// the parameters' paths to find where the peaks are there, summed over the
+    /// parameters read locally (both sides counted): every vertex of every rod along
+    /// a path ([`OutputEvaluation::LocalDifferences`]), the candidates a first-order
+    /// bound leaves with exact derivatives ([`OutputEvaluation::Local`]).
+    pub outer_vertices: usize,
 }
 
 impl OutputTable {
@@ -99,9 +105,18 @@ pub enum EnergyOutput {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum OutputEvaluation {
     /// Each output from the elements it depends on ([`LocalOutputs`]) where the case
-    /// has a local plan, else the whole table (the default).
+    /// has a local plan, else the whole table (the default). Along an affine
+    /// parameter the derivatives are exact directional derivatives of the readings
+    /// ([`LocalTangents`]: no point of the path is evaluated but the outermost ones,
+    /// for the few vertices that could hold a peak there); elsewhere
+    /// [`OutputEvaluation::LocalDifferences`].
     #[default]
     Local,
+    /// Each output from the elements it depends on where the case has a local plan,
+    /// differentiated along the first-order path (extrapolated differences at up to
+    /// twelve points, [`LocalPath`] along an affine parameter): the reference the
+    /// exact derivatives are tested against.
+    LocalDifferences,
     /// The whole table ([`outputs_at`]) at every point: the reference the local
     /// reading is tested against.
     WholeTable,
@@ -139,9 +154,27 @@ pub fn output_table_with(
     let base_built = design.build(&vec![0.0; count])?;
     let outputs = outputs_with(&base_built, solution, None, energy)?;
     let plan = match evaluation {
-        OutputEvaluation::Local => LocalOutputs::plan(&base_built, solution, &outputs),
+        OutputEvaluation::Local | OutputEvaluation::LocalDifferences => {
+            LocalOutputs::plan(&base_built, solution, &outputs)
+        }
         OutputEvaluation::WholeTable => None,
     };
+    // Every rod linearised once for the exact derivatives along affine lines.
+    let mut tangents = match (&plan, evaluation) {
+        (Some(plan), OutputEvaluation::Local) => {
+            LocalTangents::new(plan, &base_built.built.model, &solution.state)
+        }
+        _ => None,
+    };
+    let all_vertices: usize = base_built
+        .built
+        .model
+        .system()
+        .rods
+        .iter()
+        .map(|r| r.rod.segments() + 1)
+        .sum();
+    let mut outer_vertices = 0;
     // Read along the affine parameters' lines, the outputs build no design at the
     // path's points: the designs the state's right-hand sides move need not be kept.
     let local_lines = plan.as_ref().is_some_and(|p| !p.reads_energy());
@@ -159,8 +192,45 @@ pub fn output_table_with(
             Some(plan) if !plan.reads_energy() => design.affine_line(j)?,
             _ => None,
         };
+        // Exact along an affine line (the energy, which has no local reading, along
+        // the path with the designs built there).
+        let line = match (&plan, &tangents) {
+            (Some(plan), Some(_)) if plan.reads_energy() => design.affine_line(j)?,
+            _ => line,
+        };
+        let exact = match (&mut tangents, &line) {
+            (Some(tangents), Some(line)) => {
+                let p = &sensitivities.parameters[j];
+                tangents
+                    .derivatives(line, &p.state, p.output_step)
+                    .map_err(|e| {
+                        failed(SensitivityError::Design {
+                            parameter: j,
+                            source: Box::new(e),
+                        })
+                    })?
+            }
+            _ => None,
+        };
         let d = match (&plan, line) {
+            _ if exact.is_some() => {
+                let exact = exact.expect("checked");
+                outer_vertices += exact.outer_vertices;
+                let mut d = exact.outputs;
+                if let Some(plan) = plan.as_ref().filter(|p| p.reads_energy()) {
+                    outer_vertices += 2 * all_vertices;
+                    let along = sensitivities
+                        .derivative_at(design, solution, j, |built, at, place| {
+                            plan.read(&built.built.model, at, place)
+                        })
+                        .map_err(failed)?;
+                    let k = d.len() - 1;
+                    d[k] = along[k];
+                }
+                Ok(d)
+            }
             (Some(plan), Some(line)) => {
+                outer_vertices += 2 * all_vertices;
                 let tangent = &sensitivities.parameters[j].state;
                 let mut path = LocalPath::new(plan, line, &solution.state, tangent);
                 sensitivities.derivative_along(j, |t, place| {
@@ -171,6 +241,7 @@ pub fn output_table_with(
                 })
             }
             (Some(plan), None) => {
+                outer_vertices += 2 * all_vertices;
                 sensitivities.derivative_at(design, solution, j, |built, at, place| {
                     plan.read(&built.built.model, at, place)
                 })
@@ -193,6 +264,7 @@ pub fn output_table_with(
         derivatives,
         one_sided,
         sensitivities,
+        outer_vertices,
     })
 }
 

@@ -9,6 +9,7 @@
 
 use strand_case::AffineLine;
 use strand_rod::sectional::BoundaryFrames;
+use strand_rod::sectional_at::{VertexSectional, sectional_at};
 use strand_rod::so3;
 use strand_solve::sensitivity::{PathPlace, Sample};
 use strand_system::{Dofs, Model, System, SystemError, SystemState};
@@ -78,16 +79,83 @@ impl<'a> LocalPath<'a> {
         let model = &self.line.base.built.model;
         self.line.move_system(&mut self.system, t)?;
         let system = &self.system;
-        let state = self.moved_state(system, model, t, place == PathPlace::Outermost);
+        let whole: Vec<Window> = if place == PathPlace::Outermost {
+            system
+                .rods
+                .iter()
+                .map(|spec| {
+                    let n = spec.rod.segments();
+                    Window {
+                        vertices: (0..=n).collect(),
+                        edges: (0..n).collect(),
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let windows = if whole.is_empty() {
+            &self.plan.windows
+        } else {
+            &whole
+        };
+        let state = self.moved_state(system, model, t, windows);
         let frames: Vec<BoundaryFrames> = (0..system.rods.len())
             .map(|r| system.ends_boundary(r, &state.bodies))
             .collect();
         Ok(self.plan.read_with(system, &state, &frames, place))
     }
 
-    /// The base state moved by `t · tangent` where the readings look (every vertex and
-    /// edge with `whole`), the held ends on the point's supports and ports.
-    fn moved_state(&self, system: &System, model: &Model, t: f64, whole: bool) -> SystemState {
+    /// The sectional quantities of the vertices `vertices[r]` of every rod `r` at the
+    /// point `t` of the path (as [`LocalPath::read`] would compute them there, with
+    /// only their edges and vertices moved): the exact values at the outermost points
+    /// of the few vertices that could hold a peak there.
+    pub(super) fn sectional_at_vertices(
+        &mut self,
+        t: f64,
+        vertices: &[Vec<usize>],
+    ) -> Result<Vec<Vec<VertexSectional>>, SystemError> {
+        let model = &self.line.base.built.model;
+        self.line.move_system(&mut self.system, t)?;
+        let system = &self.system;
+        let windows: Vec<Window> = system
+            .rods
+            .iter()
+            .zip(vertices)
+            .map(|(spec, list)| {
+                let mut window = Window::default();
+                for &j in list {
+                    window.add(j.saturating_sub(1), j + 1, spec.rod.segments());
+                }
+                window.finish();
+                window
+            })
+            .collect();
+        let state = self.moved_state(system, model, t, &windows);
+        Ok(vertices
+            .iter()
+            .enumerate()
+            .map(|(r, list)| {
+                if list.is_empty() {
+                    return Vec::new();
+                }
+                let frames = system.ends_boundary(r, &state.bodies);
+                list.iter()
+                    .map(|&j| sectional_at(&system.rods[r].rod, &state.rods[r], &frames, j))
+                    .collect()
+            })
+            .collect())
+    }
+
+    /// The base state moved by `t · tangent` on the vertices and edges of `windows`
+    /// (one per rod), the held ends on the point's supports and ports.
+    fn moved_state(
+        &self,
+        system: &System,
+        model: &Model,
+        t: f64,
+        windows: &[Window],
+    ) -> SystemState {
         let dofs: &Dofs = model.dofs();
         let step = |b: usize| {
             let v = &self.tangent[3 * b..3 * b + 3];
@@ -105,13 +173,7 @@ impl<'a> LocalPath<'a> {
                 None => {}
             }
         }
-        for (r, spec) in system.rods.iter().enumerate() {
-            let n = spec.rod.segments();
-            let all = Window {
-                vertices: (0..=n).collect(),
-                edges: (0..n).collect(),
-            };
-            let window = if whole { &all } else { &self.plan.windows[r] };
+        for ((r, spec), window) in system.rods.iter().enumerate().zip(windows) {
             let rod_state = &mut state.rods[r];
             for &j in &window.vertices {
                 match dofs.vertex(r, j) {

@@ -1,0 +1,546 @@
+//! The exact derivatives of a plan's local readings along an affine parameter's
+//! first-order path, without evaluating them along it: each rod is linearised once
+//! per equilibrium ([`SectionalLinearisation`]) and every parameter is one tangent
+//! per rod — the state's part from `dδ/dp` (free vertices, edge frames, bodies and the
+//! held ends and port frames they carry), the model's part from the rod's reference
+//! data moved along the parameter's line (edge lengths, rest strains and curvatures,
+//! stiffnesses, lumped end loads, supports' positions: affine, at most quadratic,
+//! along the line, so their central differences are exact). The readings' derivatives follow by
+//! the chain rule: no design, no path point, no ladder of steps.
+//!
+//! Where a peak could move (the one-sided marks of
+//! [`strand_solve::sensitivity::Sensitivities::derivative_along`], which look for the
+//! arg at the outermost points `±2h`), the first-order changes at the base rule out
+//! every vertex whose gap to the peak cannot close within `±2h`: a gap closes at
+//! the rate the two vertices' values part, and a vertex stays a candidate while its
+//! gap is within twice that change over `2h`, a second-order allowance
+//! ([`SECOND_ORDER`]) and [`PEAK_MARGIN`]; only the remaining candidates
+//! are evaluated at `±2h` ([`LocalPath`]), so the work grows with the candidates, not
+//! with the segments.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use strand_case::AffineLine;
+use strand_rod::sectional::BoundaryFrames;
+use strand_rod::sectional_at::VertexSectional;
+use strand_rod::sectional_tangent::{RodTangent, SectionalLinearisation};
+use strand_rod::so3;
+use strand_solve::sensitivity::OutputDerivative;
+use strand_system::{Model, Pose, Support, System, SystemError, SystemState};
+
+use super::{LocalOutputs, LocalPath, Reading, largest, smallest};
+
+/// The margin, relative to a peak's value, within which a vertex stays a candidate
+/// for the peak at the outermost points `±2h` beyond what the first-order changes of
+/// the gap allow (covering the second-order change of a gap whose first-order change
+/// vanishes: `(2h/L)²` for a parameter that changes the output by its own size over
+/// `L`, below 1e-5 for `L` above 7 % of the parameter's scale).
+pub const PEAK_MARGIN: f64 = 1e-5;
+
+/// The second-order allowance of a gap at `±2h`, in units of `(2h·rate)² / peak`:
+/// ten times the second-order change of an output whose relative rate is constant
+/// (a size proportional to a power of the parameter).
+pub const SECOND_ORDER: f64 = 10.0;
+
+/// A plan's readings linearised at a base equilibrium.
+pub struct LocalTangents<'a> {
+    plan: &'a LocalOutputs,
+    model: &'a Model,
+    base: &'a SystemState,
+    /// Per rod, its linearisation.
+    rods: Vec<SectionalLinearisation>,
+    /// Per rod, the base values of every vertex's sectional quantities.
+    values: Vec<Vec<VertexSectional>>,
+    /// Per rod, its boundary frames at the base (a line that turns one is not carried).
+    frames: Vec<[Option<UnitQuaternion<f64>>; 2]>,
+    /// The base system, moved along a parameter's line and back for its model's part.
+    system: System,
+}
+
+/// The derivatives of a plan's readings with respect to one parameter.
+#[derive(Clone, Debug)]
+pub struct ExactDerivatives {
+    /// One per output of the plan, in its order.
+    pub outputs: Vec<OutputDerivative>,
+    /// Vertices whose sectional quantities were evaluated at the outermost points
+    /// (both sides counted): the candidates the first-order bound left.
+    pub outer_vertices: usize,
+}
+
+/// The rod's reference data and supports that a parameter's line moves, at one point.
+struct RodInputs {
+    numbers: Vec<f64>,
+    frames: [Option<UnitQuaternion<f64>>; 2],
+}
+
+impl<'a> LocalTangents<'a> {
+    /// Linearises `plan`'s rods in `model` at the base equilibrium `base`; `None`
+    /// where a rod cannot be linearised (clips).
+    pub fn new(plan: &'a LocalOutputs, model: &'a Model, base: &'a SystemState) -> Option<Self> {
+        let system = model.system();
+        let mut rods = Vec::with_capacity(system.rods.len());
+        let mut values = Vec::with_capacity(system.rods.len());
+        for r in 0..system.rods.len() {
+            let frames = model.boundary_frames(r, base);
+            let lin = SectionalLinearisation::new(&system.rods[r].rod, &base.rods[r], &frames)?;
+            let zero = RodTangent::zero(lin.segments());
+            values.push(
+                (0..=lin.segments())
+                    .map(|j| lin.vertex_tangent(j, &zero).0)
+                    .collect(),
+            );
+            rods.push(lin);
+        }
+        let bodies = poses(system, &base.bodies);
+        let frames = (0..system.rods.len())
+            .map(|r| inputs(system, r, &bodies).frames)
+            .collect();
+        Some(Self {
+            plan,
+            model,
+            base,
+            rods,
+            values,
+            frames,
+            system: system.clone(),
+        })
+    }
+
+    /// The derivatives of the plan's readings with respect to the parameter whose
+    /// design moves along `line`, with `tangent` its `dδ/dp` and `step` its output
+    /// step `h` (the outermost points are `±2h`). `None` where the line moves
+    /// something the tangents do not carry (a boundary frame, a body that is neither
+    /// free nor fixed): the caller then differentiates along the path.
+    pub fn derivatives(
+        &mut self,
+        line: &AffineLine<'_>,
+        tangent: &[f64],
+        step: f64,
+    ) -> Result<Option<ExactDerivatives>, SystemError> {
+        let system = self.model.system();
+        let Some(rod_tangents) = self.tangents(line, tangent, step)? else {
+            return Ok(None);
+        };
+        let (tangents, reaction_loads) = rod_tangents;
+        // Per rod with a peak, every vertex's value and derivative.
+        let peaks_of = |rod: usize| {
+            self.plan.readings.iter().any(|r| {
+                matches!(*r, Reading::Force { rod: x, .. } | Reading::Moment { rod: x, .. } | Reading::BendRadius { rod: x, .. } if x == rod)
+            })
+        };
+        let changes: Vec<Vec<VertexSectional>> = (0..system.rods.len())
+            .map(|r| {
+                if !peaks_of(r) {
+                    return Vec::new();
+                }
+                self.rods[r].tangents(&tangents[r])
+            })
+            .collect();
+        let dofs = self.model.dofs();
+        let mut outputs = Vec::with_capacity(self.plan.readings.len());
+        // Each reaction's terms once for its six components.
+        let mut ends = vec![None; self.plan.reaction_ends.len()];
+        for reading in &self.plan.readings {
+            let derivative = match *reading {
+                Reading::Force { rod, vertex } => {
+                    let (v, d) = (&self.values[rod][vertex].force, &changes[rod][vertex].force);
+                    v.dot(d) / v.norm()
+                }
+                Reading::Moment { rod, vertex } => {
+                    let (v, d) = (
+                        &self.values[rod][vertex].moment,
+                        &changes[rod][vertex].moment,
+                    );
+                    v.dot(d) / v.norm()
+                }
+                Reading::BendRadius { rod, vertex } => {
+                    let (k, d) = (
+                        &self.values[rod][vertex].curvature,
+                        &changes[rod][vertex].curvature,
+                    );
+                    let squared = k.x * k.x + k.y * k.y;
+                    -(k.x * d.x + k.y * d.y) / (squared * squared.sqrt())
+                }
+                Reading::Reaction {
+                    index,
+                    moment,
+                    axis,
+                } => {
+                    let (rod, at_end) = self.plan.reaction_ends[index];
+                    let d = *ends[index].get_or_insert_with(|| {
+                        self.rods[rod].end_terms_tangent(at_end, &tangents[rod]).1
+                    });
+                    if moment {
+                        d.moment[axis]
+                    } else {
+                        d.edge_force[axis] - reaction_loads[rod][usize::from(at_end)][axis]
+                    }
+                }
+                Reading::Position { body, axis } => match dofs.body(body) {
+                    Some((translation, _)) => tangent[3 * translation + axis],
+                    None => return Ok(None),
+                },
+                Reading::Rotation { body, axis } => match dofs.body(body) {
+                    Some((_, rotation)) => {
+                        let phi = so3::log(&self.base.bodies[body].orientation);
+                        let omega = block(tangent, rotation);
+                        match so3::right_jacobian(&phi).try_inverse() {
+                            Some(inverse) => (inverse * omega)[axis],
+                            None => return Ok(None),
+                        }
+                    }
+                    None => return Ok(None),
+                },
+                // No local reading: the caller differentiates it along the path.
+                Reading::Energy => f64::NAN,
+            };
+            outputs.push(OutputDerivative {
+                derivative,
+                one_sided: false,
+            });
+        }
+        let outer_vertices = self.mark_one_sided(line, tangent, step, &changes, &mut outputs)?;
+        Ok(Some(ExactDerivatives {
+            outputs,
+            outer_vertices,
+        }))
+    }
+
+    /// Marks the peaks whose arg differs from the base's at `±2·step`: the candidates
+    /// the first-order bound leaves are evaluated there exactly; returns how many
+    /// vertex evaluations that took.
+    fn mark_one_sided(
+        &self,
+        line: &AffineLine<'_>,
+        tangent: &[f64],
+        step: f64,
+        changes: &[Vec<VertexSectional>],
+        outputs: &mut [OutputDerivative],
+    ) -> Result<usize, SystemError> {
+        let outer = 2.0 * step;
+        let rods = self.values.len();
+        // Per peak output: its rod and its candidates.
+        let mut peaks: Vec<(usize, usize, Quantity, Vec<usize>)> = Vec::new();
+        let mut wanted: Vec<Vec<usize>> = vec![Vec::new(); rods];
+        for (k, (reading, &arg)) in self.plan.readings.iter().zip(&self.plan.args).enumerate() {
+            let (rod, quantity) = match *reading {
+                Reading::Force { rod, .. } => (rod, Quantity::Force),
+                Reading::Moment { rod, .. } => (rod, Quantity::Moment),
+                Reading::BendRadius { rod, .. } => (rod, Quantity::BendRadius),
+                _ => continue,
+            };
+            let size = |j: usize| quantity.size(&self.values[rod][j]);
+            // Per vertex, the rate of its size and whether it is one (a zero size has
+            // only a bound of its growth).
+            let rate = |j: usize| quantity.rate(&self.values[rod][j], &changes[rod][j]);
+            let peak = size(arg);
+            let (peak_rate, _) = rate(arg);
+            let all_finite =
+                (0..self.values[rod].len()).all(|j| size(j).is_finite() && rate(j).0.is_finite());
+            let candidates: Vec<usize> = (0..self.values[rod].len())
+                .filter(|&j| {
+                    if !all_finite || j == arg {
+                        return true;
+                    }
+                    let (r, exact) = rate(j);
+                    let apart = if exact {
+                        (r - peak_rate).abs()
+                    } else {
+                        r.abs() + peak_rate.abs()
+                    };
+                    let second =
+                        SECOND_ORDER * (outer * r.abs().max(peak_rate.abs())).powi(2) / peak.abs();
+                    peak - size(j) <= 2.0 * outer * apart + second + PEAK_MARGIN * peak.abs()
+                })
+                .collect();
+            if candidates.len() > 1 {
+                wanted[rod].extend(&candidates);
+                peaks.push((k, rod, quantity, candidates));
+            }
+        }
+        if peaks.is_empty() {
+            return Ok(0);
+        }
+        for list in &mut wanted {
+            list.sort_unstable();
+            list.dedup();
+        }
+        let mut path = LocalPath::new(self.plan, line.clone(), self.base, tangent);
+        let mut evaluated = 0;
+        let mut sides = Vec::with_capacity(2);
+        for t in [outer, -outer] {
+            sides.push(path.sectional_at_vertices(t, &wanted)?);
+            evaluated += wanted.iter().map(Vec::len).sum::<usize>();
+        }
+        for (k, rod, quantity, candidates) in peaks {
+            let arg = self.plan.args[k];
+            for side in &sides {
+                let at = |j: usize| {
+                    let x = wanted[rod]
+                        .binary_search(&j)
+                        .expect("a candidate is wanted");
+                    &side[rod][x]
+                };
+                let found = match quantity {
+                    Quantity::Force => largest(candidates.iter().map(|&j| norm(&at(j).force))),
+                    Quantity::Moment => largest(candidates.iter().map(|&j| norm(&at(j).moment))),
+                    Quantity::BendRadius => {
+                        smallest(candidates.iter().map(|&j| super::radius(&at(j).curvature)))
+                    }
+                };
+                if candidates[found] != arg {
+                    outputs[k].one_sided = true;
+                }
+            }
+        }
+        Ok(evaluated)
+    }
+
+    /// Per rod, the tangent of the parameter whose design moves along `line` (state
+    /// part from `tangent`, model part from the line at `±step`, `±2·step`), and the
+    /// derivative of the loads a reaction subtracts at each end (`h̄ ρ_L g` and the dead
+    /// end load, N); `None` where the line turns a boundary frame or a body the
+    /// tangent does not carry holds an end.
+    #[allow(clippy::type_complexity)]
+    fn tangents(
+        &mut self,
+        line: &AffineLine<'_>,
+        tangent: &[f64],
+        step: f64,
+    ) -> Result<Option<(Vec<RodTangent>, Vec<[Vector3<f64>; 2]>)>, SystemError> {
+        let base_system = self.model.system();
+        let dofs = self.model.dofs();
+        // The model's part: the inputs at ±s, differenced (exact: they are affine, at
+        // most quadratic, along the line), of the rods whose inputs the line moves.
+        let system = &mut self.system;
+        let same_bodies = |a: &System| {
+            a.bodies.len() == base_system.bodies.len()
+                && a.bodies
+                    .iter()
+                    .zip(&base_system.bodies)
+                    .all(|(x, y)| x.pose == y.pose && x.ports == y.ports && x.fixed == y.fixed)
+        };
+        let mut sides: Vec<Vec<Option<RodInputs>>> = Vec::with_capacity(2);
+        for t in [step, -step] {
+            line.move_system(system, t)?;
+            let everything = system.gravity != base_system.gravity || !same_bodies(system);
+            let bodies = poses(system, &self.base.bodies);
+            sides.push(
+                (0..system.rods.len())
+                    .map(|r| {
+                        (everything || system.rods[r] != base_system.rods[r])
+                            .then(|| inputs(system, r, &bodies))
+                    })
+                    .collect(),
+            );
+        }
+        line.move_system(system, 0.0)?;
+        let mut tangents = Vec::with_capacity(base_system.rods.len());
+        let mut loads = Vec::with_capacity(base_system.rods.len());
+        for (r, spec) in base_system.rods.iter().enumerate() {
+            let d: Vec<f64> = match (&sides[0][r], &sides[1][r]) {
+                (Some(plus), Some(minus)) => {
+                    if plus.frames != self.frames[r] || minus.frames != self.frames[r] {
+                        return Ok(None);
+                    }
+                    plus.numbers
+                        .iter()
+                        .zip(&minus.numbers)
+                        .map(|(a, b)| (a - b) / (2.0 * step))
+                        .collect()
+                }
+                _ => vec![0.0; 3 * (2 * spec.rod.segments() + 9) + spec.rod.segments()],
+            };
+            let n = spec.rod.segments();
+            let mut rod = RodTangent::zero(n);
+            let mut at = 0;
+            let mut take3 = || {
+                let v = Vector3::new(d[at], d[at + 1], d[at + 2]);
+                at += 3;
+                v
+            };
+            let held = [take3(), take3()];
+            rod.end_loads = [take3(), take3()];
+            let reaction = [take3(), take3()];
+            rod.strain_stiffness = take3();
+            rod.curvature_stiffness = take3();
+            for e in 0..n {
+                rod.rest_strains[e] = take3();
+            }
+            for j in 0..=n {
+                rod.rest_curvatures[j] = take3();
+            }
+            rod.edge_lengths.copy_from_slice(&d[at..at + n]);
+            // The state's part.
+            for e in 0..n {
+                rod.frames[e] = block(tangent, dofs.edge(r, e));
+            }
+            for j in 0..=n {
+                rod.positions[j] = match dofs.vertex(r, j) {
+                    Some(b) => block(tangent, b),
+                    None => {
+                        let (end, k) = if j == 0 {
+                            (&spec.start, 0)
+                        } else {
+                            (&spec.end, 1)
+                        };
+                        match carried(
+                            base_system,
+                            end.support,
+                            j == n,
+                            tangent,
+                            dofs,
+                            &self.base.bodies,
+                        ) {
+                            Some((dr, _)) => dr + held[k],
+                            None => return Ok(None),
+                        }
+                    }
+                };
+            }
+            for (k, end) in [&spec.start, &spec.end].into_iter().enumerate() {
+                match carried(
+                    base_system,
+                    end.support,
+                    k == 1,
+                    tangent,
+                    dofs,
+                    &self.base.bodies,
+                ) {
+                    Some((_, omega)) => rod.boundary[k] = omega,
+                    None => return Ok(None),
+                }
+            }
+            tangents.push(rod);
+            loads.push(reaction);
+        }
+        Ok(Some((tangents, loads)))
+    }
+}
+
+/// Which sectional quantity a peak reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Quantity {
+    Force,
+    Moment,
+    BendRadius,
+}
+
+impl Quantity {
+    /// The size compared between vertices (largest wins): `|f̄|`, `|m|`, `|K_⊥|`.
+    fn size(self, s: &VertexSectional) -> f64 {
+        match self {
+            Self::Force => norm(&s.force),
+            Self::Moment => norm(&s.moment),
+            Self::BendRadius => s.curvature.x.hypot(s.curvature.y),
+        }
+    }
+
+    /// The rate of [`Quantity::size`] per unit at `value` along the change `d` of the
+    /// sectional quantities, and whether it is one: at a zero size, where the size
+    /// is not differentiable, a bound of its growth (`||a + b| − |a|| ≤ |b|`).
+    fn rate(self, value: &VertexSectional, d: &VertexSectional) -> (f64, bool) {
+        let (v, dv) = match self {
+            Self::Force => (value.force, d.force),
+            Self::Moment => (value.moment, d.moment),
+            Self::BendRadius => (
+                Vector3::new(value.curvature.x, value.curvature.y, 0.0),
+                Vector3::new(d.curvature.x, d.curvature.y, 0.0),
+            ),
+        };
+        let size = v.norm();
+        if size > 0.0 {
+            (v.dot(&dv) / size, true)
+        } else {
+            (dv.norm(), false)
+        }
+    }
+}
+
+fn norm(v: &Vector3<f64>) -> f64 {
+    super::norm(v)
+}
+
+/// The 3-vector of block `b` of `x`.
+fn block(x: &[f64], b: usize) -> Vector3<f64> {
+    Vector3::new(x[3 * b], x[3 * b + 1], x[3 * b + 2])
+}
+
+/// The base poses with the fixed bodies' poses of `system` (the model's part of a
+/// body's pose: a fixed body is placed by the model).
+fn poses(system: &System, base: &[Pose]) -> Vec<Pose> {
+    base.iter()
+        .zip(&system.bodies)
+        .map(|(pose, spec)| if spec.fixed { spec.pose } else { *pose })
+        .collect()
+}
+
+/// The numbers of rod `r` of `system` that a parameter's line may move (the held
+/// vertices' positions, the lumped end loads, the loads a reaction subtracts, the
+/// stiffnesses, rest strains and curvatures, edge lengths, in this order) and its
+/// boundary frames, with the bodies at `bodies`.
+fn inputs(system: &System, r: usize, bodies: &[Pose]) -> RodInputs {
+    let spec = &system.rods[r];
+    let rod = &spec.rod;
+    let n = rod.segments();
+    let boundary: BoundaryFrames = system.ends_boundary(r, bodies);
+    let mut numbers = Vec::with_capacity(3 * (2 * n + 9) + n);
+    let mut push = |v: &Vector3<f64>| numbers.extend_from_slice(v.as_slice());
+    for (end, at_end) in [(&spec.start, false), (&spec.end, true)] {
+        push(
+            &system
+                .end_placement(end, at_end, bodies)
+                .0
+                .unwrap_or_default(),
+        );
+    }
+    push(&boundary.end_loads[0]);
+    push(&boundary.end_loads[1]);
+    for (end, vertex) in [(&spec.start, 0), (&spec.end, n)] {
+        push(&(rod.vertex_mass(vertex) * system.gravity + end.load.force));
+    }
+    push(&rod.section().strain_stiffness());
+    push(&rod.section().curvature_stiffness());
+    for e in 0..n {
+        push(rod.rest_strain(e));
+    }
+    for j in 0..=n {
+        push(rod.rest_curvature(j));
+    }
+    numbers.extend_from_slice(rod.edge_lengths());
+    RodInputs {
+        numbers,
+        frames: [boundary.start, boundary.end],
+    }
+}
+
+/// The state's part of a held end's motion (`dr`, m, and the material increment of
+/// its boundary frame, rad, per unit of the parameter) for the support `support` at
+/// the rod's end (`at_end`) or start: zero on a connector or a fixed body, the body's
+/// motion on a free body's port; `None` for a body that is neither.
+fn carried(
+    system: &System,
+    support: Support,
+    at_end: bool,
+    tangent: &[f64],
+    dofs: &strand_system::Dofs,
+    bodies: &[Pose],
+) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    match support {
+        Support::Port { body, port, .. } => match dofs.body(body.0) {
+            Some((translation, rotation)) => {
+                let omega = block(tangent, rotation);
+                let pose = &bodies[body.0];
+                let lever =
+                    pose.orientation * omega.cross(&system.bodies[body.0].ports[port].position);
+                let offset = system.port_offset(body, port, at_end);
+                Some((
+                    block(tangent, translation) + lever,
+                    offset.inverse_transform_vector(&omega),
+                ))
+            }
+            None if system.bodies[body.0].fixed => Some((Vector3::zeros(), Vector3::zeros())),
+            None => None,
+        },
+        _ => Some((Vector3::zeros(), Vector3::zeros())),
+    }
+}
