@@ -214,11 +214,7 @@ impl SectionalLinearisation {
     /// The change of vertex `j`'s curvature `K` (1/m) and of its element's gradient
     /// `Jᵀ M` taken along the moving frames (each block in its own frame's chart at
     /// the moved point), with the increments `omega`; `None` without a curvature term.
-    fn vertex_changes(
-        &self,
-        j: usize,
-        tangent: &RodTangent,
-    ) -> Option<(&VertexBase, SVector<f64, 6>, Vector3<f64>, SVector<f64, 6>)> {
+    fn vertex_changes(&self, j: usize, tangent: &RodTangent) -> Option<VertexChanges<'_>> {
         let v = self.vertices[j].as_ref()?;
         let (omega, d_weight) = self.vertex_increments(j, tangent);
         let w = self.weights[j];
@@ -239,7 +235,12 @@ impl SectionalLinearisation {
             let mut rows = d_gradient.fixed_rows_mut::<3>(block);
             rows += correction;
         }
-        Some((v, omega, d_curvature, d_gradient))
+        Some(VertexChanges {
+            base: v,
+            omega,
+            d_curvature,
+            d_gradient,
+        })
     }
 
     /// The base sectional quantities of vertex `j` and their change along `tangent`
@@ -300,7 +301,12 @@ impl SectionalLinearisation {
             d_force -= tangent.end_loads[1];
         }
         let (moment, d_moment, curvature, d_curvature) = match self.vertex_changes(j, tangent) {
-            Some((v, omega, d_curvature, d_gradient)) => {
+            Some(VertexChanges {
+                base: v,
+                omega,
+                d_curvature,
+                d_gradient,
+            }) => {
                 let g_b: Vector3<f64> = v.gradient.fixed_rows::<3>(3).into_owned();
                 let dg_b: Vector3<f64> = d_gradient.fixed_rows::<3>(3).into_owned();
                 let w_b: Vector3<f64> = omega.fixed_rows::<3>(3).into_owned();
@@ -345,7 +351,12 @@ impl SectionalLinearisation {
         };
         let (f, df) = self.edge_force(edge, tangent);
         let (moment, d_moment) = match self.vertex_changes(vertex, tangent) {
-            Some((v, omega, _, d_gradient)) => {
+            Some(VertexChanges {
+                base: v,
+                omega,
+                d_gradient,
+                ..
+            }) => {
                 let (block, rotation) = if at_end {
                     (3, &v.rotation_b)
                 } else {
@@ -369,6 +380,18 @@ impl SectionalLinearisation {
             },
         )
     }
+}
+
+/// What [`SectionalLinearisation::vertex_changes`] gives for one vertex.
+struct VertexChanges<'a> {
+    /// The vertex's base quantities.
+    base: &'a VertexBase,
+    /// The increments of the frames either side (two blocks of 3, rad per unit).
+    omega: SVector<f64, 6>,
+    /// The change of the curvature `K`, 1/m per unit.
+    d_curvature: Vector3<f64>,
+    /// The change of the element's gradient `Jᵀ M` along the moving frames.
+    d_gradient: SVector<f64, 6>,
 }
 
 #[cfg(test)]

@@ -14,16 +14,20 @@ const STIFFNESS: [f64; 4] = [2e5, 8e4, 0.3, 0.2];
 /// Their change per unit of the tangent.
 const D_STIFFNESS: [f64; 4] = [3e4, -1e4, 0.05, 0.02];
 
-/// A bent, twisted and stretched rod with uneven edges and rest curvature, its
-/// boundary frames and end loads, and a tangent that moves everything.
-fn configuration() -> (
+/// Edge lengths (m), rest strains and curvatures, state, boundary frames and tangent of
+/// [`configuration`].
+type Configuration = (
     Vec<f64>,
     Vec<Vector3<f64>>,
     Vec<Vector3<f64>>,
     RodState,
     BoundaryFrames,
     RodTangent,
-) {
+);
+
+/// A bent, twisted and stretched rod with uneven edges and rest curvature, its
+/// boundary frames and end loads, and a tangent that moves everything.
+fn configuration() -> Configuration {
     let n = 7;
     let lengths: Vec<f64> = (0..n).map(|e| 0.05 + 0.01 * e as f64).collect();
     let strains: Vec<Vector3<f64>> = (0..n)
@@ -81,17 +85,7 @@ fn configuration() -> (
 }
 
 /// The rod, state and boundary moved by `t` along `tangent`.
-fn moved(
-    base: &(
-        Vec<f64>,
-        Vec<Vector3<f64>>,
-        Vec<Vector3<f64>>,
-        RodState,
-        BoundaryFrames,
-        RodTangent,
-    ),
-    t: f64,
-) -> (Rod, RodState, BoundaryFrames) {
+fn moved(base: &Configuration, t: f64) -> (Rod, RodState, BoundaryFrames) {
     let (lengths, strains, curvatures, state, boundary, tangent) = base;
     let s = |k: usize| STIFFNESS[k] + t * D_STIFFNESS[k];
     let section = Section::try_explicit(s(0), s(1), s(2), s(3), 0.1, 0.005).unwrap();
