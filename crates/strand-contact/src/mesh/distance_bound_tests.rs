@@ -1,5 +1,5 @@
 //! [`ObstacleMesh::segment_distance_bound`] against references: the grid floor of a scan
-//! of every triangle's exact distance bit for bit, between 5/6 of the exact distance of
+//! of every triangle's exact distance bit for bit, between 15/16 of the exact distance of
 //! [`ObstacleMesh::segment_proximity`] and that distance, the same bound for the same
 //! geometry in meshes whose trees differ, and the work at two densities of a floor.
 
@@ -15,12 +15,12 @@ use super::work::{QueryWork, query_work};
 use crate::ObstacleMesh;
 
 #[test]
-fn the_grid_floor_is_a_lower_bound_within_a_sixth() {
+fn the_grid_floor_is_a_lower_bound_within_a_sixteenth() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     for _ in 0..100_000 {
         let d = 10f64.powf(rng.random_range(-12.0..3.0));
         let floor = distance_grid_floor(d);
-        assert!(floor <= d && floor > d * 2f64.powf(-0.25), "{d} -> {floor}");
+        assert!(floor <= d && floor > d * 15.0 / 16.0, "{d} -> {floor}");
         // A grid point is its own floor, and the floor is monotone.
         assert_eq!(distance_grid_floor(floor), floor);
         let e = d * rng.random_range(1.0..1.2);
@@ -28,11 +28,11 @@ fn the_grid_floor_is_a_lower_bound_within_a_sixth() {
     }
     assert_eq!(distance_grid_floor(0.0), 0.0);
     assert_eq!(distance_grid_floor(1.0), 1.0);
-    // 2^(1/4) = 1.18920…, 2^(3/4) = 1.68179…
-    assert_eq!(distance_grid_floor(1.1892), 1.0);
-    assert_eq!(distance_grid_floor(1.1893), 2f64.powf(0.25));
-    assert_eq!(distance_grid_floor(0.99), 0.5 * 2f64.powf(0.75));
-    assert_eq!(distance_grid_floor(3.0), 2.0 * 2f64.powf(0.5));
+    // 2^(1/12) = 1.05946…, 2^(11/12) = 1.88775…
+    assert_eq!(distance_grid_floor(1.0594), 1.0);
+    assert_eq!(distance_grid_floor(1.0595), 2f64.powf(1.0 / 12.0));
+    assert_eq!(distance_grid_floor(0.99), 0.5 * 2f64.powf(11.0 / 12.0));
+    assert_eq!(distance_grid_floor(3.0), 2.0 * 2f64.powf(7.0 / 12.0));
     assert_eq!(distance_grid_floor(f64::INFINITY), f64::INFINITY);
 }
 
@@ -68,7 +68,7 @@ fn the_bound_is_the_grid_floor_of_every_triangles_distance_bit_for_bit() {
                 hinted += 1;
             }
             // Against the exact nearest point: found within the same reach, never
-            // above its distance, never below 5/6 of it (to within rounding).
+            // above its distance, never below 15/16 of it (to within rounding).
             let exact = mesh.segment_proximity(&a, &b, reach);
             assert_eq!(bound.is_some(), exact.is_some(), "{a} {b} {reach}");
             if let (Some(bound), Some(exact)) = (bound, exact) {
@@ -76,8 +76,8 @@ fn the_bound_is_the_grid_floor_of_every_triangles_distance_bit_for_bit() {
                 let rounding = 1e-12 * (1.0 + d);
                 assert!(bound <= d + rounding, "{bound} above {d}");
                 assert!(
-                    bound >= 2f64.powf(-0.25) * d - rounding,
-                    "{bound} below 2^(-1/4) of {d}"
+                    bound >= 15.0 / 16.0 * d - rounding,
+                    "{bound} below 15/16 of {d}"
                 );
                 found += 1;
             }

@@ -167,7 +167,7 @@ impl Contact {
     /// which this excludes.
     ///
     /// The distances are lower bounds (`ObstacleMesh::segment_distance_bound`, at
-    /// least 5/6 of the exact distance): the test `move < d₀ + d₁` with bounds below
+    /// least 15/16 of the exact distance): the test `move < d₀ + d₁` with bounds below
     /// `d₀` and `d₁` implies it with the exact distances, so a sample found clear is
     /// clear and the step never lets a centreline cross a surface; the bound only makes
     /// the samples a little shorter than the exact distances would (and costs a
@@ -189,7 +189,7 @@ impl Contact {
             .map(|r| r.rod.section().outer_radius)
             .collect();
         // A lower bound of the centreline distance of every moving edge at the move's
-        // multiple `t` (`ObstacleMesh::segment_distance_bound`: above 5/6 of it,
+        // multiple `t` (`ObstacleMesh::segment_distance_bound`: above 15/16 of it,
         // and a function of the distance alone, so identical geometry gets identical
         // limits whatever else the scene holds), looked for up to the edge's remaining
         // move to `t_end` (farther does not limit it), m. Each search starts from the
