@@ -198,6 +198,59 @@ mod tests {
     }
 
     #[test]
+    fn a_step_may_not_carry_a_touching_row_into_violation_by_a_fraction_of_its_approach() {
+        let step = [1.0];
+        // Touching, approached by 3e-12 m: cut by all of it (far below 1e-10 m).
+        assert_eq!(
+            violation_by(&row(0, 0.0, vec![(0, -3e-12)]), &step),
+            Some(-3e-12)
+        );
+        // Open by 1e-12 m, approached by 2e-12 m: cut by half the approach.
+        assert!(violation_by(&row(0, 1e-12, vec![(0, -2e-12)]), &step).is_some());
+        // Approached by 1 m and cut by 1e-12 m (1e-12 of the approach): tolerated.
+        assert_eq!(
+            violation_by(&row(0, 1.0 - 1e-12, vec![(0, -1.0)]), &step),
+            None
+        );
+        // Violated by 5e-11 m without approach (round-off of the value): tolerated.
+        assert_eq!(violation_by(&row(0, -5e-11, vec![(0, 0.0)]), &step), None);
+        // An approach of round-off (1e-16 m): not judged.
+        assert_eq!(
+            violation_by(&row(0, -5e-17, vec![(0, -1e-16)]), &step),
+            None
+        );
+        // Beyond 1e-10 m: violated, however long the approach.
+        assert!(violation_by(&row(0, 1.0, vec![(0, -1.0 - 2e-10)]), &step).is_some());
+        // Opened: never.
+        assert_eq!(violation_by(&row(0, 0.0, vec![(0, 1e-12)]), &step), None);
+    }
+
+    #[test]
+    fn the_step_holds_a_touching_row_it_would_cut_by_a_picometre() {
+        // g = (−2, 8, −3), free minimiser (1, −2, 3). The row 1e-12 − 2e-12 d0 ≥ 0 is cut
+        // by 1e-12 at the Newton step (within 1e-10 m, which alone let it through):
+        // held, d0 = 0.5.
+        let (pattern, values, mut cholesky) = diagonal_problem();
+        let gradient = [-2.0, 8.0, -3.0];
+        let newton = [1.0, -2.0, 3.0];
+        let rows = [row(0, 1e-12, vec![(0, -2e-12)])];
+        let result = constrained_step(
+            &pattern,
+            &values,
+            &mut cholesky,
+            &gradient,
+            &rows,
+            &newton,
+            &[],
+        )
+        .unwrap();
+        assert!((result.step[0] - 0.5).abs() < 1e-12, "{:?}", result.step);
+        assert!((result.step[1] + 2.0).abs() < 1e-12 && (result.step[2] - 3.0).abs() < 1e-12);
+        assert!(rows[0].linearised(&result.step) >= -1e-24);
+        assert!(result.multipliers[0] > 0.0);
+    }
+
+    #[test]
     fn active_rows_are_met_exactly_with_their_multipliers() {
         // g = (−2, 8, −3): the free minimiser is (1, −2, 3). Rows: 0.5 + d1 ≥ 0 (active:
         // 4 d1 + 8 = λ0 at d1 = −0.5, λ0 = 6), 1 − d0 − d2 ≥ 0 (active: 2 d0 − 2 = −λ1,
