@@ -374,6 +374,28 @@ fn hose_over_finely_faceted_drums_iterations() {
     }
 }
 
+/// The hose over a 256-facet drum (1.2 mm faces) converges about as fast as over the
+/// 32-facet one: its coarse edges come to lie on faces, and before the next ridges of
+/// a narrow face were rows of their own (`LocalContact::near_tie`) every step that
+/// turned an edge past the face cut into its far ridge at first order, so the trust
+/// region crept towards the face for 20 iterations (39 in all; 20 with them).
+#[test]
+fn hose_over_a_256_facet_drum_converges_without_creeping_onto_faces() {
+    let drum = hose_over_faceted_drum(160, 256);
+    assert!(drum.iterations <= 22, "{} iterations", drum.iterations);
+}
+
+/// The hose over the 94,500-facet drum (378,000 triangles, 3.3 µm faces) converges in
+/// about as many iterations as over the 32-facet one (12). Before, its coarse stage
+/// stopped twice at its 40-iteration limit (112 in all): a Newton step of nanometres
+/// cut a nearly tied ridge's row by 1e-12 m, within the 1e-10 m the exact QP step
+/// tolerated, and the exact penalty rejected every trial for it (`sqp::violation_by`).
+#[test]
+fn hose_over_a_94500_facet_drum_converges_in_about_as_many_iterations_as_a_coarse_one() {
+    let drum = hose_over_faceted_drum(160, 94_500);
+    assert!(drum.iterations <= 23, "{} iterations", drum.iterations);
+}
+
 #[test]
 fn two_hoses_pressed_across_each_other_touch_once_with_balancing_forces() {
     let radius = 0.008;

@@ -186,3 +186,55 @@ fn a_tessellated_plane_and_a_convex_ridge_give_one_contact() {
     let contacts = roof.local_contacts(&p, &p, 0.05);
     assert_eq!(contacts.len(), 1, "{contacts:?}");
 }
+
+/// Seven facets of a drum of radius `radius` (m) along y, facet angle `alpha` (rad),
+/// the ridge at angle 0 on top (x = 0, z = radius); ridge `i` at angle `i·alpha` from
+/// the top towards +x.
+fn drum_facets(radius: f64, alpha: f64) -> ObstacleMesh {
+    let mut mesh: (Vec<P>, Vec<[u32; 3]>) = (Vec::new(), Vec::new());
+    for i in -4..=4 {
+        let t = i as f64 * alpha;
+        let (x, z) = (radius * t.sin(), radius * t.cos());
+        mesh.0.push(P::new(x, -0.1, z));
+        mesh.0.push(P::new(x, 0.1, z));
+    }
+    for k in 0..8u32 {
+        let (a, b, c, d) = (2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3);
+        mesh.1.push([a, c, d]);
+        mesh.1.push([a, d, b]);
+    }
+    ObstacleMesh::try_from_triangles("drum facets", mesh.0, &mesh.1).unwrap()
+}
+
+#[test]
+fn a_segment_nearly_lying_on_a_narrow_face_is_nearly_tied_with_the_next_ridge() {
+    let (radius, alpha) = (0.05, 1e-3);
+    let mesh = drum_facets(radius, alpha);
+    let ridge = |i: f64| P::new(radius * (i * alpha).sin(), 0.0, radius * (i * alpha).cos());
+    // A segment 5 mm above the top ridge, turned `epsilon` less steeply than the face
+    // between ridges 0 and 1: nearest at ridge 0; ridge 1 is `epsilon` times the face
+    // width (50 µm) farther.
+    for (epsilon, tied) in [(1e-6, true), (1e-4, false)] {
+        let phi = -(0.5 * alpha - epsilon);
+        let direction = V::new(phi.cos(), 0.0, phi.sin());
+        let centre = P::new(0.0, 0.0, radius + 0.005);
+        let (p0, p1) = (centre - 0.01 * direction, centre + 0.01 * direction);
+        let contacts = mesh.local_contacts(&p0, &p1, 0.01);
+        assert_eq!(contacts.len(), 1, "{contacts:?}");
+        let c = &contacts[0];
+        let foot = |q: P| (q - p0).dot(&(p1 - p0)) / (p1 - p0).norm_squared();
+        // The nearest point: ridge 0, no stretch.
+        assert!((c.proximity.s - foot(ridge(0.0))).abs() < 1e-9, "{c:?}");
+        let [tie_low, tie_high] = c.proximity.tie;
+        assert!(tie_high - tie_low < 1e-12, "{c:?}");
+        let [low, high] = c.near_tie;
+        assert!((low - c.proximity.s).abs() < 1e-12, "{c:?}");
+        if tied {
+            // 5e-11 m farther: nearly tied, the stretch reaches ridge 1.
+            assert!((high - foot(ridge(1.0))).abs() < 1e-9, "{c:?}");
+        } else {
+            // 5e-9 m farther: not tied.
+            assert!((high - c.proximity.s).abs() < 1e-12, "{c:?}");
+        }
+    }
+}

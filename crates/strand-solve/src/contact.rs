@@ -36,7 +36,8 @@ pub use proximity_cache::ProximitySettings;
 
 /// What tells the gaps of one rod feature (vertex or edge) against one obstacle
 /// apart, for the row keys: the mesh's smooth patch (0 for a rod) and which end of a
-/// stretch of nearest points on an edge (0: not a stretch end; 1: low; 2: high); and
+/// stretch of nearest points on an edge (0: not a stretch end; 1: low; 2: high; 3, 4:
+/// the low and high ends of its nearly tied stretch); and
 /// the obstacle feature of the nearest point (for the gap's curvature, not the key).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Tag {

@@ -28,7 +28,18 @@ pub struct LocalContact {
     /// The nearest point of the patch (as [`ObstacleMesh::segment_proximity`] gives
     /// for the whole mesh; `tie` spans the patch's stretch of nearest points).
     pub proximity: Proximity,
+    /// The segment parameters `[low, high]` spanned by the patch's nearest points of
+    /// its triangles that lie within [`NEAR_TIE_FRACTION`] of the search's guard (about
+    /// 1e-9 m) of the patch's nearest distance: the nearly tied stretch. It contains
+    /// `proximity.tie`; on a finely faceted convex surface it reaches the next ridges
+    /// that a small turn of the segment would bring into contact.
+    pub near_tie: [f64; 2],
 }
+
+/// Fraction of the guard of the near scan ([`near_guard`], m) within which a triangle's
+/// nearest point counts as nearly tied with the patch's nearest ([`LocalContact`]'s
+/// `near_tie`). Below 1, every such triangle is tested exactly, never deferred.
+pub const NEAR_TIE_FRACTION: f64 = 0.5;
 
 impl ObstacleMesh {
     /// The local contacts of segment `[p0, p1]` (m) within `max_distance` (m), nearest
@@ -126,6 +137,15 @@ impl ObstacleMesh {
             );
             let (low, high) = (low.max(0.0), high.min(1.0));
             proximity.tie = [low, high];
+            let near_limit = (best.squared.sqrt() + near_tie_distance(guard)).powi(2);
+            let near_tie = candidates
+                .iter()
+                .filter(|c| c.squared <= near_limit)
+                .fold([low, high], |[l, h], c| {
+                    let half = 0.5 * c.interval;
+                    [l.min(c.value.0 - half), h.max(c.value.0 + half)]
+                })
+                .map(|s| s.clamp(0.0, 1.0));
             if high - low > best.interval * (1.0 + 1e-9) {
                 // Its midpoint, as `segment_proximity` does for the whole mesh.
                 let s = 0.5 * (low + high);
@@ -164,7 +184,11 @@ impl ObstacleMesh {
                     && (k.point_on_segment - proximity.point_on_segment).norm() <= SAME_POINT * size
             });
             if !duplicate {
-                out.push(LocalContact { patch, proximity });
+                out.push(LocalContact {
+                    patch,
+                    proximity,
+                    near_tie,
+                });
             }
         }
         out.sort_by(|a, b| {
@@ -207,6 +231,12 @@ impl ObstacleMesh {
             other.squared.sqrt() >= distance - tolerance
         })
     }
+}
+
+/// The distance (m) within which a triangle's nearest point is nearly tied with its
+/// patch's nearest, for a near scan of guard `guard` (m).
+fn near_tie_distance(guard: f64) -> f64 {
+    NEAR_TIE_FRACTION * guard
 }
 
 /// A triangle within this distance (relative to `1 + distance`, m) of a mesh point

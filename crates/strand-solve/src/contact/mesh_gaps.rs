@@ -21,7 +21,11 @@ impl Contact {
     /// corner, one for a tessellated floor). An edge adds a gap of its own on a patch
     /// only where its nearest point on that patch lies strictly inside it and nearer
     /// than both its vertices (the edge crosses a convex feature), or at the inner ends
-    /// of a stretch lying along the patch.
+    /// of a stretch lying along the patch; where it crosses the patch, also at the ends
+    /// of its nearly tied stretch (`LocalContact::near_tie`: the next ridges of a finely
+    /// faceted surface, within about 1e-9 m of its nearest distance, which a small turn
+    /// of the edge brings into contact at first order: without them the hose over a
+    /// 256-facet drum crept towards lying on a face for 20 iterations).
     ///
     /// With `lists` each feature looks only at its kept candidate triangles
     /// (incremental proximity, [`super::proximity_cache`]; the same gaps as a full
@@ -125,7 +129,12 @@ impl Contact {
                 let interior = near.s > 0.0 && near.s < 1.0;
                 let nearer = near.distance + band
                     < distance_to(edge, patch).min(distance_to(edge + 1, patch));
-                let points: Vec<(f64, u8)> = if high - low > 1e-9 {
+                // Where the edge crosses the patch (its nearest points strictly inside
+                // it), the ends of the nearly tied stretch hold it too: the next ridges
+                // of a finely faceted surface, which a small turn of the edge brings
+                // into contact at first order.
+                let [near_low, near_high] = contact.near_tie;
+                let mut points: Vec<(f64, u8)> = if high - low > 1e-9 {
                     [(low, 1), (high, 2)]
                         .into_iter()
                         .filter(|(s, _)| *s > 0.0 && *s < 1.0)
@@ -135,6 +144,15 @@ impl Contact {
                 } else {
                     vec![]
                 };
+                let crossing = low > 0.0 && high < 1.0 && (high - low > 1e-9 || nearer);
+                if crossing {
+                    if low - near_low > 1e-9 && near_low > 0.0 {
+                        points.push((near_low, 3));
+                    }
+                    if near_high - high > 1e-9 && near_high < 1.0 {
+                        points.push((near_high, 4));
+                    }
+                }
                 for (s, end) in points {
                     // The point's own contact on the patch (exact for a point).
                     let point = a + (b - a) * s;

@@ -20,7 +20,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::groups::RowGroups;
 use super::kkt::KktInput;
-use super::{ConstrainedStep, FEASIBILITY};
+use super::{ConstrainedStep, violation_by};
 use crate::SparseCholesky;
 use crate::constraints::Row;
 
@@ -288,8 +288,7 @@ impl Pass<'_> {
         let active = &state.active;
         let violated = (self.group_rows.iter().copied())
             .filter(|i| active.binary_search(i).is_err())
-            .map(|i| (i, rows[i].linearised(step)))
-            .filter(|(_, v)| *v < -FEASIBILITY)
+            .filter_map(|i| violation_by(&rows[i], step).map(|v| (i, v)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((i, _)) = violated {
             let at = state.active.binary_search(&i).unwrap_err();
