@@ -29,3 +29,5 @@ pub mod so3;
 pub use nominal::{NominalError, NominalRod, NominalShape};
 pub use rod::{Rod, RodError, RodState};
 pub use section::{Section, SectionError, TubeMaterial};
+#[cfg(test)]
+mod test_rods;

@@ -94,27 +94,9 @@ mod tests {
             .map(|j| Vector3::new(0.3, -0.1 * j as f64, 0.05))
             .collect();
         let rod = Rod::try_new(section, lengths.clone(), strains, curvatures).unwrap();
-        let frames: Vec<UnitQuaternion<f64>> = (0..n)
-            .map(|e| {
-                let s = e as f64;
-                UnitQuaternion::from_scaled_axis(Vector3::new(0.2 * s, 0.1 * s * s, 0.3 - 0.05 * s))
-            })
-            .collect();
-        let mut positions = vec![Vector3::new(0.01, -0.02, 0.03)];
-        for (e, q) in frames.iter().enumerate() {
-            // Stretched by 1 % and sheared a little off each frame's axis.
-            let step = q * Vector3::new(0.003, -0.002, 1.01) * lengths[e];
-            positions.push(positions[e] + step);
-        }
-        let state = RodState::new(positions, frames);
-        let boundary = BoundaryFrames {
-            start: Some(UnitQuaternion::from_scaled_axis(Vector3::new(
-                -0.1, 0.05, 0.2,
-            ))),
-            end: Some(UnitQuaternion::from_scaled_axis(Vector3::new(
-                1.4, 0.6, -0.3,
-            ))),
-            clips: vec![
+        let state = crate::test_rods::bent_twisted_state(&lengths);
+        let boundary = crate::test_rods::turned_ends(
+            vec![
                 (
                     4,
                     UnitQuaternion::from_scaled_axis(Vector3::new(0.7, 0.2, 0.1)),
@@ -128,8 +110,8 @@ mod tests {
                     UnitQuaternion::from_scaled_axis(Vector3::new(-0.5, 0.0, 0.4)),
                 ),
             ],
-            end_loads: [Vector3::new(1.0, -2.0, 0.5), Vector3::new(-0.3, 0.2, 4.0)],
-        };
+            [Vector3::new(1.0, -2.0, 0.5), Vector3::new(-0.3, 0.2, 4.0)],
+        );
         (rod, state, boundary)
     }
 

@@ -36,28 +36,11 @@ fn configuration() -> Configuration {
     let curvatures: Vec<Vector3<f64>> = (0..=n)
         .map(|j| Vector3::new(0.3, -0.1 * j as f64, 0.05))
         .collect();
-    let frames: Vec<UnitQuaternion<f64>> = (0..n)
-        .map(|e| {
-            let s = e as f64;
-            UnitQuaternion::from_scaled_axis(Vector3::new(0.2 * s, 0.1 * s * s, 0.3 - 0.05 * s))
-        })
-        .collect();
-    let mut positions = vec![Vector3::new(0.01, -0.02, 0.03)];
-    for (e, q) in frames.iter().enumerate() {
-        let step = q * Vector3::new(0.003, -0.002, 1.01) * lengths[e];
-        positions.push(positions[e] + step);
-    }
-    let state = RodState::new(positions, frames);
-    let boundary = BoundaryFrames {
-        start: Some(UnitQuaternion::from_scaled_axis(Vector3::new(
-            -0.1, 0.05, 0.2,
-        ))),
-        end: Some(UnitQuaternion::from_scaled_axis(Vector3::new(
-            1.4, 0.6, -0.3,
-        ))),
-        clips: Vec::new(),
-        end_loads: [Vector3::new(1.0, -2.0, 0.5), Vector3::new(-0.3, 0.2, 4.0)],
-    };
+    let state = crate::test_rods::bent_twisted_state(&lengths);
+    let boundary = crate::test_rods::turned_ends(
+        Vec::new(),
+        [Vector3::new(1.0, -2.0, 0.5), Vector3::new(-0.3, 0.2, 4.0)],
+    );
     let wave = |k: usize, a: f64| (a * (k as f64 + 1.0)).sin();
     let tangent = RodTangent {
         positions: (0..=n)
