@@ -18,6 +18,9 @@ mod advance;
 mod curvature;
 mod exclusion;
 mod mesh_gaps;
+mod mesh_path;
+#[cfg(test)]
+mod mesh_path_tests;
 mod nearby;
 mod proximity_cache;
 #[cfg(test)]

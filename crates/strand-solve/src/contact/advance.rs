@@ -15,6 +15,7 @@ use strand_contact::Obstacle;
 use strand_system::{Model, SystemState};
 
 use super::exclusion::Exclusion;
+use super::mesh_path::MeshPath;
 use super::{Contact, centrelines, describe_error, rod_geometries};
 use crate::constraints::ConstraintError;
 
@@ -171,7 +172,9 @@ impl Contact {
     /// `d₀` and `d₁` implies it with the exact distances, so a sample found clear is
     /// clear and the step never lets a centreline cross a surface; the bound only makes
     /// the samples a little shorter than the exact distances would (and costs a
-    /// fraction of an exact nearest-point search on a fine mesh).
+    /// fraction of an exact nearest-point search on a fine mesh). Each is looked for
+    /// only as far as the stride and the fit need it ([`MeshPath`]), with the same
+    /// result as looking for every one within the edge's whole remaining move.
     fn mesh_advancement(
         &self,
         model: &Model,
@@ -188,97 +191,7 @@ impl Contact {
             .iter()
             .map(|r| r.rod.section().outer_radius)
             .collect();
-        // A lower bound of the centreline distance of every moving edge at the move's
-        // multiple `t` (`ObstacleMesh::segment_distance_bound`: above 15/16 of it,
-        // and a function of the distance alone, so identical geometry gets identical
-        // limits whatever else the scene holds), looked for up to the edge's remaining
-        // move to `t_end` (farther does not limit it), m. Each search starts from the
-        // nearest triangle the edge's last search of that mesh tested (`hints`, per rod
-        // edge and mesh), which prunes it from the start and does not change the bound.
-        let mesh_count = self.meshes.len();
-        let mut hints: Vec<Vec<Option<usize>>> = moves
-            .iter()
-            .map(|edges| vec![None; edges.len() * mesh_count])
-            .collect();
-        let mut distances = |t: f64, t_end: f64| -> Vec<Vec<f64>> {
-            centrelines
-                .iter()
-                .zip(deltas)
-                .zip(moves)
-                .zip(&mut hints)
-                .map(|(((vertices, delta), edges), hints)| {
-                    let shifted: Vec<Point3<f64>> =
-                        vertices.iter().zip(delta).map(|(v, d)| v + t * d).collect();
-                    let farthest = edges.iter().copied().fold(0.0, f64::max);
-                    let near =
-                        self.meshes_near(&shifted, farthest * (t_end - t) + f64::MIN_POSITIVE);
-                    edges
-                        .iter()
-                        .enumerate()
-                        .map(|(edge, &moved)| {
-                            let reach = moved * (t_end - t) + f64::MIN_POSITIVE;
-                            let (a, b) = (&shifted[edge], &shifted[edge + 1]);
-                            let mut distance = reach;
-                            for &index in &near {
-                                super::nearby::count_mesh_pair();
-                                let hint = &mut hints[edge * mesh_count + index];
-                                let found = self.meshes[index]
-                                    .segment_distance_bound_from(a, b, reach, *hint);
-                                if let Some(found) = found {
-                                    *hint = Some(found.nearest_tested);
-                                    distance = distance.min(found.bound);
-                                }
-                            }
-                            distance
-                        })
-                        .collect()
-                })
-                .collect()
-        };
-        let end = PATH_SAMPLES as f64;
-        let mut t = 0.0;
-        let mut here = distances(0.0, end);
-        for _ in 0..PATH_SAMPLES {
-            // The next sample: every edge moves by at most `PATH_STRIDE` of its
-            // distance (and, in contact, of its radius), then checked against the
-            // distance found there.
-            let mut stride = f64::INFINITY;
-            for (rod, (edges, near)) in moves.iter().zip(&here).enumerate() {
-                for (&moved, &d) in edges.iter().zip(near) {
-                    if moved > 0.0 {
-                        stride = stride.min(PATH_STRIDE * d.max(radii[rod]) / moved);
-                    }
-                }
-            }
-            let mut next = (t + stride).min(end);
-            let mut there = distances(next, end);
-            // Shorten the stride until every edge's move fits between the distances.
-            let fits =
-                |next: f64, there: &[Vec<f64>]| {
-                    moves.iter().zip(&here).zip(there).zip(&radii).all(
-                        |(((edges, a), b), &radius)| {
-                            edges.iter().zip(a).zip(b).all(|((&moved, &d0), &d1)| {
-                                moved == 0.0 || (next - t) * moved < path_room(d0, d1, radius)
-                            })
-                        },
-                    )
-                };
-            let mut tries = 0;
-            while !fits(next, &there) {
-                tries += 1;
-                if tries > 4 {
-                    return t.max(f64::MIN_POSITIVE);
-                }
-                next = t + 0.5 * (next - t);
-                there = distances(next, end);
-            }
-            t = next;
-            here = there;
-            if t >= 1.0 {
-                break;
-            }
-        }
-        t
+        MeshPath::new(self, centrelines, deltas, moves, radii).advance()
     }
 }
 
@@ -290,7 +203,7 @@ impl Contact {
 /// the surface but no further, so a trial cannot leave a centreline on a surface (a
 /// tube sunk through its whole radius), from where no later move fits (`d0 = 0`); an
 /// edge already deeper may at most halve its distance per step (continuous in `d0`).
-fn path_room(d0: f64, d1: f64, radius: f64) -> f64 {
+pub(super) fn path_room(d0: f64, d1: f64, radius: f64) -> f64 {
     let floor = (KEPT_CENTRELINE_DEPTH * radius).min(0.5 * d0);
     d0 + d1 - 2.0 * floor
 }
@@ -301,12 +214,12 @@ fn path_room(d0: f64, d1: f64, radius: f64) -> f64 {
 const KEPT_CENTRELINE_DEPTH: f64 = 0.1;
 
 /// Largest number of samples of [`Contact::mesh_advancement`] along a step.
-const PATH_SAMPLES: usize = 8;
+pub(super) const PATH_SAMPLES: usize = 8;
 
 /// Move of an edge from one sample to the next of [`Contact::mesh_advancement`], as a
 /// fraction of its distance to the meshes there (at least its radius): below 2, the
 /// next sample is found clear when the distance there is at least `stride − 1` of it.
-const PATH_STRIDE: f64 = 1.6;
+pub(super) const PATH_STRIDE: f64 = 1.6;
 
 #[cfg(test)]
 mod tests {

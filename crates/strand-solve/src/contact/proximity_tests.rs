@@ -17,12 +17,12 @@ use crate::constraints::{Constraints, Row};
 const SEGMENTS: usize = 10;
 
 /// The floor's height at `(x, y)`, m: gentle waves (one smooth patch).
-fn floor_height(x: f64, y: f64) -> f64 {
+pub(super) fn floor_height(x: f64, y: f64) -> f64 {
     0.005 * (4.0 * x).sin() * (3.0 * y).cos()
 }
 
 /// The wavy floor `x ∈ [−0.2, 1.2]`, `y ∈ [−0.5, 0.5]` m in `2 n²` triangles.
-fn floor(n: usize) -> Arc<ObstacleMesh> {
+pub(super) fn floor(n: usize) -> Arc<ObstacleMesh> {
     let mut vertices = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
