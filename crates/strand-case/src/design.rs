@@ -19,7 +19,7 @@ use std::sync::{Mutex, OnceLock};
 
 use strand_solve::Constraints;
 use strand_solve::contact::Contact;
-use strand_solve::sensitivity::{Design, Designed};
+use strand_solve::sensitivity::{Design, Designed, ModelLine};
 use strand_system::Model;
 
 use crate::schema::{Amount, Change, VariantChange};
@@ -459,6 +459,17 @@ impl Design for CaseDesign<'_> {
             },
             _ => self.full_build(offsets),
         }
+    }
+
+    /// The line of [`CaseDesign::affine_line`]: where the parameter moves the model's
+    /// real numbers affinely (checked against two full builds on first use), the
+    /// right-hand sides need no design built along it.
+    fn model_line(&self, parameter: usize) -> Result<Option<ModelLine<'_>>, CaseError> {
+        Ok(self.affine_line(parameter)?.map(|line| ModelLine {
+            reals: line.reals,
+            direction: line.direction,
+            moved: line.moved,
+        }))
     }
 
     fn enters_linearly(&self, parameter: usize) -> bool {

@@ -18,6 +18,7 @@ use crate::system::{Joint, Support, System, SystemError, SystemState};
 
 mod difference;
 mod mixed;
+mod tangent;
 
 pub use difference::GradientDifference;
 pub use mixed::EdgeStresses;

@@ -4,7 +4,7 @@
 //! At an attached end the vertex-based boundary frame (`q_0` or `q_N`) plays the role of
 //! `q_a` or `q_b` and `h̄` is the half-cell weight `h/2` (DESIGN §1).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{SVector, UnitQuaternion, Vector3};
 
 use super::{ElementDerivatives, RelativeRotation};
 
@@ -75,6 +75,25 @@ pub fn bend_twist_gradient(e: &BendTwist<'_>) -> ElementDerivatives<6> {
         gradient: rel.jacobian.transpose() * moment,
         hessian: Default::default(),
     }
+}
+
+/// The change of the vertex element's gradient (in `(δθ_a, δθ_b)`, N·m) per unit
+/// change of its inputs at fixed frames: the weight by `d_weight` (m), the
+/// stiffnesses by `d_stiffness` (N·m²) and the rest curvature by `d_rest_curvature`
+/// (1/m), each per unit of the parameter that moves them. Closed form: the gradient
+/// is `Jᵀ M` with `J` a function of the frames alone and `M = C_K (φ/h̄ − K0)`, so it
+/// changes by `Jᵀ dM`, `dM = dC (φ/h̄ − K0) − C_K (φ dh̄/h̄² + dK0)`.
+pub fn bend_twist_gradient_tangent(
+    e: &BendTwist<'_>,
+    d_weight: f64,
+    d_stiffness: &Vector3<f64>,
+    d_rest_curvature: &Vector3<f64>,
+) -> SVector<f64, 6> {
+    let rel = RelativeRotation::new(e.frame_a, e.frame_b);
+    let delta = rel.phi / e.weight - e.rest_curvature;
+    let d_delta = -rel.phi * (d_weight / (e.weight * e.weight)) - d_rest_curvature;
+    let d_moment = d_stiffness.component_mul(&delta) + e.stiffness.component_mul(&d_delta);
+    rel.jacobian.transpose() * d_moment
 }
 
 /// `ΔK = φ/h̄ − K0` (1/m) and the moment `M = C_K ΔK` (N·m).

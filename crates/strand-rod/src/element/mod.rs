@@ -11,10 +11,13 @@ mod dead_moment;
 mod relative_rotation;
 mod stretch_shear;
 
-pub use bend_twist::{BendTwist, bend_twist, bend_twist_gradient};
+pub use bend_twist::{BendTwist, bend_twist, bend_twist_gradient, bend_twist_gradient_tangent};
 pub use dead_moment::dead_moment;
 pub use relative_rotation::RelativeRotation;
-pub use stretch_shear::{StretchShear, stretch_shear, stretch_shear_gradient, stretch_shear_mixed};
+pub use stretch_shear::{
+    StretchShear, stretch_shear, stretch_shear_gradient, stretch_shear_gradient_tangent,
+    stretch_shear_mixed,
+};
 
 use nalgebra::{SMatrix, SVector};
 

@@ -75,6 +75,39 @@ pub fn stretch_shear_gradient(e: &StretchShear<'_>) -> ElementDerivatives<9> {
     }
 }
 
+/// The change of the edge element's gradient (in `(r_a, r_b, δθ)`: N, N, N·m) per
+/// unit change of its inputs at a fixed frame: the edge vector by `d_edge_vector`
+/// (m), the reference length by `d_length` (m), the stiffnesses by `d_stiffness` (N)
+/// and the rest strain by `d_rest_strain` (dimensionless), each per unit of the
+/// parameter that moves them. Closed form (the derivative of `(−f, f, h F × Γ)` with
+/// `Γ = Rᵀ e / h`, `F = C_Γ (Γ − Γ0)`, `f = R F`):
+/// `dΓ = Rᵀ de / h − Γ dh / h`, `dF = dC (Γ − Γ0) + C_Γ (dΓ − dΓ0)`, and the gradient
+/// changes by `(−R dF, R dF, dh F × Γ + h (dF × Γ + F × dΓ))`.
+pub fn stretch_shear_gradient_tangent(
+    e: &StretchShear<'_>,
+    d_edge_vector: &Vector3<f64>,
+    d_length: f64,
+    d_stiffness: &Vector3<f64>,
+    d_rest_strain: &Vector3<f64>,
+) -> SVector<f64, 9> {
+    let h = e.length;
+    let gamma = e.strain();
+    let delta = gamma - e.rest_strain;
+    let force_material = e.stiffness.component_mul(&delta);
+    let d_gamma = e.frame.inverse_transform_vector(d_edge_vector) / h - gamma * (d_length / h);
+    let d_force =
+        d_stiffness.component_mul(&delta) + e.stiffness.component_mul(&(d_gamma - d_rest_strain));
+    let d_spatial = e.frame.transform_vector(&d_force);
+    let mut out = SVector::<f64, 9>::zeros();
+    out.fixed_rows_mut::<3>(0).copy_from(&(-d_spatial));
+    out.fixed_rows_mut::<3>(3).copy_from(&d_spatial);
+    out.fixed_rows_mut::<3>(6).copy_from(
+        &(d_length * force_material.cross(&gamma)
+            + h * (d_force.cross(&gamma) + force_material.cross(&d_gamma))),
+    );
+    out
+}
+
 /// The strain, material force, rotation, energy and gradient of an edge element.
 struct FirstOrder {
     rotation: Matrix3<f64>,

@@ -238,3 +238,91 @@ fn stretch_shear_hessian_equals_the_block_formulas() {
         }
     }
 }
+
+/// The closed-form changes of the edge and vertex elements' gradients along a change
+/// of their inputs (reference length or weight, stiffnesses, rest strain or
+/// curvature, edge vector) match central differences of the gradients to 1e-8 of
+/// their size.
+#[test]
+fn gradient_tangents_match_differences_of_the_gradients() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let mut vector = |size: f64| {
+        Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        ) * size
+    };
+    for _ in 0..20 {
+        let frame = UnitQuaternion::from_scaled_axis(vector(1.0));
+        let edge_vector = Vector3::new(0.0, 0.0, 0.01) + vector(1e-3);
+        let (length, stiffness, rest_strain) = (0.011, Vector3::new(2e4, 3e4, 5e4), vector(0.1));
+        let (de, dh, dc, dg0) = (vector(1.0), 0.3, vector(1e4), vector(1.0));
+        let edge = |t: f64| {
+            let (c, g0) = (stiffness + t * dc, rest_strain + t * dg0);
+            stretch_shear_gradient(&StretchShear {
+                edge_vector: edge_vector + t * de,
+                frame: &frame,
+                length: length + t * dh,
+                stiffness: &c,
+                rest_strain: &g0,
+            })
+            .gradient
+        };
+        let t = 1e-6;
+        let fd = (edge(t) - edge(-t)) / (2.0 * t);
+        let exact = stretch_shear_gradient_tangent(
+            &StretchShear {
+                edge_vector,
+                frame: &frame,
+                length,
+                stiffness: &stiffness,
+                rest_strain: &rest_strain,
+            },
+            &de,
+            dh,
+            &dc,
+            &dg0,
+        );
+        assert!(
+            (fd - exact).norm() <= 1e-8 * fd.norm().max(exact.norm()),
+            "edge: fd {fd} vs {exact}"
+        );
+
+        let (a, b) = (
+            UnitQuaternion::from_scaled_axis(vector(1.0)),
+            UnitQuaternion::from_scaled_axis(vector(1.0)),
+        );
+        let b = a * UnitQuaternion::from_scaled_axis(b.scaled_axis() * 0.1);
+        let (weight, k_stiffness, k0) = (0.012, Vector3::new(0.3, 0.4, 0.2), vector(5.0));
+        let (dw, dk, dk0) = (0.4, vector(0.1), vector(10.0));
+        let vertex = |t: f64| {
+            let (c, r) = (k_stiffness + t * dk, k0 + t * dk0);
+            bend_twist_gradient(&BendTwist {
+                frame_a: &a,
+                frame_b: &b,
+                weight: weight + t * dw,
+                stiffness: &c,
+                rest_curvature: &r,
+            })
+            .gradient
+        };
+        let fd = (vertex(t) - vertex(-t)) / (2.0 * t);
+        let exact = bend_twist_gradient_tangent(
+            &BendTwist {
+                frame_a: &a,
+                frame_b: &b,
+                weight,
+                stiffness: &k_stiffness,
+                rest_curvature: &k0,
+            },
+            dw,
+            &dk,
+            &dk0,
+        );
+        assert!(
+            (fd - exact).norm() <= 1e-8 * fd.norm().max(exact.norm()),
+            "vertex: fd {fd} vs {exact}"
+        );
+    }
+}

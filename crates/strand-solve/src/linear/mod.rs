@@ -269,5 +269,47 @@ pub(crate) fn symmetric_product(
     }
 }
 
+/// `out[k] = A x[k]` for `K` vectors at once, interleaved (`x[i][k]` is entry `i` of
+/// vector `k`), for the symmetric matrix `A` given by its upper triangle (`values` in
+/// `pattern`): each entry of `A` is read once for all `K` vectors. Every vector's
+/// result is that of [`symmetric_product`] bit for bit (the same operations in the
+/// same order).
+pub(crate) fn symmetric_products<const K: usize>(
+    pattern: &HessianPattern,
+    values: &[f64],
+    x: &[[f64; K]],
+    out: &mut [[f64; K]],
+) {
+    out.iter_mut().for_each(|o| *o = [0.0; K]);
+    for col in 0..pattern.dim() {
+        let range = pattern.col_ptr[col]..pattern.col_ptr[col + 1];
+        let (rows, column) = (&pattern.row_idx[range.clone()], &values[range]);
+        let x_col = x[col];
+        let (rows, column, diagonal) = match rows.split_last() {
+            Some((&last, above)) if last == col => {
+                (above, &column[..above.len()], column.last().copied())
+            }
+            _ => (rows, column, None),
+        };
+        let mut transposed = [0.0; K];
+        for (&row, &value) in rows.iter().zip(column) {
+            let (o, xr) = (&mut out[row], &x[row]);
+            for k in 0..K {
+                o[k] += value * x_col[k];
+                transposed[k] += value * xr[k];
+            }
+        }
+        let o = &mut out[col];
+        if let Some(d) = diagonal {
+            for k in 0..K {
+                o[k] += d * x_col[k];
+            }
+        }
+        for k in 0..K {
+            o[k] += transposed[k];
+        }
+    }
+}
+
 #[cfg(test)]
 pub(crate) mod tests;

@@ -5,7 +5,7 @@ use strand_system::HessianPattern;
 
 use super::envelope::EnvelopeCholesky;
 use super::faer_llt::FaerCholesky;
-use super::{SparseCholesky, symmetric_product};
+use super::{SparseCholesky, symmetric_product, symmetric_products};
 
 /// A deterministic pseudo-random number in [-1, 1).
 pub(crate) fn next(seed: &mut u64) -> f64 {
@@ -253,5 +253,30 @@ fn a_factoriser_from_a_handed_on_analysis_solves_as_the_analysing_one_does() {
         assert_eq!(x1, x2);
         let b_norm = b.iter().map(|v| v * v).sum::<f64>().sqrt();
         assert!(residual_norm(&pattern, &values, &x2, &b) <= 1e-12 * b_norm);
+    }
+}
+
+/// The interleaved product of several vectors (the sensitivities' refinement checks,
+/// four parameters at a time) is each vector's own product bit for bit.
+#[test]
+fn products_of_interleaved_vectors_are_each_vectors_product_bit_for_bit() {
+    for pattern in [rod_pattern(7), two_rods_in_a_loop(5)] {
+        let values = spd_values(&pattern, 11, 0.5);
+        let n = pattern.dim();
+        let mut seed = 5;
+        let vectors: Vec<Vec<f64>> = (0..4)
+            .map(|_| (0..n).map(|_| next(&mut seed)).collect())
+            .collect();
+        let x: Vec<[f64; 4]> = (0..n)
+            .map(|i| [vectors[0][i], vectors[1][i], vectors[2][i], vectors[3][i]])
+            .collect();
+        let mut y = vec![[0.0; 4]; n];
+        symmetric_products(&pattern, &values, &x, &mut y);
+        for (k, v) in vectors.iter().enumerate() {
+            let mut single = vec![0.0; n];
+            symmetric_product(&pattern, &values, v, &mut single);
+            let interleaved: Vec<f64> = y.iter().map(|yi| yi[k]).collect();
+            assert_eq!(interleaved, single, "vector {k}");
+        }
     }
 }

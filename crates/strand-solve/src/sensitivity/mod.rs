@@ -30,7 +30,12 @@
 //! `Σ μ_i ∇² c_i`, is the only difference between `K` and `H`): the result satisfies
 //! the linearised KKT system to the accuracy of that directional derivative.
 //!
-//! **How `∂/∂p` is computed:** by central differences of `Φ` in `p` at a fixed state
+//! **How `∂/∂p` is computed:** along a parameter that moves the model's real numbers
+//! affinely ([`Design::model_line`]: lengths, support positions, masses, loads,
+//! gravity, stiffnesses) and without active rows, in closed form: the derivative of
+//! each changed element's gradient with respect to its reference data and held
+//! vertices ([`Model::gradient_derivative`]), no design built
+//! ([`SensitivitySettings::exact_right_hand_sides`]). Otherwise by central differences of `Φ` in `p` at a fixed state
 //! (a [`Design`] builds the model at `p ± h` and `p ± 2h` — a case design by moving its
 //! base model along the parameter where the model's numbers are affine in it, see
 //! `strand_case::CaseDesign`; the state keeps its unknowns, and the held vertices
@@ -98,6 +103,29 @@ pub trait Design {
     fn enters_linearly(&self, _parameter: usize) -> bool {
         false
     }
+
+    /// Where parameter `parameter` moves the base design's model along a line of its
+    /// real numbers ([`strand_system::System::reals`]: the model at offset `t` is the
+    /// base's with the real numbers `reals + t · direction`, its constraints the
+    /// base's), that line: `∂Φ/∂p` is then the closed-form derivative of the gradient
+    /// along it ([`Model::gradient_derivative`],
+    /// [`SensitivitySettings::exact_right_hand_sides`]), with no design built and no
+    /// difference ladder. Default: `None` (every parameter through [`Design::build`]).
+    fn model_line(&self, _parameter: usize) -> Result<Option<ModelLine<'_>>, Self::Error> {
+        Ok(None)
+    }
+}
+
+/// How one parameter moves a design's model ([`Design::model_line`]): affinely along
+/// a line of its real numbers.
+#[derive(Clone, Debug)]
+pub struct ModelLine<'a> {
+    /// The base model's real numbers ([`strand_system::System::reals`]: m, kg, N, …).
+    pub reals: &'a [f64],
+    /// Their change per unit of the parameter (real number's unit per parameter unit).
+    pub direction: &'a [f64],
+    /// The indices where `direction` is not zero (ascending).
+    pub moved: Vec<usize>,
 }
 
 /// A built design: a model and the inequality constraints beyond joint limits.

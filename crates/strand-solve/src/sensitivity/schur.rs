@@ -184,6 +184,29 @@ impl KktFactor {
         out
     }
 
+    /// `H v` with the gauge held for every vector of `vs`: the Hessian read once per
+    /// four vectors ([`crate::linear::symmetric_products`]); each result equals
+    /// [`KktFactor::hessian_product`]'s bit for bit.
+    pub(crate) fn hessian_products(&self, vs: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        const K: usize = 4;
+        let n = self.hessian_dim();
+        let mut out = Vec::with_capacity(vs.len());
+        let mut x = vec![[0.0; K]; n];
+        let mut y = vec![[0.0; K]; n];
+        for group in vs.chunks(K) {
+            for (i, xi) in x.iter_mut().enumerate() {
+                for k in 0..K {
+                    xi[k] = group.get(k).map_or(0.0, |v| v[i]);
+                }
+            }
+            crate::linear::symmetric_products(&self.pattern, &self.hessian, &x, &mut y);
+            for k in 0..group.len() {
+                out.push(y.iter().map(|yi| yi[k]).collect());
+            }
+        }
+        out
+    }
+
     /// `Aᵀ w` (the active rows, gauge entries dropped).
     pub(crate) fn transpose_product(&self, w: &[f64]) -> Vec<f64> {
         let n = self.hessian_dim();

@@ -46,6 +46,14 @@ pub struct SensitivitySettings {
     /// the whole model's gradient at each side (the reference path: the same
     /// derivatives to the gradients' round-off, at the cost of every element).
     pub element_differences: bool,
+    /// Whether `∂Φ/∂p` of a parameter that moves the model along a line of its real
+    /// numbers ([`super::Design::model_line`]) is the closed-form derivative of the
+    /// elements' gradients along it ([`strand_system::Model::gradient_derivative`]:
+    /// no design built, one evaluation per element the parameter changes; default),
+    /// or the differences of designs built at `±h`, `±2h` (the reference path). Active
+    /// contact or stop rows, and lines that move a body's geometry, a clip or a frame,
+    /// take the differences either way.
+    pub exact_right_hand_sides: bool,
 }
 
 impl Default for SensitivitySettings {
@@ -59,6 +67,7 @@ impl Default for SensitivitySettings {
             near_zero_multiplier: 1e-6,
             near_zero_gap: 1e-6,
             element_differences: true,
+            exact_right_hand_sides: true,
         }
     }
 }

@@ -4,7 +4,7 @@ use strand_system::{Model, SystemState};
 
 use super::kkt::{self, Kkt, Point};
 use super::schur::KktFactor;
-use super::{Design, Designed, SensitivityError, SensitivitySettings};
+use super::{Design, Designed, ModelLine, SensitivityError, SensitivitySettings};
 use crate::Solution;
 use crate::constraints::RowKey;
 use crate::gauge::Gauge;
@@ -34,6 +34,28 @@ pub struct ParameterSensitivity {
     /// those the parameter changes ([`SensitivitySettings::element_differences`]), or
     /// every element of the model per difference.
     pub rhs_elements: usize,
+    /// Designs built ([`Design::build`]) for the right-hand side: none where it is
+    /// the closed-form derivative along the model's line
+    /// ([`SensitivitySettings::exact_right_hand_sides`]), else two per difference.
+    pub rhs_designs: usize,
+}
+
+/// One parameter's right-hand side and its work.
+struct RightHandSide {
+    rhs: Kkt,
+    /// [`ParameterSensitivity::rhs_elements`].
+    elements: usize,
+    /// [`ParameterSensitivity::rhs_designs`].
+    designs: usize,
+}
+
+/// Two copies of the base model and state, moved in place to `±h` along one
+/// parameter's line after another for the closed-form right-hand sides.
+struct Scratch {
+    plus: Model,
+    minus: Model,
+    plus_state: SystemState,
+    minus_state: SystemState,
 }
 
 /// Why a row is flagged: the active set is about to change there, so derivatives
@@ -86,8 +108,10 @@ impl Sensitivities {
     /// respect to every parameter.
     ///
     /// Costs one factorisation of the Hessian at the equilibrium, one solve per active
-    /// row, and per parameter two builds and two gradient evaluations of the design
-    /// per difference (the right-hand side and each refinement check).
+    /// row, and per parameter its right-hand side (in closed form along the model's
+    /// line: one evaluation of each element it changes, no design built; else two
+    /// builds and the changed elements' gradients per difference), one solve and one
+    /// refinement check (`H v` for four parameters at a time).
     pub fn compute<D: Design>(
         design: &D,
         solution: &Solution,
@@ -157,7 +181,25 @@ impl Sensitivities {
             parameters: Vec::with_capacity(count),
             gauge,
         };
+        // Every right-hand side, then every first solve, then their refinement checks'
+        // `H v` in one pass over the Hessian for four parameters at a time.
+        let mut scratch = None;
+        let mut sides = Vec::with_capacity(count);
         for j in 0..count {
+            sides.push(this.right_hand_side_of(
+                design,
+                model,
+                &solution.state,
+                j,
+                &mut scratch,
+                settings,
+            )?);
+        }
+        let first: Vec<(Vec<f64>, Vec<f64>)> =
+            sides.iter().map(|side| factor.solve(&side.rhs)).collect();
+        let states: Vec<Vec<f64>> = first.iter().map(|(v, _)| v.clone()).collect();
+        let products = factor.hessian_products(&states);
+        for (j, ((side, (v, w)), hv)) in sides.into_iter().zip(first).zip(products).enumerate() {
             let p = this.parameter(
                 design,
                 &base,
@@ -165,6 +207,8 @@ impl Sensitivities {
                 &solution.state,
                 j,
                 &mut factor,
+                side,
+                (v, w, hv),
                 settings,
             )?;
             this.parameters.push(p);
@@ -172,8 +216,58 @@ impl Sensitivities {
         Ok(this)
     }
 
-    /// The derivative with respect to parameter `j`: the right-hand side by central
-    /// differences, the solve, and refinement against the directional derivative.
+    /// The right-hand side `∂Φ/∂p_j`: in closed form along the model's line
+    /// ([`SensitivitySettings::exact_right_hand_sides`], no active rows), else by
+    /// differences of designs built at `±h` (and `±2h`).
+    fn right_hand_side_of<D: Design>(
+        &self,
+        design: &D,
+        model: &Model,
+        base: &SystemState,
+        j: usize,
+        scratch: &mut Option<Scratch>,
+        settings: &SensitivitySettings,
+    ) -> Result<RightHandSide, SensitivityError> {
+        let h = settings.relative_step * design.step(j);
+        let n = model.dofs().len();
+        let richardson = settings.richardson && !design.enters_linearly(j);
+        let exact = if settings.exact_right_hand_sides && self.active.is_empty() {
+            let line = design.model_line(j).map_err(|e| SensitivityError::Design {
+                parameter: j,
+                source: Box::new(e),
+            })?;
+            match line {
+                Some(line) => self.exact_right_hand_side(model, base, &line, j, h, scratch)?,
+                None => None,
+            }
+        } else {
+            None
+        };
+        let (rhs, elements, designs) = match exact {
+            Some((rhs, elements)) => (rhs, elements, 0),
+            None => {
+                let (rhs, elements) = self.right_hand_side(
+                    design,
+                    base,
+                    j,
+                    h,
+                    n,
+                    richardson,
+                    settings.element_differences,
+                )?;
+                (rhs, elements, if richardson { 4 } else { 2 })
+            }
+        };
+        Ok(RightHandSide {
+            rhs,
+            elements,
+            designs,
+        })
+    }
+
+    /// The derivative with respect to parameter `j` from its right-hand side `side`
+    /// and its first solve `(v, w)` with `H v` (`first`): refinement against the
+    /// directional derivative.
     #[allow(clippy::too_many_arguments)]
     fn parameter<D: Design>(
         &self,
@@ -183,25 +277,25 @@ impl Sensitivities {
         base: &SystemState,
         j: usize,
         factor: &mut KktFactor,
+        side: RightHandSide,
+        first: (Vec<f64>, Vec<f64>, Vec<f64>),
         settings: &SensitivitySettings,
     ) -> Result<ParameterSensitivity, SensitivityError> {
         let h = settings.relative_step * design.step(j);
-        let n = model.dofs().len();
-        let richardson = settings.richardson && !design.enters_linearly(j);
-        let (rhs, rhs_elements) = self.right_hand_side(
-            design,
-            base,
-            j,
-            h,
-            n,
-            richardson,
-            settings.element_differences,
-        )?;
-        let (mut v, mut w) = factor.solve(&rhs);
+        let RightHandSide {
+            rhs,
+            elements: rhs_elements,
+            designs: rhs_designs,
+        } = side;
+        let (mut v, mut w, first_hv) = first;
+        let mut first_hv = Some(first_hv);
         let mut best = (v.clone(), w.clone(), f64::INFINITY);
         let mut refinements = 0;
         for step in 0..=settings.max_refinements {
-            let (res, hv) = self.linear_residual(base_built, base, j, factor, &rhs, &v, &w)?;
+            let hv = first_hv
+                .take()
+                .unwrap_or_else(|| factor.hessian_product(&v));
+            let (res, hv) = self.linear_residual(base_built, base, j, factor, &rhs, &v, &w, hv)?;
             let relative = relative_size(model, &res, &rhs, &v, &hv);
             if relative < best.2 {
                 best = (v.clone(), w.clone(), relative);
@@ -225,12 +319,82 @@ impl Sensitivities {
             kkt_residual,
             refinements,
             rhs_elements,
+            rhs_designs,
         })
+    }
+
+    /// `∂Φ/∂p_j` in closed form along the model's line (no active rows: `Φ` is the
+    /// energy gradient): the base model and state moved in place to `±h` along it
+    /// (the scratch copies, moved back afterwards) give each changed element's change
+    /// of reference data and held vertices, [`Model::gradient_derivative`] the rest.
+    /// Also returns the elements evaluated; `None` where the line moves what the closed
+    /// forms do not carry (the caller then takes the differences).
+    fn exact_right_hand_side(
+        &self,
+        model: &Model,
+        base: &SystemState,
+        line: &ModelLine<'_>,
+        j: usize,
+        h: f64,
+        scratch: &mut Option<Scratch>,
+    ) -> Result<Option<(Kkt, usize)>, SensitivityError> {
+        if line.reals.len() != line.direction.len() {
+            return Ok(None);
+        }
+        let scratch = scratch.get_or_insert_with(|| Scratch {
+            plus: model.clone(),
+            minus: model.clone(),
+            plus_state: base.clone(),
+            minus_state: base.clone(),
+        });
+        let failed = |e: strand_system::SystemError| SensitivityError::Design {
+            parameter: j,
+            source: Box::new(e),
+        };
+        let moved = &line.moved;
+        let at = |t: f64| move |k: usize| line.reals[k] + t * line.direction[k];
+        scratch
+            .plus
+            .set_reals_changed(moved, &at(h))
+            .map_err(failed)?;
+        scratch
+            .minus
+            .set_reals_changed(moved, &at(-h))
+            .map_err(failed)?;
+        scratch.plus_state.clone_from(base);
+        scratch.minus_state.clone_from(base);
+        scratch.plus.enforce_supports(&mut scratch.plus_state);
+        scratch.minus.enforce_supports(&mut scratch.minus_state);
+        let derivative = model.gradient_derivative(
+            base,
+            (&scratch.plus, &scratch.plus_state),
+            (&scratch.minus, &scratch.minus_state),
+            h,
+        );
+        scratch
+            .plus
+            .set_reals_changed(moved, &at(0.0))
+            .map_err(failed)?;
+        scratch
+            .minus
+            .set_reals_changed(moved, &at(0.0))
+            .map_err(failed)?;
+        Ok(derivative.map(|d| {
+            let mut gradient = d.gradient;
+            self.gauge.fix_vector(&mut gradient);
+            (
+                Kkt {
+                    gradient,
+                    gaps: Vec::new(),
+                },
+                d.elements,
+            )
+        }))
     }
 
     /// The residual `J·(v, w) + rhs` of the linearised KKT system with the exact
     /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`, and `H v`
-    /// (the size of the force terms, [`relative_size`]). Only the
+    /// (the size of the force terms, [`relative_size`]; given as `hv`). Only the
     /// curvature of the active rows (zero for a flat contact or a joint stop) is taken
     /// by a difference, of the rows' gradients alone along `v` (no energy gradient, so
     /// no round-off of the stiff axial terms).
@@ -244,8 +408,8 @@ impl Sensitivities {
         rhs: &Kkt,
         v: &[f64],
         w: &[f64],
+        hv: Vec<f64>,
     ) -> Result<(Kkt, Vec<f64>), SensitivityError> {
-        let hv = factor.hessian_product(v);
         let mut gradient = hv.clone();
         for ((g, aw), r) in gradient
             .iter_mut()

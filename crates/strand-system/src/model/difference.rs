@@ -88,7 +88,12 @@ impl Model {
 
     /// Whether `other` has this model's unknowns and elements (kinds, blocks and
     /// levers), and the states the same shape.
-    fn corresponds(&self, state: &SystemState, other: &Model, other_state: &SystemState) -> bool {
+    pub(super) fn corresponds(
+        &self,
+        state: &SystemState,
+        other: &Model,
+        other_state: &SystemState,
+    ) -> bool {
         let same_elements = std::sync::Arc::ptr_eq(&self.elements, &other.elements)
             || (self.elements.len() == other.elements.len()
                 && self
@@ -121,7 +126,12 @@ impl Model {
     /// Whether everything the chain rule of an element attached to a body or a clip
     /// reads is the same in both: the clips, the bodies' geometry (not their masses)
     /// and the bodies' poses and joints' coordinates in the states.
-    fn same_chains(&self, state: &SystemState, other: &Model, other_state: &SystemState) -> bool {
+    pub(super) fn same_chains(
+        &self,
+        state: &SystemState,
+        other: &Model,
+        other_state: &SystemState,
+    ) -> bool {
         let same_geometry = |a: &BodySpec, b: &BodySpec| {
             a.center_of_mass == b.center_of_mass
                 && a.pose == b.pose
@@ -142,7 +152,12 @@ impl Model {
 
     /// The gravity and dead end loads of the vertices that are unknowns, where they
     /// differ: `−F_self` into `plus`, `−F_other` into `minus`.
-    fn free_vertex_load_difference(&self, other: &Model, plus: &mut [f64], minus: &mut [f64]) {
+    pub(super) fn free_vertex_load_difference(
+        &self,
+        other: &Model,
+        plus: &mut [f64],
+        minus: &mut [f64],
+    ) {
         for (r, (a, b)) in self.system.rods.iter().zip(&other.system.rods).enumerate() {
             let same_rod = a.rod.section().mass_per_length == b.rod.section().mass_per_length
                 && a.rod.edge_lengths() == b.rod.edge_lengths()
@@ -171,17 +186,17 @@ impl Model {
 }
 
 /// The two models and states being differenced.
-struct Sides<'a> {
-    a: &'a Model,
-    b: &'a Model,
-    state_a: &'a SystemState,
-    state_b: &'a SystemState,
-    boundary_a: &'a [BoundaryFrames],
-    boundary_b: &'a [BoundaryFrames],
+pub(super) struct Sides<'a> {
+    pub(super) a: &'a Model,
+    pub(super) b: &'a Model,
+    pub(super) state_a: &'a SystemState,
+    pub(super) state_b: &'a SystemState,
+    pub(super) boundary_a: &'a [BoundaryFrames],
+    pub(super) boundary_b: &'a [BoundaryFrames],
     /// [`Model::same_chains`].
-    chain_same: bool,
+    pub(super) chain_same: bool,
     /// Per rod: whether its section (stiffnesses, mass per length) is the same.
-    same_section: Vec<bool>,
+    pub(super) same_section: Vec<bool>,
 }
 
 impl Sides<'_> {
@@ -189,7 +204,7 @@ impl Sides<'_> {
     /// and levers, [`Model::corresponds`]) reads the same numbers in both: then their
     /// gradients are equal bit for bit. Conservative: `false` where unsure (an element
     /// attached to a body or clip whose chain differs).
-    fn same_inputs(&self, x: &Element) -> bool {
+    pub(super) fn same_inputs(&self, x: &Element) -> bool {
         if !x.direct && !self.chain_same {
             return false;
         }
@@ -267,7 +282,7 @@ impl Sides<'_> {
 }
 
 /// A gradient-only evaluation buffer of `n` unknowns.
-fn gradient_buffer(n: usize) -> Evaluation {
+pub(super) fn gradient_buffer(n: usize) -> Evaluation {
     Evaluation {
         energy: 0.0,
         gradient: vec![0.0; n],
