@@ -34,7 +34,8 @@ pub fn push_number(out: &mut String, value: f64) {
         // `zmij` writes this range positionally too, as `std` does, apart from the `.0`
         // it appends to an integer (`100.0`); copied without laying the digits out.
         let positional = text.strip_suffix(".0").unwrap_or(text);
-        if !(positional.contains('.') && positional.ends_with('0')) {
+        // (The cheap test first: looking for the point is a `memchr` call.)
+        if !(positional.ends_with('0') && positional.contains('.')) {
             out.push_str(positional);
             return;
         }

@@ -139,6 +139,8 @@ pub(crate) struct Runner<'a> {
     /// bit for bit the numbers of its `result.json`), so that the summary does not
     /// read back the files just written.
     written: Mutex<Vec<Option<Outcome>>>,
+    /// Length of the last `result.json` serialised, bytes (its successor's buffer).
+    json_len: AtomicUsize,
 }
 
 /// The directory of variant `id`.
@@ -211,6 +213,7 @@ impl<'a> Runner<'a> {
             iterations: AtomicUsize::new(0),
             io_error: Mutex::new(None),
             written: Mutex::new(vec![None; plan.variants.len()]),
+            json_len: AtomicUsize::new(0),
         })
     }
 
@@ -427,7 +430,6 @@ impl<'a> Runner<'a> {
     }
 
     /// Writes the files of solved variant `n` (`id`) under `self.keep`.
-    #[allow(clippy::too_many_arguments)]
     fn write(
         &self,
         n: usize,
@@ -448,7 +450,15 @@ impl<'a> Runner<'a> {
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
             // `result.json` is exactly these bytes, serialised once: `state.json`
             // records their checksum before they are written.
-            .and_then(|()| serde_json::to_vec_pretty(&doc).map_err(|e| e.to_string()))
+            .and_then(|()| {
+                // `to_vec_pretty`'s bytes, into a buffer the size of the last
+                // variant's (the results of neighbouring variants are about as
+                // long), not grown from 128 bytes by copying.
+                let mut json = Vec::with_capacity(self.json_len.load(Ordering::Relaxed) + 4096);
+                serde_json::to_writer_pretty(&mut json, &doc).map_err(|e| e.to_string())?;
+                self.json_len.store(json.len(), Ordering::Relaxed);
+                Ok(json)
+            })
             .and_then(|result_json| {
                 let stored = StoredState::from_state(&solution.state, &result_json);
                 serde_json::to_vec(&stored)
