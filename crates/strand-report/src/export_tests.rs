@@ -687,3 +687,26 @@ fn the_vtp_carries_bend_radius_outer_radius_contact_force_and_frames() {
     d.rods[1].section_frames_wxyz.clear();
     assert!(!rods_vtp(&d).contains("section_d1"));
 }
+
+/// `tubes.stl` written straight from the meshes is byte for byte
+/// `write_binary_stl` of their triangles, in m and in mm, with a rod that has no tube.
+#[test]
+fn tubes_stl_is_the_binary_stl_of_the_triangles() {
+    let mut d = helix_doc();
+    let mut point = d.rods[0].clone();
+    point.name = "point".into();
+    point.position_m = vec![[0.1, 0.2, 0.3]; 3];
+    d.rods.insert(1, point);
+    let meshes = rod_tube_meshes(&d);
+    assert!(meshes[0].is_some() && meshes[1].is_none() && meshes[2].is_some());
+    for unit in [ExportUnit::metre(), ExportUnit::new(1e-3, "mm")] {
+        let mut expected = Vec::new();
+        strand_contact::write_binary_stl(
+            &mut expected,
+            &format!("strand tubes, unit {}, case {}", unit.symbol, d.case),
+            &crate::cad::triangles_in(&meshes, unit.metres),
+        )
+        .unwrap();
+        assert_eq!(crate::cad::tubes_stl_of(&d, &meshes, &unit), expected);
+    }
+}

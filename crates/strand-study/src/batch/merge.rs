@@ -181,7 +181,7 @@ pub fn merge(dirs: &[PathBuf], out_dir: Option<&Path>) -> Result<MergeReport> {
             damaged,
         });
     }
-    let (outcomes, summary) = write_summary(target, &manifest)?;
+    let (outcomes, summary) = write_summary(target, &manifest, Vec::new())?;
     drop(held);
     Ok(MergeReport {
         target: target.to_path_buf(),

@@ -268,9 +268,28 @@ fn read_outcomes(dir: &Path, manifest: &Manifest) -> Result<Vec<Outcome>> {
 }
 
 /// Writes `dir/summary.csv` and `dir/summary.svg` from the files in `dir`; returns the
-/// outcomes and the two paths.
-fn write_summary(dir: &Path, manifest: &Manifest) -> Result<(Vec<Outcome>, [PathBuf; 2])> {
-    let outcomes = read_outcomes(dir, manifest)?;
+/// outcomes and the two paths. `written[n]`, where given, is what variant `n`'s files
+/// hold (written by this run, thinned: [`run::Runner::take_written`]), taken instead
+/// of reading them back; the other variants are read and thinned (the summary reads
+/// only what a thin result keeps, so the outcomes of a large batch fit in memory).
+fn write_summary(
+    dir: &Path,
+    manifest: &Manifest,
+    written: Vec<Option<Outcome>>,
+) -> Result<(Vec<Outcome>, [PathBuf; 2])> {
+    let variants = dir.join("variants");
+    let outcomes = manifest
+        .variants
+        .iter()
+        .zip(written.into_iter().chain(std::iter::repeat(None)))
+        .map(|(v, known)| match known {
+            Some(outcome) => Ok(outcome),
+            None => match read_outcome(&variants.join(&v.id)).map_err(StudyError::Io)? {
+                Outcome::Solved(doc) => Ok(Outcome::Solved(Box::new(keep::thin(*doc)))),
+                other => Ok(other),
+            },
+        })
+        .collect::<Result<Vec<_>>>()?;
     let csv_path = dir.join("summary.csv");
     let svg_path = dir.join("summary.svg");
     let not_written =
@@ -579,7 +598,7 @@ impl OpenBatch {
         .map_err(StudyError::Io)?;
         let counts = runner.run(start, jobs).map_err(StudyError::Io)?;
         let (outcomes, summary) = if shard.is_none() {
-            let (outcomes, paths) = write_summary(out, &manifest)?;
+            let (outcomes, paths) = write_summary(out, &manifest, runner.take_written())?;
             (outcomes, Some(paths))
         } else {
             // Other shards' variants are only counted when listing this shard's

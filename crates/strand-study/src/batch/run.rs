@@ -24,10 +24,11 @@ use strand_solve::Solution;
 use strand_system::SystemState;
 
 use super::integrity::{Damage, Stored, clear, inspect};
-use super::keep::kept_doc;
+use super::keep::{kept_doc, thin};
 use super::plan::Plan;
 use super::predict::{Solved, predicted_start};
 use super::state::{FailedVariant, StoredState};
+use super::summary::Outcome;
 use super::variant::{WarmStart, build_and_solve};
 use super::{Keep, Progress};
 
@@ -132,6 +133,14 @@ pub(crate) struct Runner<'a> {
     iterations: AtomicUsize,
     /// The first I/O error (results that could not be written).
     io_error: Mutex<Option<String>>,
+    /// What each owned variant finished in this run left in its directory, by
+    /// variant (`None`: not finished here, or not written): a solved one's result
+    /// thinned as by `--keep summary` (all that `summary.csv` and `summary.svg` read,
+    /// bit for bit the numbers of its `result.json`), so that the summary does not
+    /// read back the files just written.
+    written: Mutex<Vec<Option<Outcome>>>,
+    /// Length of the last `result.json` serialised, bytes (its successor's buffer).
+    json_len: AtomicUsize,
 }
 
 /// The directory of variant `id`.
@@ -203,7 +212,30 @@ impl<'a> Runner<'a> {
             helpers: AtomicUsize::new(0),
             iterations: AtomicUsize::new(0),
             io_error: Mutex::new(None),
+            written: Mutex::new(vec![None; plan.variants.len()]),
+            json_len: AtomicUsize::new(0),
         })
+    }
+
+    /// What the owned variants finished in this run wrote (see the field's docs),
+    /// by variant; taken, so that a second call gives `None`s.
+    pub(crate) fn take_written(&self) -> Vec<Option<Outcome>> {
+        self.written
+            .lock()
+            .map(|mut w| {
+                let none = vec![None; w.len()];
+                std::mem::replace(&mut *w, none)
+            })
+            .unwrap_or_default()
+    }
+
+    /// Records what variant `n` left in its directory.
+    fn remember(&self, n: usize, outcome: Outcome) {
+        if let Ok(mut written) = self.written.lock()
+            && let Some(slot) = written.get_mut(n)
+        {
+            *slot = Some(outcome);
+        }
     }
 
     /// Walks the tree from its roots (started from `base`, the solved case, or cold
@@ -343,7 +375,7 @@ impl<'a> Runner<'a> {
                     let time = started.elapsed().as_secs_f64();
                     let (solved, id) = (next.solved.clone(), id.clone());
                     s.spawn(move |_| {
-                        self.write(&id, &solved.built, &dir, &solution, warm, time);
+                        self.write(n, &id, &solved.built, &dir, &solution, warm, time);
                         self.tick(&id, false);
                     });
                 }
@@ -355,7 +387,7 @@ impl<'a> Runner<'a> {
                     self.iterations.fetch_add(iterations, Ordering::Relaxed);
                 }
                 if owned {
-                    self.write_failure(&dir, &failure);
+                    self.write_failure(n, &dir, &failure);
                     self.tick(id, true);
                 }
                 None
@@ -397,8 +429,10 @@ impl<'a> Runner<'a> {
         predicted_start(&samples, &xs, x, &built.model)
     }
 
+    /// Writes the files of solved variant `n` (`id`) under `self.keep`.
     fn write(
         &self,
+        n: usize,
         id: &str,
         built: &BuiltCase,
         dir: &Path,
@@ -416,7 +450,15 @@ impl<'a> Runner<'a> {
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
             // `result.json` is exactly these bytes, serialised once: `state.json`
             // records their checksum before they are written.
-            .and_then(|()| serde_json::to_vec_pretty(&doc).map_err(|e| e.to_string()))
+            .and_then(|()| {
+                // `to_vec_pretty`'s bytes, into a buffer the size of the last
+                // variant's (the results of neighbouring variants are about as
+                // long), not grown from 128 bytes by copying.
+                let mut json = Vec::with_capacity(self.json_len.load(Ordering::Relaxed) + 4096);
+                serde_json::to_writer_pretty(&mut json, &doc).map_err(|e| e.to_string())?;
+                self.json_len.store(json.len(), Ordering::Relaxed);
+                Ok(json)
+            })
             .and_then(|result_json| {
                 let stored = StoredState::from_state(&solution.state, &result_json);
                 serde_json::to_vec(&stored)
@@ -439,23 +481,26 @@ impl<'a> Runner<'a> {
                     write_atomic(&dir.join("result.json"), &result_json).map_err(|e| e.to_string())
                 }
             });
-        if let Err(e) = written {
-            self.record_io(format!("variant '{id}': results not written: {e}"));
+        match written {
+            Ok(()) => self.remember(n, Outcome::Solved(Box::new(thin(doc)))),
+            Err(e) => self.record_io(format!("variant '{id}': results not written: {e}")),
         }
     }
 
-    fn write_failure(&self, dir: &Path, failure: &FailedVariant) {
+    /// Writes `failed.json` of variant `n`.
+    fn write_failure(&self, n: usize, dir: &Path, failure: &FailedVariant) {
         let written = std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))
             .and_then(|()| serde_json::to_vec_pretty(failure).map_err(|e| e.to_string()))
             .and_then(|json| {
                 write_atomic(&dir.join("failed.json"), &json).map_err(|e| e.to_string())
             });
-        if let Err(e) = written {
-            self.record_io(format!(
+        match written {
+            Ok(()) => self.remember(n, Outcome::Failed(failure.clone())),
+            Err(e) => self.record_io(format!(
                 "variant '{}': failure not written: {e}",
                 failure.id
-            ));
+            )),
         }
     }
 }

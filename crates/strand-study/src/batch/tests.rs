@@ -275,6 +275,14 @@ fn progress_reports_each_variant_once_and_resume_skips_them() {
     assert_eq!(report.failures.len(), 1);
     assert_eq!(report.failures[0].stage, "build");
     assert!(report.summary.is_some());
+    // The summary, made from what the run kept in memory of the results it wrote, is
+    // the one made from the files (full results read back).
+    let summary = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
+    let files = super::read_batch(dir.path()).unwrap();
+    assert_eq!(
+        summary,
+        super::summary_csv(&files.manifest, &files.outcomes)
+    );
     // Resumed: nothing solved again, every variant heard of once more.
     let (again, heard) = run(&spec);
     assert_eq!(
@@ -287,4 +295,9 @@ fn progress_reports_each_variant_once_and_resume_skips_them() {
     );
     assert_eq!(heard.len(), 3);
     assert_eq!(heard.iter().filter(|p| p.failed_now).count(), 1);
+    // The resumed run reads every result back (thinned): the same summary.
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("summary.csv")).unwrap(),
+        summary
+    );
 }
