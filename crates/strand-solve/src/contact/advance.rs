@@ -55,14 +55,7 @@ impl Contact {
                     .collect()
             })
             .collect();
-        let moves: Vec<Vec<f64>> = deltas
-            .iter()
-            .map(|rod| {
-                rod.windows(2)
-                    .map(|w| w[0].norm().max(w[1].norm()))
-                    .collect()
-            })
-            .collect();
+        let moves = edge_moves(&deltas);
         let farthest = moves.iter().flatten().copied().fold(0.0, f64::max);
         if farthest <= half_margin {
             return Ok(if farthest > 0.0 {
@@ -193,6 +186,19 @@ impl Contact {
             .collect();
         MeshPath::new(self, centrelines, deltas, moves, radii).advance()
     }
+}
+
+/// The larger move of each edge's two ends (m), per rod, from the moves of the
+/// vertices (m).
+pub(super) fn edge_moves(deltas: &[Vec<Vector3<f64>>]) -> Vec<Vec<f64>> {
+    deltas
+        .iter()
+        .map(|rod| {
+            rod.windows(2)
+                .map(|w| w[0].norm().max(w[1].norm()))
+                .collect()
+        })
+        .collect()
 }
 
 /// How far (m) an edge may move between two samples of [`Contact::mesh_advancement`]

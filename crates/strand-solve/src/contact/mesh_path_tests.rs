@@ -8,6 +8,7 @@ use nalgebra::{Point3, Vector3};
 use strand_contact::{ObstacleMesh, QueryWork, query_work};
 
 use super::Contact;
+use super::advance::edge_moves;
 use super::mesh_path::MeshPath;
 use super::proximity_tests::floor;
 
@@ -71,14 +72,7 @@ fn thresholds_give_the_same_advancement_as_exact_bounds_for_less_work() {
     let mut limited = 0;
     for case in 0..150 {
         let (centrelines, deltas) = path(&mut next);
-        let moves: Vec<Vec<f64>> = deltas
-            .iter()
-            .map(|rod| {
-                rod.windows(2)
-                    .map(|w| w[0].norm().max(w[1].norm()))
-                    .collect()
-            })
-            .collect();
+        let moves = edge_moves(&deltas);
         let radii = vec![0.01, 0.004];
         let before = query_work();
         let t = MeshPath::new(&contact, &centrelines, &deltas, &moves, radii.clone()).advance();
@@ -113,14 +107,7 @@ fn a_bound_found_within_a_threshold_is_exact_and_one_not_found_is_below_it() {
     let (mut lower, mut exact) = (0, 0);
     for _ in 0..60 {
         let (centrelines, deltas) = path(&mut next);
-        let moves: Vec<Vec<f64>> = deltas
-            .iter()
-            .map(|rod| {
-                rod.windows(2)
-                    .map(|w| w[0].norm().max(w[1].norm()))
-                    .collect()
-            })
-            .collect();
+        let moves = edge_moves(&deltas);
         let mut path = MeshPath::new(&contact, &centrelines, &deltas, &moves, vec![0.01, 0.004]);
         let t = 2.0 * next();
         let threshold = 0.002 + 0.05 * next();
