@@ -180,26 +180,34 @@ impl<'a> MeshPath<'a> {
 
     /// The largest multiple of the step from `here` that moves no edge by more than
     /// [`PATH_STRIDE`] of its distance (at least its radius) there: the least over the
-    /// moving edges, whose edge is made exact before it is taken (every other edge's
-    /// exact bound is at least its lower one, so the least is the exact bounds' least).
+    /// moving edges, each made exact before it is taken (every other edge's exact
+    /// bound is at least its lower one, so the least is the exact bounds' least).
     fn stride(&mut self, here: &mut Sample) -> f64 {
-        loop {
-            let mut least = (f64::INFINITY, None);
-            for (rod, (edges, bounds)) in self.moves.iter().zip(&here.bounds).enumerate() {
-                for (edge, (&moved, bound)) in edges.iter().zip(bounds).enumerate() {
-                    if moved > 0.0 {
-                        let stride = PATH_STRIDE * bound.value.max(self.radii[rod]) / moved;
-                        if stride < least.0 {
-                            least = (stride, Some((rod, edge, bound.exact)));
-                        }
-                    }
+        let radii = self.radii.clone();
+        let stride_of =
+            move |rod: usize, value: f64, moved: f64| PATH_STRIDE * value.max(radii[rod]) / moved;
+        // Every moving edge's stride by its bound, least first: an edge whose lower
+        // bound's stride is already above the least exact one cannot lower it, so the
+        // walk stops there (one sort, not a rescan per refinement).
+        let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+        for (rod, (edges, bounds)) in self.moves.iter().zip(&here.bounds).enumerate() {
+            for (edge, (&moved, bound)) in edges.iter().zip(bounds).enumerate() {
+                if moved > 0.0 {
+                    candidates.push((stride_of(rod, bound.value, moved), rod, edge));
                 }
             }
-            match least.1 {
-                Some((rod, edge, false)) => self.refine(here, rod, edge),
-                _ => return least.0,
-            }
         }
+        candidates.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut least = f64::INFINITY;
+        for (stride, rod, edge) in candidates {
+            if stride >= least {
+                break;
+            }
+            self.refine(here, rod, edge);
+            let exact = here.bounds[rod][edge].value;
+            least = least.min(stride_of(rod, exact, self.moves[rod][edge]));
+        }
+        least
     }
 
     /// Whether every edge's move from `here` to `there` fits between its distances
