@@ -178,7 +178,17 @@ impl Contact {
         let rods = rod_geometries(model, &centrelines);
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
-        let mut lists = self.proximity.incremental.then(|| self.kept.begin(slack_m));
+        // A search beyond the solver's margin (a report's clearances) is a one-off: its
+        // features are searched afresh with no slack (the least list, the same gaps)
+        // and neither use nor replace the solve's kept lists.
+        let one_off = ProximityCache::default();
+        let mut lists = self.proximity.incremental.then(|| {
+            if margin_m > self.margin_m {
+                one_off.begin(0.0)
+            } else {
+                self.kept.begin(slack_m)
+            }
+        });
         for (rod, geometry) in rods.iter().enumerate() {
             for index in self.meshes_near(geometry.vertices, geometry.radius + margin_m) {
                 let mesh = &self.meshes[index];

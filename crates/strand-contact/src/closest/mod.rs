@@ -15,12 +15,14 @@
 
 mod segment_segment;
 mod segment_triangle;
+mod segment_triangle_bound;
 
 pub use segment_segment::{SegmentSegment, closest_segment_segment};
 pub use segment_triangle::{SegmentTriangle, closest_segment_triangle};
 pub(crate) use segment_triangle::{
     SegmentTriangleParameters, segment_triangle_candidate, segment_triangle_points,
 };
+pub(crate) use segment_triangle_bound::segment_triangle_lower_bound;
 
 /// Candidates whose distance exceeds the smallest one by at most this fraction of the
 /// geometry's size count as ties; among ties, the midpoint of an interval of

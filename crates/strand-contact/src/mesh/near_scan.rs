@@ -34,6 +34,7 @@ use super::segment_proximity::SegmentBound;
 use super::work::{count_box, count_exact, count_node};
 use crate::closest::{
     Candidate, SegmentTriangleParameters, TIE_TOLERANCE, segment_triangle_candidate,
+    segment_triangle_lower_bound,
 };
 
 /// The margin (m) by which a candidate's box must be farther than its patch's nearest
@@ -233,11 +234,19 @@ impl ObstacleMesh {
             }
             let patch = self.patch_of(r.triangle);
             let seen = nearest.iter().position(|(p, _)| *p == patch);
-            if let Some(k) = seen
-                && r.bound > nearest[k].1 + guard
-            {
-                deferred.push(r);
-                continue;
+            if let Some(k) = seen {
+                let beyond = nearest[k].1 + guard;
+                if r.bound > beyond {
+                    deferred.push(r);
+                    continue;
+                }
+                // The box is near: the plane-and-edges bound may still rule it out.
+                if let Some(lower) = self.lower_bound(p0, p1, r.triangle)
+                    && lower > beyond
+                {
+                    deferred.push(Reachable { bound: lower, ..r });
+                    continue;
+                }
             }
             if let Some(found) = self.exact(p0, p1, r, limit) {
                 let distance = found.candidate.squared.sqrt();
@@ -252,6 +261,15 @@ impl ObstacleMesh {
         let mut scan = NearScan { near, deferred };
         scan.finish(self, p0, p1, limit, farthest);
         scan
+    }
+
+    /// A lower bound (m) of the distance of `triangle` from segment `[p0, p1]`, tighter
+    /// than its box on a tilted surface ([`segment_triangle_lower_bound`]); `None` for
+    /// a sliver. Counted as a box test.
+    fn lower_bound(&self, p0: &Point3<f64>, p1: &Point3<f64>, triangle: usize) -> Option<f64> {
+        count_box();
+        let [a, b, c] = self.local_triangle(triangle);
+        segment_triangle_lower_bound(p0, p1, &a, &b, &c)
     }
 
     /// The exact closest points of candidate `r`, if within `limit` (m).

@@ -32,7 +32,7 @@ use super::kept_triangles::KeptPatch;
 use super::segment_proximity::SegmentBound;
 use super::work::{count_box, count_exact, count_node};
 use super::{CLUSTER_SIZE, ObstacleMesh};
-use crate::closest::segment_triangle_candidate;
+use crate::closest::{segment_triangle_candidate, segment_triangle_lower_bound};
 
 /// A node's patch when its triangles belong to several.
 pub(super) const MIXED: u32 = u32::MAX;
@@ -129,6 +129,16 @@ impl ObstacleMesh {
                     .iter()
                     .any(|b| b.patch == patch as usize && distance > b.nearest.distance + guard)
         };
+        // The distance within which a node or triangle of `patch` is still looked at:
+        // `limit`, or its patch's nearest so far plus the guard if less.
+        let within = |best: &[PatchBest], patch: u32, limit: f64| {
+            if patch == MIXED {
+                return limit;
+            }
+            best.iter()
+                .find(|b| b.patch == patch as usize)
+                .map_or(limit, |b| limit.min(b.nearest.distance + guard))
+        };
         if bvh.boxes.is_empty() {
             return Vec::new();
         }
@@ -149,8 +159,11 @@ impl ObstacleMesh {
             let link = bvh.links[node as usize];
             if link & LEAF == 0 {
                 for child in [node + 1, link] {
-                    let distance = bound.distance(&bvh.boxes[child as usize], node_limit);
-                    if distance <= node_limit {
+                    // A child of one patch with a nearest so far is skipped beyond it
+                    // plus the guard: a bound above that is enough (cheaper to get).
+                    let limit = within(&best, node_patches[child as usize], node_limit);
+                    let distance = bound.distance(&bvh.boxes[child as usize], limit);
+                    if distance <= limit {
                         pending.push(Pending {
                             distance,
                             node: child,
@@ -163,13 +176,24 @@ impl ObstacleMesh {
             for (k, &t) in self.tree.cluster(cluster).iter().enumerate() {
                 count_box();
                 let corners = self.local_triangle(t as usize);
-                let box_distance = bound.triangle_distance(&corners, radius);
                 let patch = self.patch[t as usize];
-                if box_distance > radius || skipped(&best, patch, box_distance) {
+                let limit = within(&best, patch, radius);
+                let box_distance = bound.triangle_distance(&corners, limit);
+                if box_distance > limit || skipped(&best, patch, box_distance) {
                     continue;
                 }
-                count_exact();
                 let [a, b, c] = corners;
+                // A near box on a tilted surface: the plane-and-edges bound may still
+                // rule the triangle out (it is at least as far as the bound).
+                if best.iter().any(|kept| kept.patch == patch as usize) {
+                    count_box();
+                    if let Some(lower) = segment_triangle_lower_bound(p0, p1, &a, &b, &c)
+                        && skipped(&best, patch, lower)
+                    {
+                        continue;
+                    }
+                }
+                count_exact();
                 let squared = segment_triangle_candidate(p0, p1, &a, &b, &c).squared;
                 if squared > radius * radius {
                     continue;
