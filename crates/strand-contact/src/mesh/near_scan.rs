@@ -134,13 +134,10 @@ impl ObstacleMesh {
             Vec::new()
         };
         // Sorted by box distance, then position (distinct keys: an unstable sort gives
-        // the stable sort's order without its scratch).
+        // the stable sort's order without its scratch). The distances are not negative,
+        // so their bit patterns sort as they do (integer keys compare faster).
         let mut kept = in_order.clone();
-        kept.sort_unstable_by(|a, b| {
-            a.bound
-                .total_cmp(&b.bound)
-                .then(a.position.cmp(&b.position))
-        });
+        kept.sort_unstable_by_key(|r| (r.bound.to_bits(), r.position));
         KeptTriangles::new([*p0, *p1], reach, slack, &in_order, &kept, patches)
     }
 

@@ -25,8 +25,10 @@ pub(crate) fn box_box_distance(
 /// Exact distance between segment `p + s d`, `s ∈ [0, 1]`, and the box `[min, max]`, m.
 ///
 /// The squared distance is a convex piecewise quadratic in `s` whose pieces end where
-/// a coordinate crosses a face plane of the box; each piece is minimised in closed
-/// form.
+/// a coordinate crosses a face plane of the box; the pieces are walked in order of
+/// `s`, each minimised in closed form, and the walk stops at the first piece whose
+/// minimiser lies before its end: by convexity the function does not decrease after
+/// it. A point (`d = 0`) is one piece.
 pub(crate) fn segment_box_distance(
     p: GlamVector,
     d: GlamVector,
@@ -48,15 +50,23 @@ pub(crate) fn segment_box_distance(
         }
     }
     let breaks = &mut breaks[..count];
-    breaks.sort_unstable_by(f64::total_cmp);
+    // Insertion sort: at most eight values, most of them already in place.
+    for i in 2..breaks.len() {
+        let mut j = i;
+        while breaks[j - 1] > breaks[j] {
+            breaks.swap(j - 1, j);
+            j -= 1;
+        }
+    }
     let mut best = f64::INFINITY;
     for piece in breaks.windows(2) {
         let (s0, s1) = (piece[0], piece[1]);
         let middle = 0.5 * (s0 + s1);
         // On this piece each axis is below, inside or above the box: its term is
-        // (offset_k + s d_k)² or 0.
+        // (offset_k + s d_k)² or 0 (offset 0 and direction 0 inside).
         let (mut offset_dot, mut d_dot) = (0.0, 0.0);
-        let mut offsets = [None; 3];
+        let mut offsets = [0.0; 3];
+        let mut directions = [0.0; 3];
         for k in 0..3 {
             let x = p[k] + middle * d[k];
             let offset = if x < min[k] {
@@ -66,20 +76,18 @@ pub(crate) fn segment_box_distance(
             } else {
                 continue;
             };
-            offsets[k] = Some(offset);
+            offsets[k] = offset;
+            directions[k] = d[k];
             offset_dot += offset * d[k];
             d_dot += d[k] * d[k];
         }
-        let s = if d_dot > 0.0 {
-            (-offset_dot / d_dot).clamp(s0, s1)
-        } else {
-            s0
-        };
+        let unclamped = if d_dot > 0.0 { -offset_dot / d_dot } else { s0 };
+        let s = unclamped.clamp(s0, s1);
         let squared: f64 = (0..3)
-            .filter_map(|k| offsets[k].map(|o| (o + s * d[k]).powi(2)))
+            .map(|k| (offsets[k] + s * directions[k]).powi(2))
             .sum();
         best = best.min(squared);
-        if best == 0.0 {
+        if best == 0.0 || unclamped < s1 {
             break;
         }
     }

@@ -322,10 +322,11 @@ impl SegmentBound {
     }
 
     /// Distance between the segment and the box `[min, max]`, or a lower bound of it
-    /// that is already above `limit`, m.
+    /// that is already above `limit`, m. For a point (a vertex's query) the box-to-box
+    /// distance is the exact one.
     fn box_distance(&self, min: GlamVector, max: GlamVector, limit: f64) -> f64 {
         let cheap = box_box_distance(min, max, self.min, self.max);
-        if cheap > limit {
+        if cheap > limit || self.direction == GlamVector::ZERO {
             cheap
         } else {
             segment_box_distance(self.start, self.direction, min, max)
