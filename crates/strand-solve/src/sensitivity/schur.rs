@@ -133,16 +133,16 @@ impl KktFactor {
             augmented_factor(&mut cholesky, model.pattern(), &values, &rows)?
         };
         let n = model.dofs().len();
-        let columns: Vec<Vec<f64>> = rows
-            .iter()
-            .map(|row| {
-                let mut w = vec![0.0; n];
-                for &(k, a) in row {
-                    w[k] += a;
-                }
-                cholesky.solve_in_place(&mut w);
-                w
-            })
+        // `H⁻¹ a_i` of every row in one pass through the factor.
+        let mut stacked = vec![0.0; n * rows.len()];
+        for (i, row) in rows.iter().enumerate() {
+            for &(k, a) in row {
+                stacked[i * n + k] += a;
+            }
+        }
+        cholesky.solve_columns_in_place(&mut stacked, rows.len());
+        let columns: Vec<Vec<f64>> = (0..rows.len())
+            .map(|i| stacked[i * n..(i + 1) * n].to_vec())
             .collect();
         let m = rows.len();
         let dot = |row: &[(usize, f64)], w: &[f64]| row.iter().map(|&(k, a)| a * w[k]).sum::<f64>();
@@ -238,15 +238,38 @@ impl KktFactor {
     /// `(H + ρ AᵀA) v − Aᵀ w = −(rhs.gradient + ρ Aᵀ rhs.gaps)`, the same system, as
     /// `A v = −rhs.gaps`.
     pub(crate) fn solve(&mut self, rhs: &Kkt) -> (Vec<f64>, Vec<f64>) {
-        let mut y = rhs.gradient.clone();
-        if self.penalty > 0.0 {
-            for (row, &c) in self.rows.iter().zip(&rhs.gaps) {
-                for &(k, a) in row {
-                    y[k] += self.penalty * a * c;
+        self.solve_all(std::slice::from_ref(&rhs)).swap_remove(0)
+    }
+
+    /// [`KktFactor::solve`] for every right-hand side of `rhs`, with one pass through
+    /// the factor for all of them ([`crate::SparseCholesky::solve_columns_in_place`]):
+    /// each result is the one [`KktFactor::solve`] gives alone, bit for bit.
+    pub(crate) fn solve_all(&mut self, rhs: &[&Kkt]) -> Vec<(Vec<f64>, Vec<f64>)> {
+        let n = self.hessian_dim();
+        let mut stacked = Vec::with_capacity(n * rhs.len());
+        for side in rhs {
+            let start = stacked.len();
+            stacked.extend_from_slice(&side.gradient);
+            let y = &mut stacked[start..];
+            if self.penalty > 0.0 {
+                for (row, &c) in self.rows.iter().zip(&side.gaps) {
+                    for &(k, a) in row {
+                        y[k] += self.penalty * a * c;
+                    }
                 }
             }
         }
-        self.cholesky.solve_in_place(&mut y);
+        self.cholesky
+            .solve_columns_in_place(&mut stacked, rhs.len());
+        rhs.iter()
+            .enumerate()
+            .map(|(j, side)| self.multipliers_and_state(side, &stacked[j * n..(j + 1) * n]))
+            .collect()
+    }
+
+    /// `(v, w)` from `y = (H + ρ AᵀA)⁻¹ (rhs.gradient + ρ Aᵀ rhs.gaps)`: the Schur
+    /// complement's multipliers `w` and `v = −y + H⁻¹ Aᵀ w`.
+    fn multipliers_and_state(&self, rhs: &Kkt, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let m = self.rows.len();
         let w: Vec<f64> = match &self.schur {
             None => Vec::new(),
