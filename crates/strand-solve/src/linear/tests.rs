@@ -257,7 +257,7 @@ fn a_factoriser_from_a_handed_on_analysis_solves_as_the_analysing_one_does() {
 }
 
 /// The interleaved product of several vectors (the sensitivities' refinement checks,
-/// four parameters at a time) is each vector's own product bit for bit.
+/// several parameters at a time) is each vector's own product bit for bit.
 #[test]
 fn products_of_interleaved_vectors_are_each_vectors_product_bit_for_bit() {
     for pattern in [rod_pattern(7), two_rods_in_a_loop(5)] {

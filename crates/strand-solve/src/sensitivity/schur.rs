@@ -185,26 +185,34 @@ impl KktFactor {
     }
 
     /// `H v` with the gauge held for every vector of `vs`: the Hessian read once per
-    /// four vectors ([`crate::linear::symmetric_products`]); each result equals
+    /// eight vectors (the last group by the fewest of two, four or eight that holds
+    /// it, [`crate::linear::symmetric_products`]); each result equals
     /// [`KktFactor::hessian_product`]'s bit for bit.
     pub(crate) fn hessian_products(&self, vs: &[Vec<f64>]) -> Vec<Vec<f64>> {
-        const K: usize = 4;
-        let n = self.hessian_dim();
         let mut out = Vec::with_capacity(vs.len());
-        let mut x = vec![[0.0; K]; n];
-        let mut y = vec![[0.0; K]; n];
-        for group in vs.chunks(K) {
-            for (i, xi) in x.iter_mut().enumerate() {
-                for k in 0..K {
-                    xi[k] = group.get(k).map_or(0.0, |v| v[i]);
-                }
-            }
-            crate::linear::symmetric_products(&self.pattern, &self.hessian, &x, &mut y);
-            for k in 0..group.len() {
-                out.push(y.iter().map(|yi| yi[k]).collect());
+        for group in vs.chunks(8) {
+            match group.len() {
+                1 => out.push(self.hessian_product(&group[0])),
+                2 => self.grouped_products::<2>(group, &mut out),
+                3 | 4 => self.grouped_products::<4>(group, &mut out),
+                _ => self.grouped_products::<8>(group, &mut out),
             }
         }
         out
+    }
+
+    /// `H v` of the (at most `K`) vectors of `group`, interleaved for one pass over the
+    /// Hessian, appended to `out`.
+    fn grouped_products<const K: usize>(&self, group: &[Vec<f64>], out: &mut Vec<Vec<f64>>) {
+        let n = self.hessian_dim();
+        let x: Vec<[f64; K]> = (0..n)
+            .map(|i| std::array::from_fn(|k| group.get(k).map_or(0.0, |v| v[i])))
+            .collect();
+        let mut y = vec![[0.0; K]; n];
+        crate::linear::symmetric_products(&self.pattern, &self.hessian, &x, &mut y);
+        for k in 0..group.len() {
+            out.push(y.iter().map(|yi| yi[k]).collect());
+        }
     }
 
     /// `Aᵀ w` (the active rows, gauge entries dropped).

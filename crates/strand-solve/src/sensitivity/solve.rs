@@ -111,7 +111,7 @@ impl Sensitivities {
     /// row, and per parameter its right-hand side (in closed form along the model's
     /// line: one evaluation of each element it changes, no design built; else two
     /// builds and the changed elements' gradients per difference), one solve and one
-    /// refinement check (`H v` for four parameters at a time).
+    /// refinement check (`H v` for eight parameters at a time).
     pub fn compute<D: Design>(
         design: &D,
         solution: &Solution,
@@ -182,7 +182,7 @@ impl Sensitivities {
             gauge,
         };
         // Every right-hand side, then every first solve in one pass through the factor,
-        // then their refinement checks' `H v` in one pass over the Hessian for four
+        // then their refinement checks' `H v` in one pass over the Hessian for eight
         // parameters at a time.
         let mut scratch = None;
         let mut sides = Vec::with_capacity(count);
