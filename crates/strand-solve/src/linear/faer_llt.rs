@@ -7,7 +7,7 @@ use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
@@ -34,6 +34,8 @@ pub(crate) struct FaerCholesky {
     factor_values: Vec<f64>,
     factor_buffer: MemBuffer,
     solve_buffer: MemBuffer,
+    /// The number of right-hand sides `solve_buffer` holds the workspace of.
+    solve_columns: usize,
 }
 
 impl FaerCholesky {
@@ -107,7 +109,15 @@ impl FaerCholesky {
             factor_values,
             factor_buffer,
             solve_buffer,
+            solve_columns: 1,
         })
+    }
+
+    /// Whether faer chose its supernodal factorisation (dense blocks of columns) rather
+    /// than the simplicial one for this pattern.
+    #[cfg(test)]
+    pub(crate) fn is_supernodal(&self) -> bool {
+        matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
     }
 
     /// Number of nonzeros of the factor `L`.
@@ -133,11 +143,50 @@ impl FaerCholesky {
 
     /// Solves `A x = rhs` in place with the last successful factorisation.
     pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        let n = rhs.len();
+        self.solve_columns_in_place(rhs, 1);
+    }
+
+    /// Solves `A X = B` in place for `columns` right-hand sides stored one after
+    /// another in `rhs` (column-major, `columns` times the dimension). With faer's
+    /// simplicial factor the ordering's permutation is applied once to all of them and
+    /// each column of the factor is read once per four right-hand sides: its
+    /// triangular solves do the same operations in the same order for each right-hand
+    /// side whether it is solved alone or with others, so every column is
+    /// [`FaerCholesky::solve_in_place`]'s bit for bit (tested). The supernodal
+    /// factor's dense kernels group the operations differently for several columns,
+    /// so there each column is solved alone (the same bits again).
+    pub(crate) fn solve_columns_in_place(&mut self, rhs: &mut [f64], columns: usize) {
+        if columns == 0 {
+            return;
+        }
+        let n = rhs.len() / columns;
+        assert_eq!(n * columns, rhs.len(), "whole columns of the dimension");
+        let simplicial = matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_));
+        if columns > 1 && !simplicial {
+            for column in rhs.chunks_exact_mut(n) {
+                self.solve_columns_in_place(column, 1);
+            }
+            return;
+        }
+        if columns > self.solve_columns {
+            let req = self
+                .symbolic
+                .solve_in_place_scratch::<f64>(columns, Par::Seq);
+            // The workspace of fewer columns stays usable where this one cannot be had.
+            if let Ok(buffer) = MemBuffer::try_new(req) {
+                self.solve_buffer = buffer;
+                self.solve_columns = columns;
+            } else {
+                for column in rhs.chunks_exact_mut(n) {
+                    self.solve_columns_in_place(column, 1);
+                }
+                return;
+            }
+        }
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.factor_values);
         llt.solve_in_place_with_conj(
             Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            MatMut::from_column_major_slice_mut(rhs, n, columns),
             Par::Seq,
             MemStack::new(&mut self.solve_buffer),
         );

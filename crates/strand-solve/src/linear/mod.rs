@@ -233,6 +233,32 @@ impl SparseCholesky {
             Backend::Faer(f) => f.solve_in_place(rhs),
         }
     }
+
+    /// Solves `A X = B` in place with the last successful factorisation for
+    /// `columns` right-hand sides stored one after another in `rhs` (column-major:
+    /// column `k` is `rhs[k n..(k + 1) n]`, `n` the dimension). Each column's result is
+    /// [`SparseCholesky::solve_in_place`]'s bit for bit; through faer's simplicial
+    /// factor the permutations are applied once and the factor is read once per four
+    /// columns, the envelope and faer's supernodal factor solve one column after
+    /// another.
+    ///
+    /// # Panics
+    ///
+    /// Before a successful factorisation, or if `rhs.len()` is not `columns` times the
+    /// dimension.
+    pub fn solve_columns_in_place(&mut self, rhs: &mut [f64], columns: usize) {
+        assert!(self.factored, "solve before a successful factorisation");
+        let n = self.col_ptr.len() - 1;
+        assert_eq!(rhs.len(), n * columns, "columns of the factor's dimension");
+        match &mut self.backend {
+            Backend::Envelope(e) => {
+                for column in rhs.chunks_exact_mut(n.max(1)) {
+                    e.solve_in_place(column);
+                }
+            }
+            Backend::Faer(f) => f.solve_columns_in_place(rhs, columns),
+        }
+    }
 }
 
 /// `out = A x` for the symmetric matrix `A` given by its upper triangle (`values` in

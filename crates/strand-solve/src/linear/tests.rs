@@ -257,7 +257,7 @@ fn a_factoriser_from_a_handed_on_analysis_solves_as_the_analysing_one_does() {
 }
 
 /// The interleaved product of several vectors (the sensitivities' refinement checks,
-/// four parameters at a time) is each vector's own product bit for bit.
+/// several parameters at a time) is each vector's own product bit for bit.
 #[test]
 fn products_of_interleaved_vectors_are_each_vectors_product_bit_for_bit() {
     for pattern in [rod_pattern(7), two_rods_in_a_loop(5)] {
@@ -277,6 +277,68 @@ fn products_of_interleaved_vectors_are_each_vectors_product_bit_for_bit() {
             symmetric_product(&pattern, &values, v, &mut single);
             let interleaved: Vec<f64> = y.iter().map(|yi| yi[k]).collect();
             assert_eq!(interleaved, single, "vector {k}");
+        }
+    }
+}
+
+/// A cube of `side³` blocks, each coupled to its neighbours along the three axes: a
+/// pattern whose factor fills in enough for faer to choose its supernodal
+/// factorisation.
+fn block_cube(side: usize) -> HessianPattern {
+    let at = |i: usize, j: usize, k: usize| (i * side + j) * side + k;
+    let mut elements: Vec<Vec<usize>> = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            for k in 0..side {
+                if i + 1 < side {
+                    elements.push(vec![at(i, j, k), at(i + 1, j, k)]);
+                }
+                if j + 1 < side {
+                    elements.push(vec![at(i, j, k), at(i, j + 1, k)]);
+                }
+                if k + 1 < side {
+                    elements.push(vec![at(i, j, k), at(i, j, k + 1)]);
+                }
+            }
+        }
+    }
+    HessianPattern::new(side * side * side, elements.iter().map(|e| e.as_slice()))
+}
+
+/// Several right-hand sides solved in one pass ([`SparseCholesky::solve_columns_in_place`],
+/// the sensitivities' ten parameters) give each column's own solve bit for bit, on
+/// every backend: the envelope (one rod), faer's simplicial factorisation (two rods
+/// in a loop) and its supernodal one (a cube of blocks); column counts across faer's
+/// groups of four.
+#[test]
+fn columns_solved_together_equal_each_columns_own_solve_bit_for_bit() {
+    let cases = [
+        (rod_pattern(25), Some(true), false),
+        (two_rods_in_a_loop(30), Some(false), false),
+        (block_cube(8), Some(false), true),
+    ];
+    for (pattern, envelope, supernodal) in cases {
+        let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
+        assert_eq!(Some(cholesky.is_envelope()), envelope);
+        if let super::Backend::Faer(f) = &cholesky.backend {
+            assert_eq!(f.is_supernodal(), supernodal, "faer's choice");
+        }
+        let values = spd_values(&pattern, 17, 0.3);
+        assert!(cholesky.factor(&values));
+        let n = pattern.dim();
+        let mut seed = 23;
+        for columns in [1, 3, 4, 10] {
+            let rhs: Vec<f64> = (0..n * columns).map(|_| next(&mut seed)).collect();
+            let mut together = rhs.clone();
+            cholesky.solve_columns_in_place(&mut together, columns);
+            for (k, b) in rhs.chunks_exact(n).enumerate() {
+                let mut alone = b.to_vec();
+                cholesky.solve_in_place(&mut alone);
+                let same = together[k * n..(k + 1) * n] == alone[..];
+                assert!(same, "column {k} of {columns} differs from its own solve");
+                let b_norm = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+                assert!(residual_norm(&pattern, &values, &alone, b) <= 1e-12 * b_norm);
+            }
         }
     }
 }

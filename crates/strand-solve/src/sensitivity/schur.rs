@@ -133,16 +133,16 @@ impl KktFactor {
             augmented_factor(&mut cholesky, model.pattern(), &values, &rows)?
         };
         let n = model.dofs().len();
-        let columns: Vec<Vec<f64>> = rows
-            .iter()
-            .map(|row| {
-                let mut w = vec![0.0; n];
-                for &(k, a) in row {
-                    w[k] += a;
-                }
-                cholesky.solve_in_place(&mut w);
-                w
-            })
+        // `H⁻¹ a_i` of every row in one pass through the factor.
+        let mut stacked = vec![0.0; n * rows.len()];
+        for (i, row) in rows.iter().enumerate() {
+            for &(k, a) in row {
+                stacked[i * n + k] += a;
+            }
+        }
+        cholesky.solve_columns_in_place(&mut stacked, rows.len());
+        let columns: Vec<Vec<f64>> = (0..rows.len())
+            .map(|i| stacked[i * n..(i + 1) * n].to_vec())
             .collect();
         let m = rows.len();
         let dot = |row: &[(usize, f64)], w: &[f64]| row.iter().map(|&(k, a)| a * w[k]).sum::<f64>();
@@ -185,26 +185,34 @@ impl KktFactor {
     }
 
     /// `H v` with the gauge held for every vector of `vs`: the Hessian read once per
-    /// four vectors ([`crate::linear::symmetric_products`]); each result equals
+    /// eight vectors (the last group by the fewest of two, four or eight that holds
+    /// it, [`crate::linear::symmetric_products`]); each result equals
     /// [`KktFactor::hessian_product`]'s bit for bit.
     pub(crate) fn hessian_products(&self, vs: &[Vec<f64>]) -> Vec<Vec<f64>> {
-        const K: usize = 4;
-        let n = self.hessian_dim();
         let mut out = Vec::with_capacity(vs.len());
-        let mut x = vec![[0.0; K]; n];
-        let mut y = vec![[0.0; K]; n];
-        for group in vs.chunks(K) {
-            for (i, xi) in x.iter_mut().enumerate() {
-                for k in 0..K {
-                    xi[k] = group.get(k).map_or(0.0, |v| v[i]);
-                }
-            }
-            crate::linear::symmetric_products(&self.pattern, &self.hessian, &x, &mut y);
-            for k in 0..group.len() {
-                out.push(y.iter().map(|yi| yi[k]).collect());
+        for group in vs.chunks(8) {
+            match group.len() {
+                1 => out.push(self.hessian_product(&group[0])),
+                2 => self.grouped_products::<2>(group, &mut out),
+                3 | 4 => self.grouped_products::<4>(group, &mut out),
+                _ => self.grouped_products::<8>(group, &mut out),
             }
         }
         out
+    }
+
+    /// `H v` of the (at most `K`) vectors of `group`, interleaved for one pass over the
+    /// Hessian, appended to `out`.
+    fn grouped_products<const K: usize>(&self, group: &[Vec<f64>], out: &mut Vec<Vec<f64>>) {
+        let n = self.hessian_dim();
+        let x: Vec<[f64; K]> = (0..n)
+            .map(|i| std::array::from_fn(|k| group.get(k).map_or(0.0, |v| v[i])))
+            .collect();
+        let mut y = vec![[0.0; K]; n];
+        crate::linear::symmetric_products(&self.pattern, &self.hessian, &x, &mut y);
+        for k in 0..group.len() {
+            out.push(y.iter().map(|yi| yi[k]).collect());
+        }
     }
 
     /// `Aᵀ w` (the active rows, gauge entries dropped).
@@ -238,15 +246,38 @@ impl KktFactor {
     /// `(H + ρ AᵀA) v − Aᵀ w = −(rhs.gradient + ρ Aᵀ rhs.gaps)`, the same system, as
     /// `A v = −rhs.gaps`.
     pub(crate) fn solve(&mut self, rhs: &Kkt) -> (Vec<f64>, Vec<f64>) {
-        let mut y = rhs.gradient.clone();
-        if self.penalty > 0.0 {
-            for (row, &c) in self.rows.iter().zip(&rhs.gaps) {
-                for &(k, a) in row {
-                    y[k] += self.penalty * a * c;
+        self.solve_all(std::slice::from_ref(&rhs)).swap_remove(0)
+    }
+
+    /// [`KktFactor::solve`] for every right-hand side of `rhs`, with one pass through
+    /// the factor for all of them ([`crate::SparseCholesky::solve_columns_in_place`]):
+    /// each result is the one [`KktFactor::solve`] gives alone, bit for bit.
+    pub(crate) fn solve_all(&mut self, rhs: &[&Kkt]) -> Vec<(Vec<f64>, Vec<f64>)> {
+        let n = self.hessian_dim();
+        let mut stacked = Vec::with_capacity(n * rhs.len());
+        for side in rhs {
+            let start = stacked.len();
+            stacked.extend_from_slice(&side.gradient);
+            let y = &mut stacked[start..];
+            if self.penalty > 0.0 {
+                for (row, &c) in self.rows.iter().zip(&side.gaps) {
+                    for &(k, a) in row {
+                        y[k] += self.penalty * a * c;
+                    }
                 }
             }
         }
-        self.cholesky.solve_in_place(&mut y);
+        self.cholesky
+            .solve_columns_in_place(&mut stacked, rhs.len());
+        rhs.iter()
+            .enumerate()
+            .map(|(j, side)| self.multipliers_and_state(side, &stacked[j * n..(j + 1) * n]))
+            .collect()
+    }
+
+    /// `(v, w)` from `y = (H + ρ AᵀA)⁻¹ (rhs.gradient + ρ Aᵀ rhs.gaps)`: the Schur
+    /// complement's multipliers `w` and `v = −y + H⁻¹ Aᵀ w`.
+    fn multipliers_and_state(&self, rhs: &Kkt, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let m = self.rows.len();
         let w: Vec<f64> = match &self.schur {
             None => Vec::new(),

@@ -111,7 +111,7 @@ impl Sensitivities {
     /// row, and per parameter its right-hand side (in closed form along the model's
     /// line: one evaluation of each element it changes, no design built; else two
     /// builds and the changed elements' gradients per difference), one solve and one
-    /// refinement check (`H v` for four parameters at a time).
+    /// refinement check (`H v` for eight parameters at a time).
     pub fn compute<D: Design>(
         design: &D,
         solution: &Solution,
@@ -181,8 +181,9 @@ impl Sensitivities {
             parameters: Vec::with_capacity(count),
             gauge,
         };
-        // Every right-hand side, then every first solve, then their refinement checks'
-        // `H v` in one pass over the Hessian for four parameters at a time.
+        // Every right-hand side, then every first solve in one pass through the factor,
+        // then their refinement checks' `H v` in one pass over the Hessian for eight
+        // parameters at a time.
         let mut scratch = None;
         let mut sides = Vec::with_capacity(count);
         for j in 0..count {
@@ -195,8 +196,8 @@ impl Sensitivities {
                 settings,
             )?);
         }
-        let first: Vec<(Vec<f64>, Vec<f64>)> =
-            sides.iter().map(|side| factor.solve(&side.rhs)).collect();
+        let right_hand_sides: Vec<&Kkt> = sides.iter().map(|side| &side.rhs).collect();
+        let first = factor.solve_all(&right_hand_sides);
         let states: Vec<Vec<f64>> = first.iter().map(|(v, _)| v.clone()).collect();
         let products = factor.hessian_products(&states);
         for (j, ((side, (v, w)), hv)) in sides.into_iter().zip(first).zip(products).enumerate() {

@@ -209,3 +209,71 @@ fn a_rod_resting_on_a_floor_follows_the_floor_with_its_contact_forces() {
     assert!(pressing >= 1, "the rod must rest on the floor");
     check(&design, &[1, 2, 3], 1e-6);
 }
+
+/// The KKT system's right-hand sides solved together ([`KktFactor::solve_all`], the
+/// parameters' first solves in one pass through the factor) give each one's own
+/// [`KktFactor::solve`] bit for bit, with active rows (the Schur complement on the
+/// floor's contacts and their multipliers); so do the refinement checks' grouped
+/// products `H v` ([`KktFactor::hessian_products`], 1 to 11 vectors).
+#[test]
+fn right_hand_sides_solved_together_equal_each_ones_own_solve_bit_for_bit() {
+    use super::kkt::Kkt;
+    use super::schur::KktFactor;
+    use crate::gauge::Gauge;
+    let design = Bench {
+        base: [-1.0, 0.8, -9.81, -0.005],
+        floor: true,
+        far_clamp: true,
+    };
+    let (built, base) = solve_at(&design, &[0.0; 4], None);
+    let model = &built.model;
+    let active: Vec<&Row> = base
+        .constraints
+        .iter()
+        .filter(|(_, l)| *l > 0.0)
+        .map(|(r, _)| r)
+        .collect();
+    assert!(!active.is_empty(), "the rod must rest on the floor");
+    let mut eval = model.new_evaluation();
+    model.evaluate(&base.state, &mut eval, true);
+    let gauge = Gauge::of(model);
+    let mut factor = KktFactor::new(
+        model,
+        &eval.hessian,
+        &gauge,
+        &active,
+        base.analysis.as_ref(),
+    )
+    .unwrap();
+    let n = model.dofs().len();
+    let mut seed = 7u64;
+    let mut next = || crate::linear::tests::next(&mut seed);
+    let sides: Vec<Kkt> = (0..6)
+        .map(|_| Kkt {
+            gradient: (0..n).map(|_| next()).collect(),
+            gaps: (0..active.len()).map(|_| 1e-3 * next()).collect(),
+        })
+        .collect();
+    let together = factor.solve_all(&sides.iter().collect::<Vec<_>>());
+    assert_eq!(together.len(), sides.len());
+    for (j, (side, (v, w))) in sides.iter().zip(&together).enumerate() {
+        let (v_alone, w_alone) = factor.solve(side);
+        assert!(*v == v_alone && *w == w_alone, "right-hand side {j}");
+        assert_eq!(w.len(), active.len());
+    }
+    // The refinement checks' products, grouped by up to eight: each vector's own.
+    let vectors: Vec<Vec<f64>> = sides.iter().map(|s| s.gradient.clone()).collect();
+    for count in 1..=vectors.len() {
+        let mut many = vectors[..count].to_vec();
+        many.extend(vectors[..count.min(5)].iter().cloned());
+        let grouped = factor.hessian_products(&many);
+        assert_eq!(grouped.len(), many.len());
+        for (k, (v, hv)) in many.iter().zip(&grouped).enumerate() {
+            assert!(
+                *hv == factor.hessian_product(v),
+                "product {k} of {}",
+                many.len()
+            );
+        }
+    }
+}
