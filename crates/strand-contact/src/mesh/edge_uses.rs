@@ -21,29 +21,48 @@ fn count(_n: u64) {
 
 /// Welds vertices at exactly the same position (−0 and +0 alike): `welded[i]` is the
 /// smallest index of a vertex at the position of vertex `i`. Also returns the number of
-/// distinct positions. `O(n log n)` by a sort of the position bits.
+/// distinct positions. `O(n)` expected: a table of the first vertex at each position
+/// (open addressing, at most half full), filled in vertex order.
 pub(crate) fn weld(vertices: &[Point3<f64>]) -> (Vec<u32>, usize) {
-    let mut keyed: Vec<([u64; 3], u32)> = vertices
-        .iter()
-        .enumerate()
-        .map(|(i, p)| ([p.x, p.y, p.z].map(|x| (x + 0.0).to_bits()), i as u32))
-        .collect();
-    count(keyed.len() as u64);
-    keyed.sort_unstable_by(|a, b| {
-        count(1);
-        a.cmp(b)
-    });
-    let mut welded = vec![0; vertices.len()];
+    let bits = |p: &Point3<f64>| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+    let slots = (2 * vertices.len()).next_power_of_two().max(2);
+    let shift = u64::BITS - slots.trailing_zeros();
+    let mut table = vec![u32::MAX; slots];
+    let mut welded = Vec::with_capacity(vertices.len());
     let mut distinct = 0;
-    for run in keyed.chunk_by(|a, b| a.0 == b.0) {
-        // Sorted by (bits, index): the first of a run has the smallest index.
-        let first = run[0].1;
-        distinct += 1;
-        for &(_, i) in run {
-            welded[i as usize] = first;
+    for (i, p) in vertices.iter().enumerate() {
+        let key = bits(p);
+        let mut slot = (position_hash(key) >> shift) as usize;
+        loop {
+            count(1);
+            let first = table[slot];
+            if first == u32::MAX {
+                table[slot] = i as u32;
+                welded.push(i as u32);
+                distinct += 1;
+                break;
+            }
+            if bits(&vertices[first as usize]) == key {
+                welded.push(first);
+                break;
+            }
+            slot = (slot + 1) & (slots - 1);
         }
     }
     (welded, distinct)
+}
+
+/// A 64-bit hash of a position's bits whose high bits vary with every bit of the
+/// input (folded 128-bit products, then a multiplicative spread).
+#[inline]
+fn position_hash([x, y, z]: [u64; 3]) -> u64 {
+    let fold = |a: u64, b: u64| {
+        let product = u128::from(a) * u128::from(b);
+        (product as u64) ^ ((product >> 64) as u64)
+    };
+    let h = fold(x ^ 0x243f_6a88_85a3_08d3, y ^ 0x1319_8a2e_0370_7344)
+        ^ fold(z ^ 0xa409_3822_299f_31d0, 0x082e_fa98_ec4e_6c89);
+    h.wrapping_mul(0x9e37_79b9_7f4a_7c15)
 }
 
 /// One use of an undirected welded edge `(low, high)` by a triangle.
@@ -183,6 +202,30 @@ mod tests {
             .map(|g| g.iter().map(EdgeUse::user).collect())
             .collect();
         assert_eq!(found, reference(&welded, &triangles));
+    }
+
+    #[test]
+    fn welding_matches_a_map_of_positions() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for n in [0, 1, 2, 3, 100, 5000] {
+            // Few distinct values per axis (many repeats), ±0, and neighbours one ulp
+            // apart.
+            let values = [0.0, -0.0, 1.0, 1.0f64.next_up(), -2.5, 1e-300, 3.0e5];
+            let vertices: Vec<Point3<f64>> = (0..n)
+                .map(|_| Point3::from([0; 3].map(|_| values[rng.random_range(0..values.len())])))
+                .collect();
+            let mut first: BTreeMap<[u64; 3], u32> = BTreeMap::new();
+            let expected: Vec<u32> = vertices
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let key = [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+                    *first.entry(key).or_insert(i as u32)
+                })
+                .collect();
+            assert_eq!(weld(&vertices), (expected, first.len()), "{n} vertices");
+        }
     }
 
     /// Counted, not timed: 16× the triangles costs about 16× the work (times a slowly

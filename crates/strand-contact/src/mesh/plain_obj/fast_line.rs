@@ -17,6 +17,17 @@ const POWERS_OF_TEN: [f64; 23] = [
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
+/// `10^k` for `k = 0..=19`, as integers.
+const INTEGER_POWERS_OF_TEN: [u64; 20] = {
+    let mut powers = [1u64; 20];
+    let mut k = 1;
+    while k < 20 {
+        powers[k] = powers[k - 1] * 10;
+        k += 1;
+    }
+    powers
+};
+
 /// The largest mantissa that is exact in `f64`, 2⁵³.
 const EXACT_MANTISSA: u64 = 1 << 53;
 
@@ -61,20 +72,58 @@ fn line_end(text: &[u8], at: usize) -> Option<usize> {
     }
 }
 
-/// The decimal digits at `at`, at most `limit` of them read (`limit + 1` are
-/// counted): their value and where they end.
+/// The decimal digits at `at`: their value (wrapping past 19 digits) and where they
+/// end. Stops early once more than `limit` are read (the callers refuse those), so
+/// the end is exact only for runs of at most `limit` digits.
 #[inline]
-fn digits(text: &[u8], mut at: usize, limit: usize) -> (u64, usize) {
-    let start = at;
+fn digits(text: &[u8], at: usize, limit: usize) -> (u64, usize) {
     let mut value: u64 = 0;
-    while at < text.len() && text[at].is_ascii_digit() && at - start <= limit {
-        // Wraps past 19 digits, which the callers refuse.
+    let mut end = at;
+    // Eight bytes at a time while eight are left.
+    while let Some(bytes) = text.get(end..end + 8) {
+        let word = u64::from_le_bytes(bytes.try_into().expect("eight bytes"));
+        let (run, count) = leading_digits(word);
+        if count > 0 {
+            value = value
+                .wrapping_mul(INTEGER_POWERS_OF_TEN[count])
+                .wrapping_add(run);
+        }
+        end += count;
+        if count < 8 || end - at > limit {
+            return (value, end);
+        }
+    }
+    while end < text.len() && text[end].is_ascii_digit() && end - at <= limit {
         value = value
             .wrapping_mul(10)
-            .wrapping_add(u64::from(text[at] - b'0'));
-        at += 1;
+            .wrapping_add(u64::from(text[end] - b'0'));
+        end += 1;
     }
-    (value, at)
+    (value, end)
+}
+
+/// The decimal digits that begin `word` (eight bytes of text, the first in the lowest
+/// byte): their value and how many there are (0 to 8), SWAR.
+#[inline]
+fn leading_digits(word: u64) -> (u64, usize) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    // Digits become 0..=9; a byte is one iff it is below 10 as it is (no high bit) and
+    // after adding 0x76 (no carry reaches the first non-digit byte: the bytes below
+    // it are digits).
+    let x = word ^ (0x30 * ONES);
+    let not_digit = (x.wrapping_add(0x76 * ONES) | x) & (0x80 * ONES);
+    let count = (not_digit.trailing_zeros() / 8) as usize;
+    if count == 0 {
+        return (0, 0);
+    }
+    // The digits moved to the top bytes, zeros (leading zeros of the number) below.
+    let mut v = x << (8 * (8 - count));
+    // Pairs, then fours, then all eight, each step's sums in the low byte, half-word
+    // and word of its group.
+    v = (v.wrapping_mul(10) + (v >> 8)) & 0x00ff_00ff_00ff_00ff;
+    v = (v.wrapping_mul(100) + (v >> 16)) & 0x0000_ffff_0000_ffff;
+    v = v.wrapping_mul(10_000) + (v >> 32);
+    (v & 0xffff_ffff, count)
 }
 
 /// The word at `at` (a non-blank byte) as a short decimal `[-]digits[.digits]` with at
@@ -98,7 +147,11 @@ fn short_decimal(text: &[u8], at: usize) -> Option<(f64, usize)> {
         if fraction == 0 || fraction > limit {
             return None;
         }
-        (whole * 10u64.pow(fraction as u32) + part, fraction, end)
+        (
+            whole * INTEGER_POWERS_OF_TEN[fraction] + part,
+            fraction,
+            end,
+        )
     } else {
         (whole, 0, point)
     };
@@ -170,8 +223,11 @@ impl Chunk {
     /// The rest of an `f` line from `at`: three to [`FACE_REFERENCES`] face words.
     #[inline]
     fn fast_face(&mut self, text: &[u8], mut at: usize) -> Option<usize> {
-        let mut words = [[0i64; 3]; FACE_REFERENCES];
+        // Checked and counted as the general path does (`Chunk::reference` and
+        // `Chunk::corner`): every reference is positive, so every corner is absolute.
+        let mut corners = [0u32; FACE_REFERENCES];
         let mut count = 0;
+        let (mut vertex_max, mut texcoord_max, mut normal_max) = (0i64, 0i64, 0i64);
         let next = loop {
             at = skip_blanks(text, at);
             match text.get(at) {
@@ -179,33 +235,101 @@ impl Chunk {
                 Some(b'\n') => break at + 1,
                 Some(_) => {}
             }
-            let (word, end) = face_word(text, at)?;
-            *words.get_mut(count)? = word;
+            let ([vertex, texcoord, normal], end) = face_word(text, at)?;
+            *corners.get_mut(count)? = (vertex - 1) as u32;
             count += 1;
+            vertex_max = vertex_max.max(vertex);
+            texcoord_max = texcoord_max.max(texcoord);
+            normal_max = normal_max.max(normal);
             at = end;
         };
         if count < 3 {
             return None;
         }
-        // Checked and counted as the general path does (`Chunk::reference` and
-        // `Chunk::corner`): every reference is positive, so every corner is absolute.
         let local = self.positions.len() as i64;
-        for &[vertex, texcoord, normal] in &words[..count] {
-            self.vertices_needed_before = self.vertices_needed_before.max(vertex - local);
-            if texcoord != 0 {
-                self.texcoords_needed_before =
-                    self.texcoords_needed_before.max(texcoord - self.texcoords);
-            }
-            if normal != 0 {
-                self.normals_needed_before = self.normals_needed_before.max(normal - self.normals);
-            }
+        self.vertices_needed_before = self.vertices_needed_before.max(vertex_max - local);
+        if texcoord_max != 0 {
+            self.texcoords_needed_before = self
+                .texcoords_needed_before
+                .max(texcoord_max - self.texcoords);
         }
-        let corner = |k: usize| (words[k][0] - 1) as u32;
-        let first = corner(0);
+        if normal_max != 0 {
+            self.normals_needed_before = self.normals_needed_before.max(normal_max - self.normals);
+        }
         for k in 2..count {
             self.corners
-                .extend_from_slice(&[first, corner(k - 1), corner(k)]);
+                .extend_from_slice(&[corners[0], corners[k - 1], corners[k]]);
         }
         Some(next)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::*;
+
+    #[test]
+    fn digit_runs_are_read_as_one_digit_at_a_time_reads_them() {
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        let alphabet = b"0123456789/.- \n\x7f\xff:";
+        for _ in 0..50_000 {
+            let length = rng.random_range(0..30);
+            let text: Vec<u8> = (0..length)
+                .map(|_| {
+                    if rng.random_bool(0.7) {
+                        b'0' + rng.random_range(0..10u8)
+                    } else {
+                        alphabet[rng.random_range(0..alphabet.len())]
+                    }
+                })
+                .collect();
+            let at = rng.random_range(0..=length);
+            let run = text[at..].iter().take_while(|b| b.is_ascii_digit()).count();
+            let expected = text[at..at + run].iter().fold(0u64, |v, &b| {
+                v.wrapping_mul(10).wrapping_add(u64::from(b - b'0'))
+            });
+            for limit in [0, 3, 9, 19, 40] {
+                let (value, end) = digits(&text, at, limit);
+                if run <= limit {
+                    assert_eq!((value, end), (expected, at + run), "{text:?} at {at}");
+                } else {
+                    assert!(end - at > limit && end - at <= run, "{text:?} at {at}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn short_decimals_are_the_bits_std_parses() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut taken = 0;
+        for _ in 0..200_000 {
+            let x: f64 = rng.random_range(-2000.0..2000.0);
+            let places = rng.random_range(0..=14);
+            let mantissa: u64 = rng.random_range(0..(1u64 << 55));
+            let digits = mantissa.to_string();
+            let split = rng.random_range(0..=digits.len());
+            for word in [
+                format!("{x:.places$}"),
+                format!("{x}"),
+                format!("{}.{}", &digits[..split], &digits[split..]),
+                format!("-{}", &digits[..split]),
+            ] {
+                let text = format!("{word} 1");
+                if let Some((value, end)) = short_decimal(text.as_bytes(), 0) {
+                    assert_eq!(end, word.len(), "{word}");
+                    assert_eq!(
+                        value.to_bits(),
+                        word.parse::<f64>().unwrap().to_bits(),
+                        "{word}"
+                    );
+                    taken += 1;
+                }
+            }
+        }
+        assert!(taken > 300_000, "{taken} taken");
     }
 }
