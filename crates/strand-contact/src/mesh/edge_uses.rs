@@ -3,8 +3,6 @@
 //! per edge. A 1M-triangle mesh has 1.5M edges; a map from edge to a list of its
 //! triangles made the topology analysis most of the mesh load.
 
-use nalgebra::Point3;
-
 #[cfg(test)]
 thread_local! {
     /// Entries written and comparisons made while welding and grouping on this
@@ -23,8 +21,8 @@ fn count(_n: u64) {
 /// smallest index of a vertex at the position of vertex `i`. Also returns the number of
 /// distinct positions. `O(n)` expected: a table of the first vertex at each position
 /// (open addressing, at most half full), filled in vertex order.
-pub(crate) fn weld(vertices: &[Point3<f64>]) -> (Vec<u32>, usize) {
-    let bits = |p: &Point3<f64>| [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+pub(crate) fn weld(vertices: &[[f64; 3]]) -> (Vec<u32>, usize) {
+    let bits = |p: &[f64; 3]| p.map(|x| (x + 0.0).to_bits());
     let slots = (2 * vertices.len()).next_power_of_two().max(2);
     let shift = u64::BITS - slots.trailing_zeros();
     let mut table = vec![u32::MAX; slots];
@@ -65,6 +63,25 @@ fn position_hash([x, y, z]: [u64; 3]) -> u64 {
     h.wrapping_mul(0x9e37_79b9_7f4a_7c15)
 }
 
+/// Buckets of at most this many uses are sorted by insertion (a vertex of a closed
+/// mesh has about six).
+const SHORT_BUCKET: usize = 16;
+
+/// `bucket` sorted stably by the larger end of its edges, by insertion.
+#[inline]
+fn insertion_sort_by_high(bucket: &mut [EdgeUse]) {
+    for k in 1..bucket.len() {
+        let item = bucket[k];
+        let mut at = k;
+        while at > 0 && bucket[at - 1].high > item.high {
+            count(1);
+            bucket[at] = bucket[at - 1];
+            at -= 1;
+        }
+        bucket[at] = item;
+    }
+}
+
 /// One use of an undirected welded edge `(low, high)` by a triangle.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct EdgeUse {
@@ -100,15 +117,16 @@ impl EdgeUses {
             let w = indices.map(|i| welded[i as usize]);
             (0..3).map(move |k| (w[k], w[(k + 1) % 3]))
         };
-        // Counting sort by the smaller end, then a short sort per bucket.
-        let mut start = vec![0usize; welded.len() + 1];
+        // Counting sort by the smaller end, then a short sort per bucket. Bucket `k`
+        // is counted at `start[k + 2]`, filled from `start[k + 1]` (its beginning
+        // after the sums, its end once filled), and so begins at `start[k]` after.
+        let mut start = vec![0usize; welded.len() + 2];
         for (u, v) in triangles.iter().flat_map(sides) {
-            start[u.min(v) as usize + 1] += 1;
+            start[u.min(v) as usize + 2] += 1;
         }
         for k in 1..start.len() {
             start[k] += start[k - 1];
         }
-        let mut next = start.clone();
         let mut uses = vec![
             EdgeUse {
                 high: 0,
@@ -120,7 +138,7 @@ impl EdgeUses {
         count(uses.len() as u64);
         for (t, indices) in triangles.iter().enumerate() {
             for (u, v) in sides(indices) {
-                let slot = &mut next[u.min(v) as usize];
+                let slot = &mut start[u.min(v) as usize + 1];
                 uses[*slot] = EdgeUse {
                     high: u.max(v),
                     triangle: t as u32,
@@ -129,11 +147,19 @@ impl EdgeUses {
                 *slot += 1;
             }
         }
+        start.pop();
+        // Each bucket holds its uses in triangle order: sorted stably by the larger
+        // end, they are sorted by (larger end, triangle).
         for bucket in start.windows(2) {
-            uses[bucket[0]..bucket[1]].sort_unstable_by(|a, b| {
-                count(1);
-                (a.high, a.triangle).cmp(&(b.high, b.triangle))
-            });
+            let bucket = &mut uses[bucket[0]..bucket[1]];
+            if bucket.len() <= SHORT_BUCKET {
+                insertion_sort_by_high(bucket);
+            } else {
+                bucket.sort_unstable_by(|a, b| {
+                    count(1);
+                    (a.high, a.triangle).cmp(&(b.high, b.triangle))
+                });
+            }
         }
         Self { start, uses }
     }
@@ -154,11 +180,11 @@ mod tests {
 
     /// An `n × n` grid of unit squares, two triangles each, with every vertex given
     /// twice (the second copy unused) so that welding has work to do.
-    fn grid(n: usize) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+    fn grid(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
         let mut vertices = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
-                vertices.push(Point3::new(i as f64, j as f64, 0.0));
+                vertices.push([i as f64, j as f64, 0.0]);
             }
         }
         vertices.extend(vertices.clone());
@@ -205,6 +231,28 @@ mod tests {
     }
 
     #[test]
+    fn edge_uses_of_fans_and_shared_edges_match_a_map_of_edges() {
+        // Vertex 0 in 40 triangles (a bucket sorted whole), edges used three times,
+        // triangles given in scrambled order and both windings.
+        let rim = 40u32;
+        let mut triangles: Vec<[u32; 3]> = (0..rim)
+            .map(|k| [0, 1 + k, 1 + (k + 1) % rim])
+            .chain((0..rim).step_by(3).map(|k| [1 + (k + 1) % rim, 1 + k, 0]))
+            .chain([[1, 2, 3], [3, 2, 1], [2, 1, 0]])
+            .collect();
+        triangles.reverse();
+        triangles.swap(3, 30);
+        let welded: Vec<u32> = (0..=rim).collect();
+        let edges = EdgeUses::new(&welded, &triangles);
+        let found: Vec<Vec<(u32, bool)>> = edges
+            .groups()
+            .map(|g| g.iter().map(EdgeUse::user).collect())
+            .collect();
+        assert_eq!(found, reference(&welded, &triangles));
+        assert!(found.iter().any(|g| g.len() >= 3));
+    }
+
+    #[test]
     fn welding_matches_a_map_of_positions() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
@@ -212,15 +260,15 @@ mod tests {
             // Few distinct values per axis (many repeats), ±0, and neighbours one ulp
             // apart.
             let values = [0.0, -0.0, 1.0, 1.0f64.next_up(), -2.5, 1e-300, 3.0e5];
-            let vertices: Vec<Point3<f64>> = (0..n)
-                .map(|_| Point3::from([0; 3].map(|_| values[rng.random_range(0..values.len())])))
+            let vertices: Vec<[f64; 3]> = (0..n)
+                .map(|_| [0; 3].map(|_| values[rng.random_range(0..values.len())]))
                 .collect();
             let mut first: BTreeMap<[u64; 3], u32> = BTreeMap::new();
             let expected: Vec<u32> = vertices
                 .iter()
                 .enumerate()
                 .map(|(i, p)| {
-                    let key = [p.x, p.y, p.z].map(|x| (x + 0.0).to_bits());
+                    let key = p.map(|x| (x + 0.0).to_bits());
                     *first.entry(key).or_insert(i as u32)
                 })
                 .collect();

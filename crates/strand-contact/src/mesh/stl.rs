@@ -60,14 +60,47 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
             return MeshFormat::BinaryStl;
         }
     }
-    let text = std::str::from_utf8(bytes)
-        .ok()
-        .filter(|t| !t.contains('\0'));
-    match text {
-        Some(t) if t.trim_start().starts_with("solid") => MeshFormat::AsciiStl,
-        Some(_) if !extension.is_some_and(|e| e.eq_ignore_ascii_case("stl")) => MeshFormat::Obj,
+    // Text (UTF-8 without a NUL) starting with `solid` after white space, or other
+    // text; `None` for bytes that are not text.
+    let solid = |text: &[u8]| text.starts_with(b"solid");
+    let text_says_solid = match ascii_and_nul(bytes) {
+        (_, true) => None,
+        // What `str::trim_start` skips in ASCII.
+        (true, false) => Some(
+            bytes
+                .iter()
+                .position(|b| !matches!(b, b' ' | b'\t' | b'\n' | 0x0b | 0x0c | b'\r'))
+                .is_some_and(|k| solid(&bytes[k..])),
+        ),
+        (false, false) => std::str::from_utf8(bytes)
+            .ok()
+            .map(|t| solid(t.trim_start().as_bytes())),
+    };
+    match text_says_solid {
+        Some(true) => MeshFormat::AsciiStl,
+        Some(false) if !extension.is_some_and(|e| e.eq_ignore_ascii_case("stl")) => MeshFormat::Obj,
         _ => MeshFormat::BinaryStl,
     }
+}
+
+/// Whether every byte of `bytes` is ASCII, and whether one is NUL (eight bytes at a
+/// time: a 36 MB OBJ file is checked in a few million instructions).
+fn ascii_and_nul(bytes: &[u8]) -> (bool, bool) {
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    let words = bytes.chunks_exact(8);
+    let rest = words.remainder();
+    // The high bits of every byte, and of every zero byte: the low seven bits plus
+    // 0x7f (no carry out of the byte) or the byte itself has its high bit set iff the
+    // byte is not zero.
+    let (high, zero) = words.fold((0u64, 0u64), |(high, zero), word| {
+        let w = u64::from_le_bytes(word.try_into().expect("eight bytes"));
+        let not_zero = ((w & !HIGH) + !HIGH) | w;
+        (high | w, zero | !not_zero)
+    });
+    (
+        high & HIGH == 0 && rest.is_ascii(),
+        zero & HIGH != 0 || rest.contains(&0),
+    )
 }
 
 impl ObstacleMesh {
@@ -158,9 +191,12 @@ fn stl_mesh(
     let (vertices, triangles) = weld(&corners);
     let vertices = vertices
         .into_iter()
-        .map(|p| pose * Point3::from(p.coords * scale_to_metres))
+        .map(|p| {
+            let world = pose * Point3::from(p.coords * scale_to_metres);
+            [world.x, world.y, world.z]
+        })
         .collect();
-    build(super::load_obj::name_of(path), vertices, &triangles).map_err(|e| match e {
+    build(super::load_obj::name_of(path), vertices, triangles).map_err(|e| match e {
         MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
             mesh: label,
             detail,
