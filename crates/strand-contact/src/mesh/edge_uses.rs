@@ -113,16 +113,19 @@ impl EdgeUses {
     /// The edge uses of `triangles` (0-based into the vertices that `welded` maps to
     /// their welded index).
     pub(crate) fn new(welded: &[u32], triangles: &[[u32; 3]]) -> Self {
-        let sides = |indices: &[u32; 3]| {
-            let w = indices.map(|i| welded[i as usize]);
-            (0..3).map(move |k| (w[k], w[(k + 1) % 3]))
+        // The sides of a triangle as (from, to) welded vertices.
+        let sides = |[a, b, c]: [u32; 3]| {
+            let [a, b, c] = [a, b, c].map(|i| welded[i as usize]);
+            [(a, b), (b, c), (c, a)]
         };
         // Counting sort by the smaller end, then a short sort per bucket. Bucket `k`
         // is counted at `start[k + 2]`, filled from `start[k + 1]` (its beginning
         // after the sums, its end once filled), and so begins at `start[k]` after.
         let mut start = vec![0usize; welded.len() + 2];
-        for (u, v) in triangles.iter().flat_map(sides) {
-            start[u.min(v) as usize + 2] += 1;
+        for &indices in triangles {
+            for (u, v) in sides(indices) {
+                start[u.min(v) as usize + 2] += 1;
+            }
         }
         for k in 1..start.len() {
             start[k] += start[k - 1];
@@ -136,7 +139,7 @@ impl EdgeUses {
             3 * triangles.len()
         ];
         count(uses.len() as u64);
-        for (t, indices) in triangles.iter().enumerate() {
+        for (t, &indices) in triangles.iter().enumerate() {
             for (u, v) in sides(indices) {
                 let slot = &mut start[u.min(v) as usize + 1];
                 uses[*slot] = EdgeUse {

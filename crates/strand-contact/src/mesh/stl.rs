@@ -62,19 +62,12 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
     }
     // Text (UTF-8 without a NUL) starting with `solid` after white space, or other
     // text; `None` for bytes that are not text.
-    let solid = |text: &[u8]| text.starts_with(b"solid");
-    let text_says_solid = match ascii_and_nul(bytes) {
-        (_, true) => None,
-        // What `str::trim_start` skips in ASCII.
-        (true, false) => Some(
-            bytes
-                .iter()
-                .position(|b| !matches!(b, b' ' | b'\t' | b'\n' | 0x0b | 0x0c | b'\r'))
-                .is_some_and(|k| solid(&bytes[k..])),
-        ),
-        (false, false) => std::str::from_utf8(bytes)
+    let text_says_solid = if has_nul(bytes) {
+        None
+    } else {
+        std::str::from_utf8(bytes)
             .ok()
-            .map(|t| solid(t.trim_start().as_bytes())),
+            .map(|t| t.trim_start().starts_with("solid"))
     };
     match text_says_solid {
         Some(true) => MeshFormat::AsciiStl,
@@ -83,24 +76,18 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
     }
 }
 
-/// Whether every byte of `bytes` is ASCII, and whether one is NUL (eight bytes at a
-/// time: a 36 MB OBJ file is checked in a few million instructions).
-fn ascii_and_nul(bytes: &[u8]) -> (bool, bool) {
+/// Whether a byte of `bytes` is NUL (eight bytes at a time, where `memchr` reads one).
+fn has_nul(bytes: &[u8]) -> bool {
     const HIGH: u64 = 0x8080_8080_8080_8080;
     let words = bytes.chunks_exact(8);
     let rest = words.remainder();
-    // The high bits of every byte, and of every zero byte: the low seven bits plus
-    // 0x7f (no carry out of the byte) or the byte itself has its high bit set iff the
-    // byte is not zero.
-    let (high, zero) = words.fold((0u64, 0u64), |(high, zero), word| {
+    // A byte is not zero iff its low seven bits plus 0x7f (no carry out of the byte)
+    // or the byte itself has its high bit set.
+    let zero = words.fold(0u64, |zero, word| {
         let w = u64::from_le_bytes(word.try_into().expect("eight bytes"));
-        let not_zero = ((w & !HIGH) + !HIGH) | w;
-        (high | w, zero | !not_zero)
+        zero | !(((w & !HIGH) + !HIGH) | w)
     });
-    (
-        high & HIGH == 0 && rest.is_ascii(),
-        zero & HIGH != 0 || rest.contains(&0),
-    )
+    zero & HIGH != 0 || rest.contains(&0)
 }
 
 impl ObstacleMesh {

@@ -71,11 +71,13 @@ impl TriangleTree {
             .par_iter()
             .enumerate()
             .map(|(t, corners)| {
-                let [a, b, c] = corners.map(|i| vertices[i as usize]);
-                let cell = [0, 1, 2].map(|k| {
+                let [a, b, c] = [0, 1, 2].map(|k| &vertices[corners[k] as usize]);
+                let mut cell = [0u64; 3];
+                for k in 0..3 {
                     let centroid = (a[k] + b[k] + c[k]) / 3.0;
-                    ((centroid - min[k]) * scale[k]).clamp(0.0, MORTON_CELLS - 1.0) as u64
-                });
+                    cell[k] =
+                        ((centroid - min[k]) * scale[k]).clamp(0.0, MORTON_CELLS - 1.0) as u64;
+                }
                 (morton(cell), t as u32)
             })
             .collect();
