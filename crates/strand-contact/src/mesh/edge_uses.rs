@@ -3,8 +3,6 @@
 //! per edge. A 1M-triangle mesh has 1.5M edges; a map from edge to a list of its
 //! triangles made the topology analysis most of the mesh load.
 
-use nalgebra::Point3;
-
 #[cfg(test)]
 thread_local! {
     /// Entries written and comparisons made while welding and grouping on this
@@ -21,29 +19,67 @@ fn count(_n: u64) {
 
 /// Welds vertices at exactly the same position (−0 and +0 alike): `welded[i]` is the
 /// smallest index of a vertex at the position of vertex `i`. Also returns the number of
-/// distinct positions. `O(n log n)` by a sort of the position bits.
-pub(crate) fn weld(vertices: &[Point3<f64>]) -> (Vec<u32>, usize) {
-    let mut keyed: Vec<([u64; 3], u32)> = vertices
-        .iter()
-        .enumerate()
-        .map(|(i, p)| ([p.x, p.y, p.z].map(|x| (x + 0.0).to_bits()), i as u32))
-        .collect();
-    count(keyed.len() as u64);
-    keyed.sort_unstable_by(|a, b| {
-        count(1);
-        a.cmp(b)
-    });
-    let mut welded = vec![0; vertices.len()];
+/// distinct positions. `O(n)` expected: a table of the first vertex at each position
+/// (open addressing, at most half full), filled in vertex order.
+pub(crate) fn weld(vertices: &[[f64; 3]]) -> (Vec<u32>, usize) {
+    let bits = |p: &[f64; 3]| p.map(|x| (x + 0.0).to_bits());
+    let slots = (2 * vertices.len()).next_power_of_two().max(2);
+    let shift = u64::BITS - slots.trailing_zeros();
+    let mut table = vec![u32::MAX; slots];
+    let mut welded = Vec::with_capacity(vertices.len());
     let mut distinct = 0;
-    for run in keyed.chunk_by(|a, b| a.0 == b.0) {
-        // Sorted by (bits, index): the first of a run has the smallest index.
-        let first = run[0].1;
-        distinct += 1;
-        for &(_, i) in run {
-            welded[i as usize] = first;
+    for (i, p) in vertices.iter().enumerate() {
+        let key = bits(p);
+        let mut slot = (position_hash(key) >> shift) as usize;
+        loop {
+            count(1);
+            let first = table[slot];
+            if first == u32::MAX {
+                table[slot] = i as u32;
+                welded.push(i as u32);
+                distinct += 1;
+                break;
+            }
+            if bits(&vertices[first as usize]) == key {
+                welded.push(first);
+                break;
+            }
+            slot = (slot + 1) & (slots - 1);
         }
     }
     (welded, distinct)
+}
+
+/// A 64-bit hash of a position's bits whose high bits vary with every bit of the
+/// input (folded 128-bit products, then a multiplicative spread).
+#[inline]
+fn position_hash([x, y, z]: [u64; 3]) -> u64 {
+    let fold = |a: u64, b: u64| {
+        let product = u128::from(a) * u128::from(b);
+        (product as u64) ^ ((product >> 64) as u64)
+    };
+    let h = fold(x ^ 0x243f_6a88_85a3_08d3, y ^ 0x1319_8a2e_0370_7344)
+        ^ fold(z ^ 0xa409_3822_299f_31d0, 0x082e_fa98_ec4e_6c89);
+    h.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+}
+
+/// Buckets of at most this many uses are sorted by insertion (a vertex of a closed
+/// mesh has about six).
+const SHORT_BUCKET: usize = 16;
+
+/// `bucket` sorted stably by the larger end of its edges, by insertion.
+#[inline]
+fn insertion_sort_by_high(bucket: &mut [EdgeUse]) {
+    for k in 1..bucket.len() {
+        let item = bucket[k];
+        let mut at = k;
+        while at > 0 && bucket[at - 1].high > item.high {
+            count(1);
+            bucket[at] = bucket[at - 1];
+            at -= 1;
+        }
+        bucket[at] = item;
+    }
 }
 
 /// One use of an undirected welded edge `(low, high)` by a triangle.
@@ -77,19 +113,23 @@ impl EdgeUses {
     /// The edge uses of `triangles` (0-based into the vertices that `welded` maps to
     /// their welded index).
     pub(crate) fn new(welded: &[u32], triangles: &[[u32; 3]]) -> Self {
-        let sides = |indices: &[u32; 3]| {
-            let w = indices.map(|i| welded[i as usize]);
-            (0..3).map(move |k| (w[k], w[(k + 1) % 3]))
+        // The sides of a triangle as (from, to) welded vertices.
+        let sides = |[a, b, c]: [u32; 3]| {
+            let [a, b, c] = [a, b, c].map(|i| welded[i as usize]);
+            [(a, b), (b, c), (c, a)]
         };
-        // Counting sort by the smaller end, then a short sort per bucket.
-        let mut start = vec![0usize; welded.len() + 1];
-        for (u, v) in triangles.iter().flat_map(sides) {
-            start[u.min(v) as usize + 1] += 1;
+        // Counting sort by the smaller end, then a short sort per bucket. Bucket `k`
+        // is counted at `start[k + 2]`, filled from `start[k + 1]` (its beginning
+        // after the sums, its end once filled), and so begins at `start[k]` after.
+        let mut start = vec![0usize; welded.len() + 2];
+        for &indices in triangles {
+            for (u, v) in sides(indices) {
+                start[u.min(v) as usize + 2] += 1;
+            }
         }
         for k in 1..start.len() {
             start[k] += start[k - 1];
         }
-        let mut next = start.clone();
         let mut uses = vec![
             EdgeUse {
                 high: 0,
@@ -99,9 +139,9 @@ impl EdgeUses {
             3 * triangles.len()
         ];
         count(uses.len() as u64);
-        for (t, indices) in triangles.iter().enumerate() {
+        for (t, &indices) in triangles.iter().enumerate() {
             for (u, v) in sides(indices) {
-                let slot = &mut next[u.min(v) as usize];
+                let slot = &mut start[u.min(v) as usize + 1];
                 uses[*slot] = EdgeUse {
                     high: u.max(v),
                     triangle: t as u32,
@@ -110,11 +150,19 @@ impl EdgeUses {
                 *slot += 1;
             }
         }
+        start.pop();
+        // Each bucket holds its uses in triangle order: sorted stably by the larger
+        // end, they are sorted by (larger end, triangle).
         for bucket in start.windows(2) {
-            uses[bucket[0]..bucket[1]].sort_unstable_by(|a, b| {
-                count(1);
-                (a.high, a.triangle).cmp(&(b.high, b.triangle))
-            });
+            let bucket = &mut uses[bucket[0]..bucket[1]];
+            if bucket.len() <= SHORT_BUCKET {
+                insertion_sort_by_high(bucket);
+            } else {
+                bucket.sort_unstable_by(|a, b| {
+                    count(1);
+                    (a.high, a.triangle).cmp(&(b.high, b.triangle))
+                });
+            }
         }
         Self { start, uses }
     }
@@ -135,11 +183,11 @@ mod tests {
 
     /// An `n × n` grid of unit squares, two triangles each, with every vertex given
     /// twice (the second copy unused) so that welding has work to do.
-    fn grid(n: usize) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
+    fn grid(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
         let mut vertices = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
-                vertices.push(Point3::new(i as f64, j as f64, 0.0));
+                vertices.push([i as f64, j as f64, 0.0]);
             }
         }
         vertices.extend(vertices.clone());
@@ -183,6 +231,52 @@ mod tests {
             .map(|g| g.iter().map(EdgeUse::user).collect())
             .collect();
         assert_eq!(found, reference(&welded, &triangles));
+    }
+
+    #[test]
+    fn edge_uses_of_fans_and_shared_edges_match_a_map_of_edges() {
+        // Vertex 0 in 40 triangles (a bucket sorted whole), edges used three times,
+        // triangles given in scrambled order and both windings.
+        let rim = 40u32;
+        let mut triangles: Vec<[u32; 3]> = (0..rim)
+            .map(|k| [0, 1 + k, 1 + (k + 1) % rim])
+            .chain((0..rim).step_by(3).map(|k| [1 + (k + 1) % rim, 1 + k, 0]))
+            .chain([[1, 2, 3], [3, 2, 1], [2, 1, 0]])
+            .collect();
+        triangles.reverse();
+        triangles.swap(3, 30);
+        let welded: Vec<u32> = (0..=rim).collect();
+        let edges = EdgeUses::new(&welded, &triangles);
+        let found: Vec<Vec<(u32, bool)>> = edges
+            .groups()
+            .map(|g| g.iter().map(EdgeUse::user).collect())
+            .collect();
+        assert_eq!(found, reference(&welded, &triangles));
+        assert!(found.iter().any(|g| g.len() >= 3));
+    }
+
+    #[test]
+    fn welding_matches_a_map_of_positions() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for n in [0, 1, 2, 3, 100, 5000] {
+            // Few distinct values per axis (many repeats), ±0, and neighbours one ulp
+            // apart.
+            let values = [0.0, -0.0, 1.0, 1.0f64.next_up(), -2.5, 1e-300, 3.0e5];
+            let vertices: Vec<[f64; 3]> = (0..n)
+                .map(|_| [0; 3].map(|_| values[rng.random_range(0..values.len())]))
+                .collect();
+            let mut first: BTreeMap<[u64; 3], u32> = BTreeMap::new();
+            let expected: Vec<u32> = vertices
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let key = p.map(|x| (x + 0.0).to_bits());
+                    *first.entry(key).or_insert(i as u32)
+                })
+                .collect();
+            assert_eq!(weld(&vertices), (expected, first.len()), "{n} vertices");
+        }
     }
 
     /// Counted, not timed: 16× the triangles costs about 16× the work (times a slowly

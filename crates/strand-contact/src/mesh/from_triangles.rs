@@ -1,8 +1,9 @@
 //! Building a mesh from vertices and triangles, with validation.
 
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
+use rayon::prelude::*;
 
-use super::topology::analyse;
+use super::topology::{Shape, analyse, shape};
 use super::triangle_tree::TriangleTree;
 use super::{MeshError, ObstacleMesh};
 
@@ -38,56 +39,98 @@ impl ObstacleMesh {
                 z: p.z,
             });
         }
-        build(name, vertices, triangles)
+        let vertices = vertices.iter().map(|p| [p.x, p.y, p.z]).collect();
+        build(name, vertices, triangles.to_vec())
     }
 }
 
-/// Builds the mesh from finite vertices.
+/// Builds the mesh from finite vertices (m) and 0-based triangles.
 pub(crate) fn build(
     name: String,
-    vertices: Vec<Point3<f64>>,
-    triangles: &[[u32; 3]],
+    vertices: Vec<[f64; 3]>,
+    mut triangles: Vec<[u32; 3]>,
 ) -> Result<ObstacleMesh, MeshError> {
     let count = vertices.len();
-    let mut kept = Vec::with_capacity(triangles.len());
+    let in_range = |i: &u32| (*i as usize) < count;
+    if !triangles.iter().flatten().all(in_range) {
+        let (triangle, index) = triangles
+            .iter()
+            .enumerate()
+            .find_map(|(t, indices)| indices.iter().find(|i| !in_range(i)).map(|&i| (t, i)))
+            .expect("an index out of range");
+        return Err(MeshError::IndexOutOfRange {
+            mesh: name,
+            triangle,
+            index,
+            count,
+        });
+    }
+    // Each triangle's shape (in parallel), then the degenerate ones dropped in place
+    // (the kept ones in their order, with their normals) and the bounding box grown
+    // over the kept ones' corners in turn.
+    let given = triangles.len();
+    let (mut normals, kinds): (Vec<Vector3<f64>>, Vec<Kind>) = triangles
+        .par_iter()
+        .map(|indices| {
+            let [a, b, c] = indices.map(|i| Point3::from(vertices[i as usize]));
+            match shape(&a, &b, &c) {
+                Shape::Degenerate => (Vector3::zeros(), Kind::Degenerate),
+                Shape::Kept { normal, sliver } => {
+                    (normal, if sliver { Kind::Sliver } else { Kind::Kept })
+                }
+            }
+        })
+        .unzip();
     let mut min = Point3::from([f64::INFINITY; 3]);
     let mut max = Point3::from([f64::NEG_INFINITY; 3]);
-    for (triangle, indices) in triangles.iter().enumerate() {
-        if let Some(&index) = indices.iter().find(|&&i| i as usize >= count) {
-            return Err(MeshError::IndexOutOfRange {
-                mesh: name,
-                triangle,
-                index,
-                count,
-            });
+    let mut kinds_in_turn = kinds.iter();
+    triangles.retain(|indices| {
+        if *kinds_in_turn.next().expect("a kind per triangle") == Kind::Degenerate {
+            return false;
         }
-        let [a, b, c] = indices.map(|i| vertices[i as usize]);
-        if is_degenerate(&a, &b, &c) {
-            continue;
-        }
-        for p in [a, b, c] {
+        for i in indices {
+            let p = Point3::from(vertices[*i as usize]);
             min = min.inf(&p);
             max = max.sup(&p);
         }
-        kept.push(*indices);
+        true
+    });
+    if triangles.len() < given {
+        let mut kinds_in_turn = kinds.iter();
+        normals.retain(|_| *kinds_in_turn.next().expect("a kind per triangle") != Kind::Degenerate);
     }
-    let skipped_degenerate = triangles.len() - kept.len();
+    let slivers = kinds.iter().filter(|&&k| k == Kind::Sliver).count();
+    drop(kinds);
+    let kept = triangles;
+    let skipped_degenerate = given - kept.len();
     if kept.is_empty() {
-        let detail = if triangles.is_empty() {
+        let detail = if given == 0 {
             String::new()
         } else {
-            format!(" of positive area (all {} are degenerate)", triangles.len())
+            format!(" of positive area (all {given} are degenerate)")
         };
         return Err(MeshError::NoTriangles { mesh: name, detail });
     }
     // The topology analysis and the BVH are independent: one core each.
-    let (topology, tree) = rayon::join(
-        || analyse(&vertices, &kept, skipped_degenerate, [min, max]),
+    let (topology, (order, bvh)) = rayon::join(
         || {
-            let raw = vertices.iter().map(|p| [p.x, p.y, p.z]).collect();
-            TriangleTree::build(raw, kept.clone(), [min, max])
+            analyse(
+                &vertices,
+                &kept,
+                &normals,
+                slivers,
+                skipped_degenerate,
+                [min, max],
+            )
         },
+        || TriangleTree::order_and_bvh(&vertices, &kept, [min, max]),
     );
+    let tree = TriangleTree {
+        vertices,
+        indices: kept,
+        order,
+        bvh,
+    };
     Ok(ObstacleMesh {
         name,
         tree: std::sync::Arc::new(tree),
@@ -100,13 +143,13 @@ pub(crate) fn build(
     })
 }
 
-/// Whether triangle `(a, b, c)` has zero area up to rounding.
-fn is_degenerate(a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> bool {
-    let (ab, ac, bc) = (b - a, c - a, c - b);
-    let longest2 = ab
-        .norm_squared()
-        .max(ac.norm_squared())
-        .max(bc.norm_squared());
-    let area2 = ab.cross(&ac).norm();
-    area2.is_nan() || area2 <= DEGENERATE_RELATIVE_AREA * longest2
+/// What a triangle is, for the build.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// Skipped.
+    Degenerate,
+    /// Kept, not a sliver.
+    Kept,
+    /// Kept, a sliver.
+    Sliver,
 }

@@ -58,12 +58,13 @@ pub(crate) fn obj_mesh(
     {
         return Err(non_finite_vertex(&label, bytes, Point3::from(file)));
     }
-    let vertices: Vec<Point3<f64>> = parsed
-        .positions
-        .par_iter()
-        .map(|&file| pose * Point3::from(Point3::from(file).coords * scale_to_metres))
-        .collect();
-    build(name_of(path), vertices, &parsed.triangles).map_err(|e| match e {
+    // Placed where they are (the file's positions are not needed afterwards).
+    let mut vertices = parsed.positions;
+    vertices.par_iter_mut().for_each(|vertex| {
+        let world = pose * Point3::from(Point3::from(*vertex).coords * scale_to_metres);
+        *vertex = [world.x, world.y, world.z];
+    });
+    build(name_of(path), vertices, parsed.triangles).map_err(|e| match e {
         MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
             mesh: label,
             detail,

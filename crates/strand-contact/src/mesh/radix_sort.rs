@@ -12,24 +12,34 @@ const BUCKETS: usize = 1 << DIGIT_BITS;
 /// given in increasing value, the pairs sorted.
 pub(crate) fn sorted_by_key(items: Vec<(u64, u32)>) -> Vec<(u64, u32)> {
     let highest = items.iter().fold(0u64, |bits, &(key, _)| bits | key);
-    let passes = (u64::BITS - highest.leading_zeros()).div_ceil(DIGIT_BITS);
+    let passes = (u64::BITS - highest.leading_zeros()).div_ceil(DIGIT_BITS) as usize;
+    let digit =
+        |key: u64, pass: usize| ((key >> (pass as u32 * DIGIT_BITS)) as usize) & (BUCKETS - 1);
+    // Every pass's bucket sizes in one reading of the keys.
+    let mut counts = vec![[0usize; BUCKETS]; passes];
+    for &(key, _) in &items {
+        for (pass, count) in counts.iter_mut().enumerate() {
+            count[digit(key, pass)] += 1;
+        }
+    }
     let mut from = items;
-    let mut to = vec![(0u64, 0u32); from.len()];
-    for pass in 0..passes {
-        let shift = pass * DIGIT_BITS;
-        let digit = |key: u64| ((key >> shift) as usize) & (BUCKETS - 1);
-        let mut start = vec![0usize; BUCKETS];
-        for &(key, _) in &from {
-            start[digit(key)] += 1;
+    let mut to = Vec::new();
+    for (pass, start) in counts.iter_mut().enumerate() {
+        // A digit shared by every key leaves the order as it is.
+        if start.contains(&from.len()) {
+            continue;
         }
         let mut sum = 0;
-        for slot in &mut start {
+        for slot in start.iter_mut() {
             let count = *slot;
             *slot = sum;
             sum += count;
         }
+        if to.is_empty() {
+            to = vec![(0u64, 0u32); from.len()];
+        }
         for &item in &from {
-            let slot = &mut start[digit(item.0)];
+            let slot = &mut start[digit(item.0, pass)];
             to[*slot] = item;
             *slot += 1;
         }
@@ -62,6 +72,21 @@ mod tests {
             let mut sorted = items.clone();
             sorted.sort_unstable();
             assert_eq!(sorted_by_key(items), sorted, "{n} items of {key_bits} bits");
+        }
+        // Digits shared by every key (a pass left out): the low one, a middle one, the
+        // high one, and all of them.
+        for hole in [0x7ff, 0x7ff << 11, 0x7ff << 44, u64::MAX] {
+            let items: Vec<(u64, u32)> = (0..20_000)
+                .map(|t| {
+                    (
+                        (rng.random::<u64>() >> 9) & !hole | (hole & 0x5555_5555_5555_5555),
+                        t,
+                    )
+                })
+                .collect();
+            let mut sorted = items.clone();
+            sorted.sort_unstable();
+            assert_eq!(sorted_by_key(items), sorted, "hole {hole:x}");
         }
     }
 }

@@ -60,14 +60,34 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
             return MeshFormat::BinaryStl;
         }
     }
-    let text = std::str::from_utf8(bytes)
-        .ok()
-        .filter(|t| !t.contains('\0'));
-    match text {
-        Some(t) if t.trim_start().starts_with("solid") => MeshFormat::AsciiStl,
-        Some(_) if !extension.is_some_and(|e| e.eq_ignore_ascii_case("stl")) => MeshFormat::Obj,
+    // Text (UTF-8 without a NUL) starting with `solid` after white space, or other
+    // text; `None` for bytes that are not text.
+    let text_says_solid = if has_nul(bytes) {
+        None
+    } else {
+        std::str::from_utf8(bytes)
+            .ok()
+            .map(|t| t.trim_start().starts_with("solid"))
+    };
+    match text_says_solid {
+        Some(true) => MeshFormat::AsciiStl,
+        Some(false) if !extension.is_some_and(|e| e.eq_ignore_ascii_case("stl")) => MeshFormat::Obj,
         _ => MeshFormat::BinaryStl,
     }
+}
+
+/// Whether a byte of `bytes` is NUL (eight bytes at a time, where `memchr` reads one).
+fn has_nul(bytes: &[u8]) -> bool {
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    let words = bytes.chunks_exact(8);
+    let rest = words.remainder();
+    // A byte is not zero iff its low seven bits plus 0x7f (no carry out of the byte)
+    // or the byte itself has its high bit set.
+    let zero = words.fold(0u64, |zero, word| {
+        let w = u64::from_le_bytes(word.try_into().expect("eight bytes"));
+        zero | !(((w & !HIGH) + !HIGH) | w)
+    });
+    zero & HIGH != 0 || rest.contains(&0)
 }
 
 impl ObstacleMesh {
@@ -158,9 +178,12 @@ fn stl_mesh(
     let (vertices, triangles) = weld(&corners);
     let vertices = vertices
         .into_iter()
-        .map(|p| pose * Point3::from(p.coords * scale_to_metres))
+        .map(|p| {
+            let world = pose * Point3::from(p.coords * scale_to_metres);
+            [world.x, world.y, world.z]
+        })
         .collect();
-    build(super::load_obj::name_of(path), vertices, &triangles).map_err(|e| match e {
+    build(super::load_obj::name_of(path), vertices, triangles).map_err(|e| match e {
         MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
             mesh: label,
             detail,

@@ -236,3 +236,47 @@ fn broken_stl_files_are_errors_naming_the_file_and_the_problem() {
         "{message}"
     );
 }
+
+#[test]
+fn nul_bytes_are_found_as_byte_by_byte() {
+    // Every length up to three words, with one or two odd bytes at every place.
+    let odd = [0u8, 0x80, 0xff, 0x7f, 1, 0xc3];
+    for length in 0..25 {
+        for (a, b) in odd.iter().flat_map(|&a| odd.iter().map(move |&b| (a, b))) {
+            for at in 0..length.max(1) {
+                let mut bytes = vec![b'v'; length];
+                if at < length {
+                    bytes[at] = a;
+                    bytes[(at * 7 + 3) % length] = b;
+                }
+                assert_eq!(has_nul(&bytes), bytes.contains(&0), "{bytes:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_format_is_told_by_content_with_odd_white_space_and_text() {
+    for (bytes, extension, format) in [
+        (
+            &b"\x0b\x0c \r\n\tsolid x\n"[..],
+            Some("obj"),
+            MeshFormat::AsciiStl,
+        ),
+        (
+            "\u{a0}solid x\n".as_bytes(),
+            Some("obj"),
+            MeshFormat::AsciiStl,
+        ),
+        ("# π\nv 0 0 0\n".as_bytes(), Some("obj"), MeshFormat::Obj),
+        (b"v 0 0 0\n", None, MeshFormat::Obj),
+        (b"v 0 0 0\n", Some("STL"), MeshFormat::BinaryStl),
+        (b"v 0 0\x000\n", Some("obj"), MeshFormat::BinaryStl),
+        ("# π\x00".as_bytes(), Some("obj"), MeshFormat::BinaryStl),
+        (b"# \xff\n", Some("obj"), MeshFormat::BinaryStl),
+        (b"  sol", Some("obj"), MeshFormat::Obj),
+        (b"", Some("obj"), MeshFormat::Obj),
+    ] {
+        assert_eq!(detect_format(bytes, extension), format, "{bytes:?}");
+    }
+}

@@ -3,6 +3,7 @@
 
 use nalgebra::{Point3, Vector3};
 
+use super::DEGENERATE_RELATIVE_AREA;
 use super::diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 use super::edge_uses::{EdgeUses, weld};
 
@@ -20,33 +21,54 @@ pub(crate) struct Topology {
     pub diagnostics: MeshDiagnostics,
 }
 
-/// Analyses `triangles` (kept, 0-based into `vertices`, m).
+/// The shape of one triangle: degenerate (skipped), or kept with its unit normal and
+/// whether it is a sliver.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Shape {
+    /// Zero area up to rounding (see [`DEGENERATE_RELATIVE_AREA`]).
+    Degenerate,
+    /// A kept triangle.
+    Kept {
+        /// Its unit normal (by its winding).
+        normal: Vector3<f64>,
+        /// Twice its area is below [`SLIVER_RELATIVE_AREA`] times its longest edge
+        /// squared.
+        sliver: bool,
+    },
+}
+
+/// The [`Shape`] of triangle `(a, b, c)` (m).
+pub(crate) fn shape(a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> Shape {
+    let (ab, ac, bc) = (b - a, c - a, c - b);
+    let cross = ab.cross(&ac);
+    let area2 = cross.norm();
+    let longest2 = ab
+        .norm_squared()
+        .max(ac.norm_squared())
+        .max(bc.norm_squared());
+    if area2.is_nan() || area2 <= DEGENERATE_RELATIVE_AREA * longest2 {
+        return Shape::Degenerate;
+    }
+    Shape::Kept {
+        normal: cross.normalize(),
+        sliver: area2 < SLIVER_RELATIVE_AREA * longest2,
+    }
+}
+
+/// Analyses `triangles` (kept, 0-based into `vertices`, m) whose unit normals are
+/// `normals` and of which `slivers` are slivers.
 pub(crate) fn analyse(
-    vertices: &[Point3<f64>],
+    vertices: &[[f64; 3]],
     triangles: &[[u32; 3]],
+    normals: &[Vector3<f64>],
+    slivers: usize,
     degenerate_skipped: usize,
     bounding_box_m: [Point3<f64>; 2],
 ) -> Topology {
     let (welded, distinct) = weld(vertices);
     let duplicate_vertices = vertices.len() - distinct;
-
-    let mut slivers = 0;
-    let normals: Vec<Vector3<f64>> = triangles
-        .iter()
-        .map(|indices| {
-            let [a, b, c] = indices.map(|i| vertices[i as usize]);
-            let cross = (b - a).cross(&(c - a));
-            let longest2 = [(b - a), (c - a), (c - b)]
-                .iter()
-                .map(Vector3::norm_squared)
-                .fold(0.0, f64::max);
-            if cross.norm() < SLIVER_RELATIVE_AREA * longest2 {
-                slivers += 1;
-            }
-            cross.normalize()
-        })
-        .collect();
     let edges = EdgeUses::new(&welded, triangles);
+    drop(welded);
 
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let (mut boundary_edges, mut non_manifold_edges, mut misoriented_edges) = (0, 0, 0);
@@ -71,20 +93,20 @@ pub(crate) fn analyse(
             _ => non_manifold_edges += 1,
         }
     }
-    // Name each patch by its smallest triangle: the root of a triangle is found before
-    // any larger one of its patch.
-    let mut name = vec![u32::MAX; triangles.len()];
+    drop(edges);
+    // Name each patch by its smallest triangle, which is its root: a union makes the
+    // smaller root the parent, so every parent is smaller than its child. In
+    // increasing order, a triangle's parent already names its patch.
     let mut patches = 0;
-    let patch: Vec<u32> = (0..triangles.len() as u32)
-        .map(|t| {
-            let root = find(&mut parent, t) as usize;
-            if name[root] == u32::MAX {
-                name[root] = t;
-                patches += 1;
-            }
-            name[root]
-        })
-        .collect();
+    for t in 0..parent.len() {
+        let up = parent[t] as usize;
+        if up == t {
+            patches += 1;
+        } else {
+            parent[t] = parent[up];
+        }
+    }
+    let patch = parent;
     let closed = !triangles.is_empty()
         && boundary_edges == 0
         && non_manifold_edges == 0

@@ -36,11 +36,28 @@ pub(crate) struct TriangleTree {
 impl TriangleTree {
     /// Clusters `indices` (non-empty, in range, non-degenerate) along the Morton curve
     /// of their centroids inside `bounding_box` (m) and builds the BVH of the clusters.
+    #[cfg(test)]
     pub(crate) fn build(
         vertices: Vec<[f64; 3]>,
         indices: Vec<[u32; 3]>,
         bounding_box: [Point3<f64>; 2],
     ) -> Self {
+        let (order, bvh) = Self::order_and_bvh(&vertices, &indices, bounding_box);
+        Self {
+            vertices,
+            indices,
+            order,
+            bvh,
+        }
+    }
+
+    /// The cluster order and the BVH of [`TriangleTree::build`], from borrowed
+    /// vertices and triangles (which the tree then owns).
+    pub(crate) fn order_and_bvh(
+        vertices: &[[f64; 3]],
+        indices: &[[u32; 3]],
+        bounding_box: [Point3<f64>; 2],
+    ) -> (Vec<u32>, FlatBvh) {
         let [min, max] = bounding_box;
         let scale = [0, 1, 2].map(|k| {
             let extent = max[k] - min[k];
@@ -54,11 +71,13 @@ impl TriangleTree {
             .par_iter()
             .enumerate()
             .map(|(t, corners)| {
-                let [a, b, c] = corners.map(|i| vertices[i as usize]);
-                let cell = [0, 1, 2].map(|k| {
+                let [a, b, c] = [0, 1, 2].map(|k| &vertices[corners[k] as usize]);
+                let mut cell = [0u64; 3];
+                for k in 0..3 {
                     let centroid = (a[k] + b[k] + c[k]) / 3.0;
-                    ((centroid - min[k]) * scale[k]).clamp(0.0, MORTON_CELLS - 1.0) as u64
-                });
+                    cell[k] =
+                        ((centroid - min[k]) * scale[k]).clamp(0.0, MORTON_CELLS - 1.0) as u64;
+                }
                 (morton(cell), t as u32)
             })
             .collect();
@@ -82,12 +101,7 @@ impl TriangleTree {
             bounds
         };
         let bvh = FlatBvh::build(&codes, &cluster_box);
-        Self {
-            vertices,
-            indices,
-            order,
-            bvh,
-        }
+        (order, bvh)
     }
 
     /// The triangles of BVH leaf `leaf`.

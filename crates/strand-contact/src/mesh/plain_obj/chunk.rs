@@ -7,6 +7,7 @@ use super::number::{parse_f64, parse_reference};
 /// A parsed piece of the file. Indices are 0-based; a reference relative to the end
 /// (`-k`) depends on the vertices before the piece and is listed in `relative`.
 #[derive(Default)]
+#[cfg_attr(test, derive(Debug, PartialEq))]
 pub(super) struct Chunk {
     /// The `v` lines' coordinates, in file order (file units).
     pub positions: Vec<[f64; 3]>,
@@ -60,6 +61,19 @@ impl<'a> Iterator for AsciiWords<'a> {
 /// Parses `text` (whole lines). `None` when a line is outside the plain subset (see
 /// [`super`]) and the file must go to tobj.
 pub(super) fn parse_chunk(text: &[u8]) -> Option<Chunk> {
+    parse(text, true)
+}
+
+/// [`parse_chunk`] with every line read by the general path ([`Chunk::line`]), which
+/// the fast one must match (tests).
+#[cfg(test)]
+pub(super) fn parse_chunk_general(text: &[u8]) -> Option<Chunk> {
+    parse(text, false)
+}
+
+/// [`parse_chunk`], the common lines read by
+/// [`Chunk::fast_line`] if `fast`.
+fn parse(text: &[u8], fast: bool) -> Option<Chunk> {
     let mut chunk = Chunk::default();
     let ascii = text.is_ascii();
     if !ascii {
@@ -67,11 +81,19 @@ pub(super) fn parse_chunk(text: &[u8]) -> Option<Chunk> {
         std::str::from_utf8(text).ok()?;
     }
     let mut corners: Vec<(i64, i64, i64)> = Vec::new();
-    let mut rest = text;
-    while !rest.is_empty() {
-        let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
-        let line = &rest[..end];
-        rest = &rest[(end + 1).min(rest.len())..];
+    let mut at = 0;
+    while at < text.len() {
+        // The fast path reads only ASCII bytes, whatever the rest of the piece holds.
+        if fast && let Some(next) = chunk.fast_line(text, at) {
+            at = next;
+            continue;
+        }
+        let end = text[at..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(text.len(), |k| at + k);
+        let line = &text[at..end];
+        at = end + 1;
         let handled = if ascii || line.is_ascii() {
             chunk.line(line, AsciiWords { rest: line }, &mut corners)
         } else {

@@ -22,6 +22,7 @@
 
 mod assemble;
 mod chunk;
+mod fast_line;
 mod number;
 #[cfg(test)]
 mod tests;

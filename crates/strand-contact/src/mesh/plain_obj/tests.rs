@@ -251,3 +251,61 @@ fn random_damage_never_gives_other_triangles_than_tobj() {
         "taken {taken}, declined {declined}"
     );
 }
+
+#[test]
+fn the_fast_lines_read_as_the_general_path_reads_them() {
+    // Pieces of random plain files, damaged or not, and lines at the edges of the
+    // fast path's spellings: the same piece (or the same refusal) either way.
+    use super::chunk::{parse_chunk, parse_chunk_general};
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let alphabet = b"vf/-+.e0123456789 \n\r\t\x0b";
+    let edge_lines: Vec<String> = [
+        "v 1 2 3\nv -0 0.5 -997.1751\nv 1234567890123456789 1 2\nv 12345678901234567890 1 2\n",
+        "v 9007199254740992 9007199254740993 0.9007199254740993\nv 1.0000000000000000000001 1 1\n",
+        "v 1. .5 1\nv 1 2 3 4\nv 1 2\nv 1e3 2 3\nv +1 2 3\nv 1 2 3\r\nv\t1\t2\t3\x0c\n",
+        "f 1 2 3\nf 1/2 2/3 3/4\nf 1//2 2//3 3//4\nf 1/2/3 2/3/4 3/4/5 4/5/6\n",
+        "f 1/2/3/ 2 3\nf 1/ 2// 3/4/\nf 0 1 2\nf 1 2\nf 1 2 -1\nf 1234567890 1 2\n",
+        "f 123456789 1 2\nf 1/0 2 3\nf 1/-1 2 3\nf 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17\n",
+        "f 3 2 1",
+    ]
+    .iter()
+    .flat_map(|t| t.split_inclusive('\n'))
+    .map(String::from)
+    .collect();
+    // Each line on its own, after enough vertices, texture coordinates and normals
+    // (and a non-ASCII comment: the fast path reads lines of any piece).
+    let before = "# π\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    let mut texts: Vec<Vec<u8>> = edge_lines
+        .iter()
+        .map(|line| format!("{before}{line}").into_bytes())
+        .collect();
+    for _ in 0..300 {
+        let mut bytes = random_plain_obj(&mut rng).into_bytes();
+        if rng.random_bool(0.5) {
+            for _ in 0..rng.random_range(1..6) {
+                if bytes.is_empty() {
+                    break;
+                }
+                let at = rng.random_range(0..bytes.len());
+                bytes[at] = alphabet[rng.random_range(0..alphabet.len())];
+            }
+        }
+        texts.push(bytes);
+    }
+    let (mut same, mut refused) = (0, 0);
+    for text in &texts {
+        let fast = parse_chunk(text);
+        assert_eq!(
+            fast,
+            parse_chunk_general(text),
+            "{}",
+            String::from_utf8_lossy(text)
+        );
+        match fast {
+            Some(chunk) if !chunk.corners.is_empty() => same += 1,
+            Some(_) => {}
+            None => refused += 1,
+        }
+    }
+    assert!(same > 120 && refused > 20, "read {same}, refused {refused}");
+}
