@@ -219,6 +219,14 @@ mod tests {
         map.into_values().collect()
     }
 
+    /// The users (triangle, winding) of every edge, edge by edge.
+    fn users_by_edge(edges: &EdgeUses) -> Vec<Vec<(u32, bool)>> {
+        edges
+            .groups()
+            .map(|g| g.iter().map(EdgeUse::user).collect())
+            .collect()
+    }
+
     #[test]
     fn welding_and_edge_uses_match_a_map_of_edges() {
         let (vertices, triangles) = grid(7);
@@ -226,10 +234,7 @@ mod tests {
         assert_eq!(distinct, 64);
         assert!(welded.iter().all(|&w| (w as usize) < 64));
         let edges = EdgeUses::new(&welded, &triangles);
-        let found: Vec<Vec<(u32, bool)>> = edges
-            .groups()
-            .map(|g| g.iter().map(EdgeUse::user).collect())
-            .collect();
+        let found = users_by_edge(&edges);
         assert_eq!(found, reference(&welded, &triangles));
     }
 
@@ -247,10 +252,7 @@ mod tests {
         triangles.swap(3, 30);
         let welded: Vec<u32> = (0..=rim).collect();
         let edges = EdgeUses::new(&welded, &triangles);
-        let found: Vec<Vec<(u32, bool)>> = edges
-            .groups()
-            .map(|g| g.iter().map(EdgeUse::user).collect())
-            .collect();
+        let found = users_by_edge(&edges);
         assert_eq!(found, reference(&welded, &triangles));
         assert!(found.iter().any(|g| g.len() >= 3));
     }
