@@ -158,15 +158,33 @@ impl KeptTriangles {
         }
         let cutoff = upper + moved + 2.0 * guard;
         let count = self.by_bound.partition_point(|(bound, _)| *bound <= cutoff);
-        let mut picked: Vec<u32> = self.by_bound[..count].iter().map(|(_, i)| *i).collect();
-        picked.sort_unstable();
-        Some(
-            picked
-                .into_iter()
-                .map(|i| self.triangles[i as usize])
-                .collect(),
-        )
+        Some(in_list_order(
+            self.by_bound[..count].iter().map(|(_, i)| *i),
+            &self.triangles,
+        ))
     }
+}
+
+/// The triangles `list[i]` of the positions `picked` (distinct, below `list.len()`), in
+/// the order of `list`: the positions are marked in a bit set and read back in order,
+/// which costs one pass over `list.len() / 64` words instead of a sort of the picked.
+fn in_list_order(picked: impl Iterator<Item = u32>, list: &[u32]) -> Vec<u32> {
+    let mut marked = vec![0_u64; list.len().div_ceil(64)];
+    let mut count = 0;
+    for i in picked {
+        marked[i as usize / 64] |= 1 << (i % 64);
+        count += 1;
+    }
+    let mut out = Vec::with_capacity(count);
+    for (w, &word) in marked.iter().enumerate() {
+        let mut bits = word;
+        while bits != 0 {
+            let bit = bits.trailing_zeros() as usize;
+            out.push(list[w * 64 + bit]);
+            bits &= bits - 1;
+        }
+    }
+    out
 }
 
 impl ObstacleMesh {
@@ -192,6 +210,39 @@ impl ObstacleMesh {
         match kept.within(self, &l0, &l1, moved, limit, guard) {
             Some(part) => self.local_contacts_among(p0, p1, max_distance, &part),
             None => self.local_contacts_among(p0, p1, max_distance, kept.all()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::in_list_order;
+
+    /// The bit set gives the picked positions' entries in list order, as sorting the
+    /// positions does: every subset size, list lengths around multiples of 64.
+    #[test]
+    fn picked_positions_come_back_in_list_order() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        for length in [1, 2, 63, 64, 65, 127, 128, 129, 1000] {
+            let list: Vec<u32> = (0..length as u32).map(|i| i * 7 + 3).collect();
+            for _ in 0..20 {
+                // A random permutation's prefix of random size: distinct positions.
+                let mut positions: Vec<u32> = (0..length as u32).collect();
+                for i in (1..length).rev() {
+                    positions.swap(i, next(i + 1));
+                }
+                positions.truncate(next(length + 1));
+                let mut sorted = positions.clone();
+                sorted.sort_unstable();
+                let expected: Vec<u32> = sorted.iter().map(|&i| list[i as usize]).collect();
+                assert_eq!(in_list_order(positions.into_iter(), &list), expected);
+            }
         }
     }
 }
