@@ -1,5 +1,5 @@
-//! A feature's kept candidate triangles ([`ObstacleMesh::keep_triangles_near`]) sorted
-//! by their box distance from the feature where it was searched, so that a later
+//! A feature's kept candidate triangles ([`ObstacleMesh::keep_triangles_near`]) with
+//! their box distance from the feature where it was searched, so that a later
 //! evaluation looks only at the part that can matter given how far the feature moved.
 //!
 //! On a finely tessellated surface the kept list is a disc of triangles around each
@@ -60,45 +60,28 @@ pub struct KeptTriangles {
     slack: f64,
     /// The kept triangles in the BVH's depth-first order.
     triangles: Vec<u32>,
-    /// `(box distance from the searched segment in m, index into triangles)`, nearest
-    /// first.
-    by_bound: Vec<(f64, u32)>,
+    /// The box distance (m) of each of `triangles` from the searched segment.
+    bounds: Vec<f64>,
     /// The nearest triangle of every patch within reach plus slack at the search.
     patches: Vec<KeptPatch>,
 }
 
 impl KeptTriangles {
     /// The kept list of a search at `from` (world, m) for `reach` and `slack` (m):
-    /// `kept`, the candidates `reachable` (in the BVH's depth-first order, `position`
-    /// their index there) kept, sorted by box distance and then position.
+    /// the candidates `kept` (in the BVH's depth-first order) with their box distances.
     pub(super) fn new(
         from: [Point3<f64>; 2],
         reach: f64,
         slack: f64,
-        reachable: &[Reachable],
         kept: &[Reachable],
         patches: Vec<KeptPatch>,
     ) -> Self {
-        // The index in `triangles` of every kept position (`u32::MAX`: not kept).
-        let mut index = vec![u32::MAX; reachable.len()];
-        for r in kept {
-            index[r.position] = 0;
-        }
-        let mut triangles = Vec::with_capacity(kept.len());
-        for r in reachable {
-            if index[r.position] != u32::MAX {
-                index[r.position] = triangles.len() as u32;
-                triangles.push(r.triangle as u32);
-            }
-        }
-        // Positions increase with the index: still sorted by (distance, index).
-        let by_bound = kept.iter().map(|r| (r.bound, index[r.position])).collect();
         Self {
             from,
             reach,
             slack,
-            triangles,
-            by_bound,
+            triangles: kept.iter().map(|r| r.triangle as u32).collect(),
+            bounds: kept.iter().map(|r| r.bound).collect(),
             patches,
         }
     }
@@ -157,34 +140,17 @@ impl KeptTriangles {
             return Some(Vec::new());
         }
         let cutoff = upper + moved + 2.0 * guard;
-        let count = self.by_bound.partition_point(|(bound, _)| *bound <= cutoff);
-        Some(in_list_order(
-            self.by_bound[..count].iter().map(|(_, i)| *i),
-            &self.triangles,
-        ))
+        // One pass in list order: cheaper than keeping the list sorted by distance
+        // (a sort per search) for the few evaluations that look for a part.
+        Some(
+            self.triangles
+                .iter()
+                .zip(&self.bounds)
+                .filter(|&(_, &bound)| bound <= cutoff)
+                .map(|(&t, _)| t)
+                .collect(),
+        )
     }
-}
-
-/// The triangles `list[i]` of the positions `picked` (distinct, below `list.len()`), in
-/// the order of `list`: the positions are marked in a bit set and read back in order,
-/// which costs one pass over `list.len() / 64` words instead of a sort of the picked.
-fn in_list_order(picked: impl Iterator<Item = u32>, list: &[u32]) -> Vec<u32> {
-    let mut marked = vec![0_u64; list.len().div_ceil(64)];
-    let mut count = 0;
-    for i in picked {
-        marked[i as usize / 64] |= 1 << (i % 64);
-        count += 1;
-    }
-    let mut out = Vec::with_capacity(count);
-    for (w, &word) in marked.iter().enumerate() {
-        let mut bits = word;
-        while bits != 0 {
-            let bit = bits.trailing_zeros() as usize;
-            out.push(list[w * 64 + bit]);
-            bits &= bits - 1;
-        }
-    }
-    out
 }
 
 impl ObstacleMesh {
@@ -210,39 +176,6 @@ impl ObstacleMesh {
         match kept.within(self, &l0, &l1, moved, limit, guard) {
             Some(part) => self.local_contacts_among(p0, p1, max_distance, &part),
             None => self.local_contacts_among(p0, p1, max_distance, kept.all()),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::in_list_order;
-
-    /// The bit set gives the picked positions' entries in list order, as sorting the
-    /// positions does: every subset size, list lengths around multiples of 64.
-    #[test]
-    fn picked_positions_come_back_in_list_order() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move |n: usize| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % n as u64) as usize
-        };
-        for length in [1, 2, 63, 64, 65, 127, 128, 129, 1000] {
-            let list: Vec<u32> = (0..length as u32).map(|i| i * 7 + 3).collect();
-            for _ in 0..20 {
-                // A random permutation's prefix of random size: distinct positions.
-                let mut positions: Vec<u32> = (0..length as u32).collect();
-                for i in (1..length).rev() {
-                    positions.swap(i, next(i + 1));
-                }
-                positions.truncate(next(length + 1));
-                let mut sorted = positions.clone();
-                sorted.sort_unstable();
-                let expected: Vec<u32> = sorted.iter().map(|&i| list[i as usize]).collect();
-                assert_eq!(in_list_order(positions.into_iter(), &list), expected);
-            }
         }
     }
 }

@@ -133,12 +133,7 @@ impl ObstacleMesh {
         } else {
             Vec::new()
         };
-        // Sorted by box distance, then position (distinct keys: an unstable sort gives
-        // the stable sort's order without its scratch). The distances are not negative,
-        // so their bit patterns sort as they do (integer keys compare faster).
-        let mut kept = in_order.clone();
-        kept.sort_unstable_by_key(|r| (r.bound.to_bits(), r.position));
-        KeptTriangles::new([*p0, *p1], reach, slack, &in_order, &kept, patches)
+        KeptTriangles::new([*p0, *p1], reach, slack, &in_order, patches)
     }
 
     /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own
