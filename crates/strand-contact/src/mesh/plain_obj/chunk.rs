@@ -36,7 +36,7 @@ pub(super) struct Chunk {
 /// lines with `split_whitespace`).
 #[inline]
 fn is_space(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+    b == b'\n' || super::fast_line::is_blank(b)
 }
 
 /// The words of an ASCII line.

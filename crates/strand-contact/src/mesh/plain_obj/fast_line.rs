@@ -10,12 +10,7 @@
 //! the line (or refuses the file), so the piece comes out the same either way.
 
 use super::chunk::Chunk;
-
-/// `10^k` for `k = 0..=22`, each exact in `f64` (see [`super::number`]).
-const POWERS_OF_TEN: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
-];
+use super::number::exact_decimal;
 
 /// `10^k` for `k = 0..=19`, as integers.
 const INTEGER_POWERS_OF_TEN: [u64; 20] = {
@@ -28,9 +23,6 @@ const INTEGER_POWERS_OF_TEN: [u64; 20] = {
     powers
 };
 
-/// The largest mantissa that is exact in `f64`, 2⁵³.
-const EXACT_MANTISSA: u64 = 1 << 53;
-
 /// The most digits of a face reference read here (larger ones: the general path).
 const REFERENCE_DIGITS: usize = 9;
 
@@ -40,7 +32,7 @@ const FACE_REFERENCES: usize = 16;
 /// Bytes that split words within a line (what `char::is_whitespace` says of ASCII,
 /// without the newline that ends the line).
 #[inline]
-fn is_blank(b: u8) -> bool {
+pub(super) fn is_blank(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | 0x0b | 0x0c)
 }
 
@@ -155,11 +147,10 @@ fn short_decimal(text: &[u8], at: usize) -> Option<(f64, usize)> {
     } else {
         (whole, 0, point)
     };
-    if !word_ends(text, end) || mantissa > EXACT_MANTISSA || fraction > 22 {
+    if !word_ends(text, end) {
         return None;
     }
-    let magnitude = mantissa as f64 / POWERS_OF_TEN[fraction];
-    Some((if negative { -magnitude } else { magnitude }, end))
+    Some((exact_decimal(negative, mantissa, fraction)?, end))
 }
 
 /// A positive reference of at most [`REFERENCE_DIGITS`] digits at `at` and where it

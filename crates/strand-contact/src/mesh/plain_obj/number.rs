@@ -58,6 +58,14 @@ fn short_decimal(token: &[u8]) -> Option<f64> {
         None if count == 0 => return None,
         None => 0,
     };
+    exact_decimal(negative, mantissa, fraction)
+}
+
+/// `±mantissa / 10^fraction` as one correctly rounded division of two exact numbers
+/// (Clinger's fast path), or `None` where either is not exact in `f64` (a mantissa
+/// above 2⁵³ or more than 22 digits after the point).
+#[inline]
+pub(super) fn exact_decimal(negative: bool, mantissa: u64, fraction: usize) -> Option<f64> {
     if mantissa > EXACT_MANTISSA || fraction > 22 {
         return None;
     }
