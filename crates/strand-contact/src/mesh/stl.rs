@@ -62,7 +62,8 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
     }
     // Text (UTF-8 without a NUL) starting with `solid` after white space, or other
     // text; `None` for bytes that are not text.
-    let text_says_solid = if has_nul(bytes) {
+    // (`contains` on bytes is std's word-at-a-time `memchr`.)
+    let text_says_solid = if bytes.contains(&0) {
         None
     } else {
         std::str::from_utf8(bytes)
@@ -74,20 +75,6 @@ pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
         Some(false) if !extension.is_some_and(|e| e.eq_ignore_ascii_case("stl")) => MeshFormat::Obj,
         _ => MeshFormat::BinaryStl,
     }
-}
-
-/// Whether a byte of `bytes` is NUL (eight bytes at a time, where `memchr` reads one).
-fn has_nul(bytes: &[u8]) -> bool {
-    const HIGH: u64 = 0x8080_8080_8080_8080;
-    let words = bytes.chunks_exact(8);
-    let rest = words.remainder();
-    // A byte is not zero iff its low seven bits plus 0x7f (no carry out of the byte)
-    // or the byte itself has its high bit set.
-    let zero = words.fold(0u64, |zero, word| {
-        let w = u64::from_le_bytes(word.try_into().expect("eight bytes"));
-        zero | !(((w & !HIGH) + !HIGH) | w)
-    });
-    zero & HIGH != 0 || rest.contains(&0)
 }
 
 impl ObstacleMesh {

@@ -238,24 +238,6 @@ fn broken_stl_files_are_errors_naming_the_file_and_the_problem() {
 }
 
 #[test]
-fn nul_bytes_are_found_as_byte_by_byte() {
-    // Every length up to three words, with one or two odd bytes at every place.
-    let odd = [0u8, 0x80, 0xff, 0x7f, 1, 0xc3];
-    for length in 0..25 {
-        for (a, b) in odd.iter().flat_map(|&a| odd.iter().map(move |&b| (a, b))) {
-            for at in 0..length.max(1) {
-                let mut bytes = vec![b'v'; length];
-                if at < length {
-                    bytes[at] = a;
-                    bytes[(at * 7 + 3) % length] = b;
-                }
-                assert_eq!(has_nul(&bytes), bytes.contains(&0), "{bytes:?}");
-            }
-        }
-    }
-}
-
-#[test]
 fn the_format_is_told_by_content_with_odd_white_space_and_text() {
     for (bytes, extension, format) in [
         (
