@@ -34,6 +34,7 @@ pub use mesh::{
     write_binary_stl,
 };
 pub mod gaps;
+mod huge_pages;
 
 pub use gaps::{
     Gap, GapError, MeshIndex, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance,

@@ -126,7 +126,18 @@ pub(crate) fn mesh_from_bytes(
 
 /// The bytes of a mesh file.
 pub(crate) fn read(path: &Path) -> Result<Vec<u8>, MeshError> {
-    std::fs::read(path).map_err(|source| MeshError::Read {
+    let read = || -> std::io::Result<Vec<u8>> {
+        use std::io::Read;
+        let mut file = std::fs::File::open(path)?;
+        let length = file.metadata()?.len() as usize;
+        // One byte more than the length, so that reading to the end needs no second
+        // allocation; huge pages advised before the bytes are written.
+        let mut bytes = Vec::with_capacity(length + 1);
+        crate::huge_pages::advise(bytes.spare_capacity_mut());
+        file.read_to_end(&mut bytes)?;
+        Ok(bytes)
+    };
+    read().map_err(|source| MeshError::Read {
         path: path.to_path_buf(),
         source,
     })

@@ -239,13 +239,16 @@ fn all_below(values: &[u32], bound: usize) -> bool {
         .all(|piece| piece.iter().all(|&v| (v as usize) < bound))
 }
 
-/// An array of `bytes` bytes of zeros, or why a section of that length is corrupt.
+/// An array of `bytes` bytes of zeros (huge pages advised: it is written next), or why
+/// a section of that length is corrupt.
 fn zeroed<T: bytemuck::Pod>(bytes: u64) -> Result<Vec<T>, String> {
     let size = std::mem::size_of::<T>() as u64;
     if !bytes.is_multiple_of(size) {
         return Err("inconsistent section length (corrupt)".to_string());
     }
-    Ok(vec![T::zeroed(); (bytes / size) as usize])
+    let mut array = vec![T::zeroed(); (bytes / size) as usize];
+    crate::huge_pages::advise(&mut array);
+    Ok(array)
 }
 
 /// Fills `out` from `file` at byte `offset` (without moving a shared cursor, so that
