@@ -25,10 +25,25 @@
 //! - a patch whose `X_P` is now out of reach is left out only when all of it is (its
 //!   distance at the search minus `δ` is beyond the reach); a patch not near at the
 //!   search was farther than reach plus slack. Otherwise the whole list is used.
+//!
+//! **Kept lists too long to list.** On a finely tessellated surface the disc of the
+//! whole list grows with the density (a kept list of a 1M-triangle floor holds hundreds
+//! of triangles, most of them never looked at), so a search lists the kept triangles
+//! only when there are at most [`MAX_LISTED`]; otherwise it keeps just the patches'
+//! nearest triangles, and a later evaluation takes every triangle whose box is *now*
+//! within `u + 2 guard` of the segment, through the BVH ([`Candidates::Within`]). The
+//! argument above holds for that set as well: it holds every `X_P` within reach (their
+//! boxes are no farther than `u`), every triangle left out has a box now farther than
+//! `u + 2 guard`, and each of its triangles was in the whole list (its box at the
+//! search within `u + 2 guard + δ`, no farther than the list's bound `max_P d_P + 2
+//! slack + 2 guard`, since `u ≤ max_P d_P + δ`). Where the whole list would be used, a
+//! full search gives its answer. The work of a later evaluation is then that of the
+//! triangles near the contacts and the BVH's nodes above them, not of the disc.
 
 use nalgebra::Point3;
 
 use super::ObstacleMesh;
+use super::local_contacts::Candidates;
 use super::near_scan::Reachable;
 use super::work::count_exact;
 use crate::closest::segment_triangle_candidate;
@@ -40,6 +55,12 @@ const SMALL_LIST: usize = 16;
 /// See [`SMALL_LIST`]: an exact segment–triangle test costs several box tests.
 const SMALL_LIST_PER_PATCH: usize = 8;
 
+/// A search lists the kept triangles when there are at most this many; a longer kept
+/// disc is not listed (see the module documentation): listing it costs a box test per
+/// triangle, and a later evaluation's search of the BVH near the contacts costs about
+/// as much as scanning a list of this length.
+pub(super) const MAX_LISTED: usize = 64;
+
 /// The nearest triangle of one smooth patch at the search.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct KeptPatch {
@@ -47,6 +68,15 @@ pub(super) struct KeptPatch {
     pub(super) triangle: u32,
     /// Its distance from the segment searched at, m.
     pub(super) distance: f64,
+}
+
+/// The kept triangles of a search, listed.
+#[derive(Clone, Debug)]
+struct KeptList {
+    /// The kept triangles in the BVH's depth-first order.
+    triangles: Vec<u32>,
+    /// The box distance (m) of each of `triangles` from the searched segment.
+    bounds: Vec<f64>,
 }
 
 /// The candidate triangles kept for one rod feature (a vertex sphere or an edge
@@ -58,30 +88,44 @@ pub struct KeptTriangles {
     from: [Point3<f64>; 2],
     reach: f64,
     slack: f64,
-    /// The kept triangles in the BVH's depth-first order.
-    triangles: Vec<u32>,
-    /// The box distance (m) of each of `triangles` from the searched segment.
-    bounds: Vec<f64>,
+    /// The kept triangles, when there are at most [`MAX_LISTED`] of them.
+    list: Option<KeptList>,
     /// The nearest triangle of every patch within reach plus slack at the search.
     patches: Vec<KeptPatch>,
 }
 
+/// How near the patches kept at a search are to a segment now
+/// ([`KeptTriangles::upper`]).
+enum NearNow {
+    /// A patch may be within reach through another triangle than its nearest at the
+    /// search: everything kept is needed.
+    Everything,
+    /// No patch is within reach.
+    Nothing,
+    /// Every patch within reach has its nearest triangle at the search within reach,
+    /// the farthest of them at this distance (m).
+    Within(f64),
+}
+
 impl KeptTriangles {
     /// The kept list of a search at `from` (world, m) for `reach` and `slack` (m):
-    /// the candidates `kept` (in the BVH's depth-first order) with their box distances.
+    /// the candidates `kept` (in the BVH's depth-first order) with their box distances,
+    /// or `None` when they were too many to list.
     pub(super) fn new(
         from: [Point3<f64>; 2],
         reach: f64,
         slack: f64,
-        kept: &[Reachable],
+        kept: Option<&[Reachable]>,
         patches: Vec<KeptPatch>,
     ) -> Self {
         Self {
             from,
             reach,
             slack,
-            triangles: kept.iter().map(|r| r.triangle as u32).collect(),
-            bounds: kept.iter().map(|r| r.bound).collect(),
+            list: kept.map(|kept| KeptList {
+                triangles: kept.iter().map(|r| r.triangle as u32).collect(),
+                bounds: kept.iter().map(|r| r.bound).collect(),
+            }),
             patches,
         }
     }
@@ -99,18 +143,16 @@ impl KeptTriangles {
     }
 
     /// Every kept triangle (indices, in the BVH's depth-first order): what
-    /// [`ObstacleMesh::triangles_near`] gives.
-    pub fn all(&self) -> &[u32] {
-        &self.triangles
+    /// [`ObstacleMesh::triangles_near`] gives; `None` when the search found more than
+    /// it lists (a disc on a finely tessellated surface), see the module documentation.
+    pub fn all(&self) -> Option<&[u32]> {
+        self.list.as_ref().map(|list| list.triangles.as_slice())
     }
 
-    /// The kept triangles (in the BVH's depth-first order) that can matter for the local
-    /// contacts within `limit` (m) of segment `[l0, l1]` (the mesh's own frame), whose
-    /// ends moved by at most `moved` (m) from the search; `guard` (m) as the scan's
-    /// ([`super::near_scan::near_guard`]). `None`: the whole list is needed (a patch
-    /// near at the search whose nearest triangle is now out of reach might still be
-    /// within it through another, or the list is short). See the module documentation.
-    pub(super) fn within(
+    /// How near the kept patches are to segment `[l0, l1]` (the mesh's own frame),
+    /// whose ends moved by at most `moved` (m) from the search, for local contacts
+    /// within `limit` (m); `guard` (m) as the scan's.
+    fn near_now(
         &self,
         mesh: &ObstacleMesh,
         l0: &Point3<f64>,
@@ -118,11 +160,7 @@ impl KeptTriangles {
         moved: f64,
         limit: f64,
         guard: f64,
-    ) -> Option<Vec<u32>> {
-        if self.triangles.len() <= SMALL_LIST + SMALL_LIST_PER_PATCH * self.patches.len() {
-            // Box-testing them all costs less than finding the part.
-            return None;
-        }
+    ) -> NearNow {
         let mut upper = f64::NEG_INFINITY;
         for patch in &self.patches {
             count_exact();
@@ -133,19 +171,50 @@ impl KeptTriangles {
             if now <= limit {
                 upper = upper.max(now);
             } else if patch.distance - moved <= limit + guard {
-                return None;
+                return NearNow::Everything;
             }
         }
         if upper == f64::NEG_INFINITY {
-            return Some(Vec::new());
+            NearNow::Nothing
+        } else {
+            NearNow::Within(upper)
         }
+    }
+
+    /// The kept triangles (in the BVH's depth-first order) of `list` that can matter
+    /// for the local contacts within `limit` (m) of segment `[l0, l1]` (the mesh's own
+    /// frame), whose ends moved by at most `moved` (m) from the search; `guard` (m) as
+    /// the scan's ([`super::near_scan::near_guard`]). `None`: the whole list is needed
+    /// (a patch near at the search whose nearest triangle is now out of reach might
+    /// still be within it through another, or the list is short). See the module
+    /// documentation.
+    #[allow(clippy::too_many_arguments)]
+    fn within(
+        &self,
+        list: &KeptList,
+        mesh: &ObstacleMesh,
+        l0: &Point3<f64>,
+        l1: &Point3<f64>,
+        moved: f64,
+        limit: f64,
+        guard: f64,
+    ) -> Option<Vec<u32>> {
+        if list.triangles.len() <= SMALL_LIST + SMALL_LIST_PER_PATCH * self.patches.len() {
+            // Box-testing them all costs less than finding the part.
+            return None;
+        }
+        let upper = match self.near_now(mesh, l0, l1, moved, limit, guard) {
+            NearNow::Everything => return None,
+            NearNow::Nothing => return Some(Vec::new()),
+            NearNow::Within(upper) => upper,
+        };
         let cutoff = upper + moved + 2.0 * guard;
         // One pass in list order: cheaper than keeping the list sorted by distance
         // (a sort per search) for the few evaluations that look for a part.
         Some(
-            self.triangles
+            list.triangles
                 .iter()
-                .zip(&self.bounds)
+                .zip(&list.bounds)
                 .filter(|&(_, &bound)| bound <= cutoff)
                 .map(|(&t, _)| t)
                 .collect(),
@@ -173,9 +242,26 @@ impl ObstacleMesh {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
         let limit = max_distance.next_up();
         let guard = super::near_scan::near_guard(self.tie_tolerance(&l0, &l1), limit);
-        match kept.within(self, &l0, &l1, moved, limit, guard) {
-            Some(part) => self.local_contacts_among(p0, p1, max_distance, &part),
-            None => self.local_contacts_among(p0, p1, max_distance, kept.all()),
-        }
+        let candidates = match &kept.list {
+            Some(list) => match kept.within(list, self, &l0, &l1, moved, limit, guard) {
+                Some(part) => {
+                    let found = self.local_contacts_or_search(
+                        &l0,
+                        &l1,
+                        max_distance,
+                        Candidates::List(&part),
+                    );
+                    return self.contacts_to_world(found, p0, p1);
+                }
+                None => Candidates::List(&list.triangles),
+            },
+            None => match kept.near_now(self, &l0, &l1, moved, limit, guard) {
+                NearNow::Everything => Candidates::Everything,
+                NearNow::Nothing => return Vec::new(),
+                NearNow::Within(upper) => Candidates::Within(upper + 2.0 * guard),
+            },
+        };
+        let found = self.local_contacts_or_search(&l0, &l1, max_distance, candidates);
+        self.contacts_to_world(found, p0, p1)
     }
 }

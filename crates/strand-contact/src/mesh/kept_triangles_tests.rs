@@ -12,6 +12,14 @@ use super::work::query_work;
 
 #[test]
 fn the_part_that_can_matter_gives_the_contacts_of_a_full_search() {
+    // Kept lists listed whatever their length, and never listed (the BVH searched near
+    // the contacts at each later evaluation).
+    for max_listed in [usize::MAX, 0] {
+        the_part_that_can_matter_with(max_listed);
+    }
+}
+
+fn the_part_that_can_matter_with(max_listed: usize) {
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     let (reach, slack) = (0.04, 0.01);
     let placed = wavy(60).placed(&Isometry3::new(
@@ -22,8 +30,11 @@ fn the_part_that_can_matter_gives_the_contacts_of_a_full_search() {
     for mesh in [wavy(80), corner(), placed] {
         for _ in 0..200 {
             let [a, b] = segment(&mut rng, Point3::new(0.05, 0.05, 0.04), 0.06);
-            let kept = mesh.keep_triangles_near(&a, &b, reach, slack);
-            assert_eq!(kept.all(), mesh.triangles_near(&a, &b, reach, slack));
+            let kept = mesh.keep_triangles_listing(&a, &b, reach, slack, max_listed);
+            let whole_list = mesh.triangles_near(&a, &b, reach, slack);
+            let listed = kept.all();
+            assert!(listed.is_none_or(|listed| listed == whole_list));
+            assert_eq!(listed.is_some(), whole_list.len() <= max_listed);
             for step in [0.1 * slack, slack] {
                 let (p, q) = (moved(&mut rng, &a, step), moved(&mut rng, &b, step));
                 let q = if a == b { p } else { q };
@@ -33,7 +44,7 @@ fn the_part_that_can_matter_gives_the_contacts_of_a_full_search() {
                 let before = query_work();
                 let part = mesh.local_contacts_kept(&p, &q, reach, &kept, by);
                 let middle = query_work();
-                let among = mesh.local_contacts_among(&p, &q, reach, kept.all());
+                let among = mesh.local_contacts_among(&p, &q, reach, &whole_list);
                 part_boxes += middle.since(&before).box_tests;
                 all_boxes += query_work().since(&middle).box_tests;
                 assert_eq!(part, full, "segment {p} {q} moved from {a} {b}");
@@ -42,40 +53,61 @@ fn the_part_that_can_matter_gives_the_contacts_of_a_full_search() {
                 // segment's move and a shorter reach: as the whole kept list.
                 let point = p + (q - p) * 0.3;
                 let near = mesh.local_contacts_kept(&point, &point, 0.5 * reach, &kept, by);
-                let whole = mesh.local_contacts_among(&point, &point, 0.5 * reach, kept.all());
+                let whole = mesh.local_contacts_among(&point, &point, 0.5 * reach, &whole_list);
                 assert_eq!(near, whole);
             }
         }
     }
-    // The part left out something (else the test would not test the pruning).
+    // The part left out something (else the test would not test the pruning): half
+    // of the whole lists' box tests for a listed part; fewer, with the BVH's nodes on
+    // the way, for the triangles near the contacts of an unlisted one.
+    let part_work = if max_listed == 0 {
+        part_boxes
+    } else {
+        2 * part_boxes
+    };
     assert!(
-        2 * part_boxes < all_boxes,
-        "{part_boxes} box tests vs {all_boxes}"
+        part_work < all_boxes,
+        "listing at most {max_listed}: {part_boxes} box tests vs {all_boxes}"
     );
 }
 
-/// The box tests of [`crate::ObstacleMesh::local_contacts_kept`] for 50 points 15 mm above the
-/// wavy surface of `2 n²` triangles, kept with 2 mm of slack and moved 0.3 mm, and
-/// those of the whole kept lists.
-fn later_box_tests(n: usize) -> (u64, u64) {
+/// The work of 50 points 15 mm above the wavy surface of `2 n²` triangles, kept with
+/// 2 mm of slack and moved 0.3 mm: the box tests and BVH nodes of
+/// [`crate::ObstacleMesh::local_contacts_kept`] after the move, the length of the whole
+/// kept lists, and the box tests and nodes of keeping them.
+struct LaterWork {
+    later: u64,
+    whole_lists: u64,
+    keeping: u64,
+}
+
+fn later_work(n: usize, max_listed: usize) -> LaterWork {
     let mesh = wavy(n);
     let mut rng = ChaCha8Rng::seed_from_u64(22);
-    let (mut part, mut all) = (0, 0);
+    let mut work = LaterWork {
+        later: 0,
+        whole_lists: 0,
+        keeping: 0,
+    };
+    let boxes_and_nodes = |w: crate::QueryWork| w.box_tests + w.bvh_nodes;
     for _ in 0..50 {
         let [p, _] = segment(&mut rng, Point3::new(0.0, 0.0, 0.0), 0.3);
         let z = 0.02 * (6.0 * p.x).sin() * (5.0 * p.y).cos() + 0.015;
         let p = Point3::new(p.x, p.y, z);
-        let kept = mesh.keep_triangles_near(&p, &p, 0.04, 0.002);
+        let before = query_work();
+        let kept = mesh.keep_triangles_listing(&p, &p, 0.04, 0.002, max_listed);
+        work.keeping += boxes_and_nodes(query_work().since(&before));
         let q = moved(&mut rng, &p, 3e-4);
         let by = kept.moved_by(&q, &q);
         let before = query_work();
         let found = mesh.local_contacts_kept(&q, &q, 0.04, &kept, by);
-        part += query_work().since(&before).box_tests;
+        work.later += boxes_and_nodes(query_work().since(&before));
         assert_eq!(found, mesh.local_contacts(&q, &q, 0.04));
         assert_eq!(found.len(), 1);
-        all += kept.all().len() as u64;
+        work.whole_lists += mesh.triangles_near(&p, &p, 0.04, 0.002).len() as u64;
     }
-    (part, all)
+    work
 }
 
 #[test]
@@ -84,10 +116,44 @@ fn box_tests_of_a_later_query_grow_far_less_than_the_triangles() {
     // triangles whose boxes lie within the nearest distance `d` plus twice the slack
     // (radius about `√(4 d σ)`); the part looked at after a move `δ` one of radius about
     // `√(2 d δ)` around the nearest point (at least the triangles there).
-    let (coarse, coarse_all) = later_box_tests(40);
-    let (fine, fine_all) = later_box_tests(400);
-    println!("box tests {coarse} -> {fine}; whole kept lists {coarse_all} -> {fine_all}");
-    assert!(fine_all > 10 * coarse_all, "{coarse_all} -> {fine_all}");
-    assert!(fine <= 6 * coarse, "box tests {coarse} -> {fine}");
-    assert!(5 * fine < fine_all, "box tests {fine} of {fine_all} kept");
+    use super::kept_triangles::MAX_LISTED;
+    let mut measured = Vec::new();
+    for max_listed in [usize::MAX, MAX_LISTED, 0] {
+        let (coarse, fine) = (later_work(40, max_listed), later_work(400, max_listed));
+        println!(
+            "listing at most {max_listed}: box tests and nodes later {} -> {}, keeping {} -> {}; \
+             whole kept lists {} -> {}",
+            coarse.later,
+            fine.later,
+            coarse.keeping,
+            fine.keeping,
+            coarse.whole_lists,
+            fine.whole_lists
+        );
+        assert!(fine.whole_lists > 10 * coarse.whole_lists);
+        measured.push((coarse, fine));
+    }
+    let [
+        (listed, listed_fine),
+        (default, default_fine),
+        (unlisted, unlisted_fine),
+    ] = measured.try_into().ok().expect("three settings");
+    // Listed whole: a later query looks at the part (about 2.4× for 100×), but keeping
+    // lists the disc (about 4×, the disc's box tests under the BVH's nodes).
+    assert!(listed_fine.later <= 6 * listed.later);
+    assert!(5 * listed_fine.later < listed_fine.whole_lists);
+    assert!(
+        listed_fine.keeping > 3 * listed.keeping,
+        "the disc is listed"
+    );
+    // Never listed: keeping and later queries both grow far less than the triangles
+    // (about 2× for 100×): the BVH's nodes above the contact and the triangles near it.
+    assert!(unlisted_fine.keeping <= 3 * unlisted.keeping);
+    assert!(unlisted_fine.later <= 3 * unlisted.later);
+    // The default lists the coarse surface's short discs and not the fine one's: its
+    // whole work grows like the unlisted one's, from the listed coarse cost.
+    let total = |w: &LaterWork| w.keeping + w.later;
+    assert!(total(&default) <= total(&unlisted));
+    assert!(total(&default_fine) <= 4 * total(&default));
+    assert!(total(&default_fine) < total(&listed_fine));
 }

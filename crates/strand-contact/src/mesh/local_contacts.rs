@@ -51,13 +51,24 @@ impl ObstacleMesh {
         max_distance: f64,
     ) -> Vec<LocalContact> {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
-        let mut out = self
-            .local_contacts_here(&l0, &l1, max_distance, None)
+        let out = self
+            .local_contacts_here(&l0, &l1, max_distance, Candidates::Everything)
             .expect("a search of the whole mesh always tells");
-        for c in &mut out {
+        self.contacts_to_world(out, p0, p1)
+    }
+
+    /// `contacts` of segment `[p0, p1]` (world, m) found in the mesh's own frame, in
+    /// world coordinates.
+    pub(super) fn contacts_to_world(
+        &self,
+        mut contacts: Vec<LocalContact>,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+    ) -> Vec<LocalContact> {
+        for c in &mut contacts {
             c.proximity = self.to_world(c.proximity, p0, p1);
         }
-        out
+        contacts
     }
 
     /// [`ObstacleMesh::local_contacts`] looking only at the triangles `candidates`
@@ -75,33 +86,48 @@ impl ObstacleMesh {
         candidates: &[u32],
     ) -> Vec<LocalContact> {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
-        let mut out = self
-            .local_contacts_here(&l0, &l1, max_distance, Some(candidates))
-            .unwrap_or_else(|| {
-                self.local_contacts_here(&l0, &l1, max_distance, None)
-                    .expect("a search of the whole mesh always tells")
-            });
-        for c in &mut out {
-            c.proximity = self.to_world(c.proximity, p0, p1);
-        }
-        out
+        let out =
+            self.local_contacts_or_search(&l0, &l1, max_distance, Candidates::List(candidates));
+        self.contacts_to_world(out, p0, p1)
     }
 
-    /// [`ObstacleMesh::local_contacts`] of a segment in the mesh's own frame.
-    /// `list`: the triangles to look at (`None`: every triangle, through the BVH);
-    /// `None` back when they cannot tell the midpoint of a stretch (never without them).
+    /// [`ObstacleMesh::local_contacts_here`] of `candidates`, or of every triangle
+    /// where those cannot tell the midpoint of a stretch.
+    pub(super) fn local_contacts_or_search(
+        &self,
+        l0: &Point3<f64>,
+        l1: &Point3<f64>,
+        max_distance: f64,
+        candidates: Candidates<'_>,
+    ) -> Vec<LocalContact> {
+        self.local_contacts_here(l0, l1, max_distance, candidates)
+            .unwrap_or_else(|| {
+                self.local_contacts_here(l0, l1, max_distance, Candidates::Everything)
+                    .expect("a search of the whole mesh always tells")
+            })
+    }
+
+    /// [`ObstacleMesh::local_contacts`] of a segment in the mesh's own frame, looking
+    /// at `candidates`; `None` when they cannot tell the midpoint of a stretch (never
+    /// for [`Candidates::Everything`]).
     fn local_contacts_here(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         max_distance: f64,
-        list: Option<&[u32]>,
+        candidates: Candidates<'_>,
     ) -> Option<Vec<LocalContact>> {
         let [min, max] = self.bounding_box;
         let size = (p1 - p0).norm() + (max - min).norm();
         let tolerance = TIE_TOLERANCE * size;
         let limit = max_distance.next_up();
-        let reachable = self.reachable(&SegmentBound::new(p0, p1, &self.bounding_box), limit, list);
+        let bound = SegmentBound::new(p0, p1, &self.bounding_box);
+        let reachable = match candidates {
+            Candidates::Everything => self.reachable(&bound, limit, None),
+            Candidates::List(list) => self.reachable(&bound, limit, Some(list)),
+            Candidates::Within(near) => self.reachable(&bound, limit.min(near), None),
+        };
+        let partial = !matches!(candidates, Candidates::Everything);
         let guard = near_guard(tolerance, limit);
         let scan = self.scan_near(p0, p1, limit, reachable, guard);
         let near = &scan.near;
@@ -168,7 +194,7 @@ impl ObstacleMesh {
                 // Off every triangle near the segment: kept candidates may miss its own.
                 let off =
                     nearest.is_none_or(|(_, c)| c.squared.sqrt() > best.squared.sqrt() + guard);
-                if list.is_some() && off {
+                if partial && off {
                     return None;
                 }
                 if let Some((t, c)) = nearest {
@@ -231,6 +257,20 @@ impl ObstacleMesh {
             other.squared.sqrt() >= distance - tolerance
         })
     }
+}
+
+/// The triangles [`ObstacleMesh::local_contacts_here`] looks at.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Candidates<'a> {
+    /// Every triangle whose box is within reach (through the BVH).
+    Everything,
+    /// Those of a list (triangle indices in the BVH's depth-first order) whose boxes
+    /// are within reach.
+    List(&'a [u32]),
+    /// Every triangle whose box is within this distance (m) and within reach (through
+    /// the BVH): enough when every triangle that can matter is known to be that near
+    /// ([`ObstacleMesh::local_contacts_kept`]).
+    Within(f64),
 }
 
 /// The distance (m) within which a triangle's nearest point is nearly tied with its

@@ -98,20 +98,36 @@ impl ObstacleMesh {
         reach: f64,
         slack: f64,
     ) -> Vec<u32> {
-        self.keep_triangles_near(p0, p1, reach, slack)
+        self.keep_triangles_listing(p0, p1, reach, slack, usize::MAX)
             .all()
+            .expect("listed without a limit")
             .to_vec()
     }
 
     /// The list of [`ObstacleMesh::triangles_near`], kept with the box distance of every
     /// triangle and the nearest triangle of every patch, so that a later evaluation
     /// looks only at the part that can matter ([`ObstacleMesh::local_contacts_kept`]).
+    /// A list of more than [`super::kept_triangles::MAX_LISTED`] triangles (a disc on a
+    /// finely tessellated surface) is not listed: the nearest triangles of the patches
+    /// are kept, and a later evaluation searches the BVH near them.
     pub fn keep_triangles_near(
         &self,
         p0: &Point3<f64>,
         p1: &Point3<f64>,
         reach: f64,
         slack: f64,
+    ) -> KeptTriangles {
+        self.keep_triangles_listing(p0, p1, reach, slack, super::kept_triangles::MAX_LISTED)
+    }
+
+    /// [`ObstacleMesh::keep_triangles_near`], listing at most `max_listed` triangles.
+    pub(super) fn keep_triangles_listing(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        reach: f64,
+        slack: f64,
+        max_listed: usize,
     ) -> KeptTriangles {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
         let tolerance = self.tie_tolerance(&l0, &l1);
@@ -129,11 +145,49 @@ impl ObstacleMesh {
             .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
         let in_order = if keep >= 0.0 {
-            self.reachable(&bound, keep.min(radius), None)
+            self.reachable_at_most(&bound, keep.min(radius), max_listed)
         } else {
-            Vec::new()
+            Some(Vec::new())
         };
-        KeptTriangles::new([*p0, *p1], reach, slack, &in_order, patches)
+        KeptTriangles::new([*p0, *p1], reach, slack, in_order.as_deref(), patches)
+    }
+
+    /// [`ObstacleMesh::reachable`] through the BVH, or `None` as soon as more than
+    /// `max_listed` triangles are found.
+    fn reachable_at_most(
+        &self,
+        bound: &SegmentBound,
+        limit: f64,
+        max_listed: usize,
+    ) -> Option<Vec<Reachable>> {
+        let mut out = Vec::new();
+        let over = std::cell::Cell::new(false);
+        self.tree.bvh.depth_first(
+            |node| {
+                count_node();
+                !over.get() && bound.may_be_within(node, limit)
+            },
+            |leaf| {
+                for &t in self.tree.cluster(leaf) {
+                    count_box();
+                    let corners = self.local_triangle(t as usize);
+                    let distance = bound.triangle_distance(&corners, limit);
+                    if distance > limit {
+                        continue;
+                    }
+                    if out.len() == max_listed {
+                        over.set(true);
+                        return;
+                    }
+                    out.push(Reachable {
+                        position: out.len(),
+                        triangle: t as usize,
+                        bound: distance,
+                    });
+                }
+            },
+        );
+        (!over.get()).then_some(out)
     }
 
     /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own

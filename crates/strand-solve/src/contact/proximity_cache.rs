@@ -30,8 +30,10 @@ pub struct ProximitySettings {
     /// contacts are the same either way).
     pub incremental: bool,
     /// How far a feature may move (in search margins) before it is searched again
-    /// (negative counts as 0). Larger keeps more triangles per feature (on a fine
-    /// surface in proportion to the slack) and searches less often. Default 0.1.
+    /// (negative counts as 0). Larger searches less often, and keeps more triangles
+    /// per feature where the kept disc is short enough to list (on a fine surface, whose
+    /// discs are not listed, it keeps more patches). Default 0.5 (0.1 until the kept
+    /// discs of fine surfaces were no longer listed).
     pub slack_margins: f64,
 }
 
@@ -39,7 +41,7 @@ impl Default for ProximitySettings {
     fn default() -> Self {
         Self {
             incremental: true,
-            slack_margins: 0.1,
+            slack_margins: 0.5,
         }
     }
 }
