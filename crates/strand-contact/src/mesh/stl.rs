@@ -131,8 +131,12 @@ pub(crate) fn read(path: &Path) -> Result<Vec<u8>, MeshError> {
         let mut file = std::fs::File::open(path)?;
         let length = file.metadata()?.len() as usize;
         // One byte more than the length, so that reading to the end needs no second
-        // allocation; huge pages advised before the bytes are written.
-        let mut bytes = Vec::with_capacity(length + 1);
+        // allocation (an error, not an abort, where that much memory is not to be
+        // had, as `std::fs::read`); huge pages advised before the bytes are written.
+        let mut bytes = Vec::new();
+        bytes
+            .try_reserve_exact(length.saturating_add(1))
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::OutOfMemory, e))?;
         crate::huge_pages::advise(bytes.spare_capacity_mut());
         file.read_to_end(&mut bytes)?;
         Ok(bytes)
