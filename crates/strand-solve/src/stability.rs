@@ -45,6 +45,13 @@ mod random_tests;
 
 pub use independent_rows::{DEPENDENCE_TOLERANCE, independent_rows};
 
+#[cfg(test)]
+thread_local! {
+    /// Bordered matrices factorised by faer on this thread (tests only: the work a
+    /// definite Hessian must not cause).
+    static BORDERED_FACTORISATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Curvature counts of the reduced Hessian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Inertia {
@@ -57,8 +64,14 @@ pub struct Inertia {
 /// Classifies the Hessian `hessian` (values of `pattern`, upper triangle) reduced to the
 /// directions that keep `gauge` and the `active` rows, with relative threshold `tau`.
 ///
-/// When `cholesky` (the model's factorisation, whose factor this overwrites) works in
-/// the envelope, the inertia is counted there ([`envelope`]: the Hessian block by an
+/// First, whatever the active rows: when `H − τD` is positive definite (one Cholesky
+/// with `cholesky`, the model's factorisation, whose factor this overwrites) nothing
+/// lies below `−τ`, so nothing below `+τ` either (the Schur complement of the rows,
+/// `−δI − A H'⁻¹ Aᵀ`, is then negative definite: Haynsworth), and the count is 0
+/// without the bordered matrix, whose rows a faer factorisation would fill densely
+/// (`m²` entries, `m³` work for `m` rows: a soft cable lying on a floor along a
+/// thousand contacts). Otherwise, when `cholesky` works in the envelope, the inertia
+/// is counted there ([`envelope`]: the Hessian block by an
 /// unpivoted signed factorisation, the rows by their Schur complement); otherwise, or
 /// when a pivot there is too small to trust, by faer's sparse `LDLᵀ` of `K(σ)`.
 /// `scratch` holds one value per pattern entry. Active rows in the span of others are
@@ -73,6 +86,13 @@ pub fn reduced_inertia(
     cholesky: &mut SparseCholesky,
     scratch: &mut [f64],
 ) -> Result<Inertia, SolveError> {
+    fill_shifted(pattern, hessian, gauge, -tau, scratch);
+    if cholesky.factor(scratch) {
+        return Ok(Inertia {
+            negative: 0,
+            neutral: 0,
+        });
+    }
     let independent = independent_rows(active);
     let active = independent.as_slice();
     let counted =
@@ -213,6 +233,8 @@ impl<'p> Bordered<'p> {
 
     /// Number of negative pivots of the `LDLᵀ` factorisation of `values`.
     fn negative_pivots(&self, values: &[f64]) -> Result<usize, SolveError> {
+        #[cfg(test)]
+        BORDERED_FACTORISATIONS.with(|c| c.set(c.get() + 1));
         let mut factor = vec![0.0; self.symbolic.len_val()];
         let mut buffer = MemBuffer::try_new(
             self.symbolic
@@ -334,5 +356,87 @@ mod tests {
                 neutral: 0
             }
         );
+    }
+
+    /// A chain of `blocks` 3-blocks, each coupled to the next, with 100 on the diagonal
+    /// and 1 elsewhere in the pattern (positive definite by dominance), and one active
+    /// row per unknown of every other block.
+    fn chain(blocks: usize) -> (HessianPattern, Vec<f64>, Vec<Row>) {
+        let couplings: Vec<Vec<usize>> = (0..blocks - 1).map(|b| vec![b, b + 1]).collect();
+        let pattern = HessianPattern::new(blocks, couplings.iter().map(|c| c.as_slice()));
+        let mut values = vec![1.0; pattern.nnz()];
+        for col in 0..pattern.dim() {
+            values[pattern.col_ptr[col + 1] - 1] = 100.0;
+        }
+        let rows = (0..pattern.dim())
+            .filter(|k| (k / 3) % 2 == 0)
+            .map(|k| Row {
+                key: RowKey::Contact(k as u64),
+                value: 0.0,
+                gradient: vec![(k, 1.0)],
+                curvature: None,
+            })
+            .collect();
+        (pattern, values, rows)
+    }
+
+    #[test]
+    fn a_definite_hessian_is_stable_under_any_rows_without_the_bordered_matrix() {
+        // 150 active rows: beyond the envelope's Schur complement, so the bordered
+        // matrix was factorised (dense in its rows) before the definite test.
+        let (pattern, values, rows) = chain(100);
+        let active: Vec<&Row> = rows.iter().collect();
+        assert!(active.len() > 100);
+        let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
+        let mut scratch = vec![0.0; pattern.nnz()];
+        let gauge = Gauge::default();
+        let before = BORDERED_FACTORISATIONS.with(|c| c.get());
+        let inertia = reduced_inertia(
+            &pattern,
+            &values,
+            &gauge,
+            &active,
+            1e-9,
+            &mut cholesky,
+            &mut scratch,
+        )
+        .unwrap();
+        assert_eq!(BORDERED_FACTORISATIONS.with(|c| c.get()), before);
+        assert_eq!(
+            inertia,
+            faer_reduced_inertia(&pattern, &values, &gauge, &active, 1e-9).unwrap()
+        );
+        assert_eq!(
+            inertia,
+            Inertia {
+                negative: 0,
+                neutral: 0
+            }
+        );
+        // An indefinite Hessian still goes to the bordered count: a negative diagonal
+        // on a constrained unknown is removed by its row, one on a free unknown is not.
+        for (unknown, negative) in [(0, 0), (3, 1)] {
+            let mut indefinite = values.clone();
+            indefinite[pattern.col_ptr[unknown + 1] - 1] = -50.0;
+            let before = BORDERED_FACTORISATIONS.with(|c| c.get());
+            let inertia = reduced_inertia(
+                &pattern,
+                &indefinite,
+                &gauge,
+                &active,
+                1e-9,
+                &mut cholesky,
+                &mut scratch,
+            )
+            .unwrap();
+            assert!(BORDERED_FACTORISATIONS.with(|c| c.get()) > before);
+            assert_eq!(
+                inertia,
+                Inertia {
+                    negative,
+                    neutral: 0
+                }
+            );
+        }
     }
 }
