@@ -10,6 +10,13 @@
 //! * a group of many rows on a narrow band (one rod with many contacts) solves the KKT
 //!   system of its active rows in profile form ([`super::kkt`]): each pass costs
 //!   `O((unknowns + rows) · width²)`, without a solve per row or a dense Schur matrix;
+//!   While no row it dropped wants back in, such a group changes its active set by
+//!   whole batches (every violated row joins, every row of negative multiplier leaves,
+//!   as a primal–dual active set method does): a cable landing on a floor along
+//!   hundreds of contacts settles in a few passes instead of one pass per contact
+//!   (each a factorisation of the whole band). A dropped row that is violated again
+//!   ends the batches: from then on one row changes per pass, the method that cannot
+//!   cycle. The settled step is the same (the QP's solution is unique).
 //! * other groups keep the columns `H⁻¹ a_i` on their own unknowns, and one sparse solve
 //!   serves one new row of every such group at once (their right-hand sides do not
 //!   overlap and neither do their solutions, so each is exactly what a solve of its own
@@ -50,6 +57,8 @@ pub(crate) struct ExactStepWork {
     pub entries: usize,
     /// Multiply–adds of the KKT factorisations and solves.
     pub products: usize,
+    /// Refinement passes, summed over the groups.
+    pub passes: usize,
 }
 
 /// The refinement state of one group.
@@ -63,8 +72,16 @@ struct GroupState {
     active: Vec<usize>,
     /// `(row, H⁻¹ a_row on the group's unknowns)`, for the rows of `active`.
     columns: Vec<(usize, Vec<f64>)>,
-    /// Passes made (bounded by `2 rows + 4`).
+    /// Passes made (bounded by `2 rows + 4`, counted again once batches end).
     passes: usize,
+    /// Whether batches have ended (see the module documentation): a row dropped in a
+    /// batch was violated again, or the batches took as many passes as the bound.
+    single: bool,
+    /// The rows dropped by batches, ascending.
+    dropped: Vec<usize>,
+    /// The active rows before the last batch joined, to go back to should the batch
+    /// make the held rows dependent.
+    before_batch: Option<Vec<usize>>,
     /// Whether the group's step meets all its rows with non-negative multipliers.
     settled: bool,
 }
@@ -173,8 +190,13 @@ pub(crate) fn exact_step_counted(
         for &g in &live {
             let state = &mut states[g];
             state.passes += 1;
+            work.passes += 1;
             if state.passes > 2 * groups.rows[g].len() + 4 {
-                return None;
+                if state.single {
+                    return None;
+                }
+                state.single = true;
+                state.passes = 1;
             }
             let context = Pass {
                 rows,
@@ -245,9 +267,19 @@ impl Pass<'_> {
         let (multipliers, correction) = if m == 0 {
             (DVector::zeros(0), None)
         } else if state.kkt {
-            let solution = self
+            let solved = self
                 .kkt
-                .solve(&state.active, rhs.as_slice(), &mut work.products)?;
+                .solve(&state.active, rhs.as_slice(), &mut work.products);
+            let Some(solution) = solved else {
+                // Rows that joined together made the held rows dependent (nearly tied
+                // ridges): back to the set before them, one row per pass from now on.
+                let before = state.before_batch.take()?;
+                state.active = before;
+                state.single = true;
+                state.passes = 1;
+                return Some(None);
+            };
+            state.before_batch = None;
             (
                 DVector::from_vec(solution.multipliers),
                 Some(solution.correction),
@@ -263,10 +295,24 @@ impl Pass<'_> {
             let schur = DMatrix::from_fn(m, m, |r, c| dot(active[r], &columns[c].1));
             (schur.cholesky()?.solve(&rhs), None)
         };
+        let batches = state.kkt && !state.single;
+        let negative = |l: &f64| l.is_nan() || *l < 0.0;
+        if batches && multipliers.iter().any(negative) {
+            let held = std::mem::take(&mut state.active);
+            for (i, l) in held.into_iter().zip(multipliers.iter()) {
+                if negative(l) {
+                    state.dropped.push(i);
+                } else {
+                    state.active.push(i);
+                }
+            }
+            state.dropped.sort_unstable();
+            return Some(None);
+        }
         if let Some((r, _)) = multipliers
             .iter()
             .enumerate()
-            .filter(|(_, l)| l.is_nan() || **l < 0.0)
+            .filter(|(_, l)| negative(l))
             .min_by(|a, b| a.1.total_cmp(b.1))
         {
             state.active.remove(r);
@@ -286,10 +332,25 @@ impl Pass<'_> {
         }
         work.entries += self.unknowns.len();
         let active = &state.active;
-        let violated = (self.group_rows.iter().copied())
+        let violated: Vec<(usize, f64)> = (self.group_rows.iter().copied())
             .filter(|i| active.binary_search(i).is_err())
             .filter_map(|i| violation_by(&rows[i], step).map(|v| (i, v)))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
+            .collect();
+        if batches && !violated.is_empty() {
+            if violated
+                .iter()
+                .all(|(i, _)| state.dropped.binary_search(i).is_err())
+            {
+                state.before_batch = Some(state.active.clone());
+                state.active.extend(violated.iter().map(|&(i, _)| i));
+                state.active.sort_unstable();
+                return Some(None);
+            }
+            // A dropped row wants back in: one row per pass from now on.
+            state.single = true;
+            state.passes = 1;
+        }
+        let violated = violated.into_iter().min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((i, _)) = violated {
             let at = state.active.binary_search(&i).unwrap_err();
             state.active.insert(at, i);

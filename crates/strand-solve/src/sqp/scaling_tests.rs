@@ -241,3 +241,40 @@ fn independent_copies_share_their_solves_and_cost_entries_linear_in_the_copies()
     assert!(small.entries > 0);
     assert_eq!(large.entries, 16 * small.entries);
 }
+
+/// A rod-like band of `blocks` 3-blocks, each coupled to the next, with one row per
+/// unknown (`x_k ≥ −0.1 k / n`) that the Newton step (every unknown −1) violates: a
+/// cable landing on a floor along `3 blocks` contacts.
+fn landing(blocks: usize) -> (Vec<f64>, ExactStepWork, Vec<f64>) {
+    let couplings: Vec<Vec<usize>> = (0..blocks - 1).map(|b| vec![b, b + 1]).collect();
+    let pattern = HessianPattern::new(blocks, couplings.iter().map(|c| c.as_slice()));
+    let mut seed = 7;
+    let (values, _) = random_matrix(&pattern, &mut seed);
+    let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
+    assert!(cholesky.factor(&values));
+    let n = pattern.dim();
+    let newton = vec![-1.0; n];
+    let rows: Vec<Row> = (0..n)
+        .map(|k| row(k as u64, 0.1 * k as f64 / n as f64, vec![(k, 1.0)]))
+        .collect();
+    let (kkt, work) =
+        exact_step_counted(&mut cholesky, &rows, &[], &newton, GroupMethod::Kkt).unwrap();
+    let (columns, _) =
+        exact_step_counted(&mut cholesky, &rows, &[], &newton, GroupMethod::Columns).unwrap();
+    (kkt.step, work, columns.step)
+}
+
+#[test]
+fn a_cable_landing_along_many_contacts_settles_in_a_few_passes() {
+    // One row per pass would take a pass (a factorisation of the whole band) per
+    // contact: 90 and 360. Batches of every violated row take a few at any size, and
+    // settle on the step the kept columns give one row at a time (the QP's solution).
+    for blocks in [30, 120] {
+        let (kkt, work, columns) = landing(blocks);
+        println!("{blocks} blocks: {} passes", work.passes);
+        assert!(work.passes <= 6, "{blocks} blocks: {} passes", work.passes);
+        for (a, b) in kkt.iter().zip(&columns) {
+            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{a} vs {b}");
+        }
+    }
+}
