@@ -145,49 +145,11 @@ impl ObstacleMesh {
             .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
         let in_order = if keep >= 0.0 {
-            self.reachable_at_most(&bound, keep.min(radius), max_listed)
+            self.reachable_at_most(&bound, keep.min(radius), None, max_listed)
         } else {
             Some(Vec::new())
         };
         KeptTriangles::new([*p0, *p1], reach, slack, in_order.as_deref(), patches)
-    }
-
-    /// [`ObstacleMesh::reachable`] through the BVH, or `None` as soon as more than
-    /// `max_listed` triangles are found.
-    fn reachable_at_most(
-        &self,
-        bound: &SegmentBound,
-        limit: f64,
-        max_listed: usize,
-    ) -> Option<Vec<Reachable>> {
-        let mut out = Vec::new();
-        let over = std::cell::Cell::new(false);
-        self.tree.bvh.depth_first(
-            |node| {
-                count_node();
-                !over.get() && bound.may_be_within(node, limit)
-            },
-            |leaf| {
-                for &t in self.tree.cluster(leaf) {
-                    count_box();
-                    let corners = self.local_triangle(t as usize);
-                    let distance = bound.triangle_distance(&corners, limit);
-                    if distance > limit {
-                        continue;
-                    }
-                    if out.len() == max_listed {
-                        over.set(true);
-                        return;
-                    }
-                    out.push(Reachable {
-                        position: out.len(),
-                        triangle: t as usize,
-                        bound: distance,
-                    });
-                }
-            },
-        );
-        (!over.get()).then_some(out)
     }
 
     /// The tie tolerance (m) of the queries of segment `[l0, l1]` (the mesh's own
@@ -205,30 +167,52 @@ impl ObstacleMesh {
         limit: f64,
         list: Option<&[u32]>,
     ) -> Vec<Reachable> {
+        self.reachable_at_most(bound, limit, list, usize::MAX)
+            .expect("no limit to pass")
+    }
+
+    /// [`ObstacleMesh::reachable`], or `None` as soon as more than `max_listed`
+    /// triangles are found (the rest is not looked at).
+    fn reachable_at_most(
+        &self,
+        bound: &SegmentBound,
+        limit: f64,
+        list: Option<&[u32]>,
+        max_listed: usize,
+    ) -> Option<Vec<Reachable>> {
         let mut out = Vec::new();
+        let over = std::cell::Cell::new(false);
         let mut test = |t: u32| {
+            if over.get() {
+                return;
+            }
             count_box();
             let corners = self.local_triangle(t as usize);
             let distance = bound.triangle_distance(&corners, limit);
-            if distance <= limit {
-                out.push(Reachable {
-                    position: out.len(),
-                    triangle: t as usize,
-                    bound: distance,
-                });
+            if distance > limit {
+                return;
             }
+            if out.len() == max_listed {
+                over.set(true);
+                return;
+            }
+            out.push(Reachable {
+                position: out.len(),
+                triangle: t as usize,
+                bound: distance,
+            });
         };
         match list {
             Some(list) => list.iter().for_each(|&t| test(t)),
             None => self.tree.bvh.depth_first(
                 |node| {
                     count_node();
-                    bound.may_be_within(node, limit)
+                    !over.get() && bound.may_be_within(node, limit)
                 },
                 |leaf| self.tree.cluster(leaf).iter().for_each(|&t| test(t)),
             ),
         }
-        out
+        (!over.get()).then_some(out)
     }
 
     /// The exact closest points of the `reachable` triangles that can matter for the
