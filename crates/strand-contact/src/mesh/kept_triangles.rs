@@ -7,7 +7,7 @@
 //! and most of it matters only if the feature moves by the whole slack. A feature that
 //! moved by `δ` looks at the triangles whose stored box distance `b₀` is at most `u +
 //! δ + 2 guard`, `u` the largest distance of the segment now to the nearest triangle
-//! each patch had at the search ([`KeptTriangles::within`]). Why the contacts are those
+//! each patch had at the search ([`KeptList::part`]). Why the contacts are those
 //! of the whole kept list (and so of a full search):
 //!
 //! - every left-out triangle `T` has a box distance now of at least `b₀ − δ > u + 2
@@ -181,44 +181,25 @@ impl KeptTriangles {
         }
     }
 
-    /// The kept triangles (in the BVH's depth-first order) of `list` that can matter
-    /// for the local contacts within `limit` (m) of segment `[l0, l1]` (the mesh's own
-    /// frame), whose ends moved by at most `moved` (m) from the search; `guard` (m) as
-    /// the scan's ([`super::near_scan::near_guard`]). `None`: the whole list is needed
-    /// (a patch near at the search whose nearest triangle is now out of reach might
-    /// still be within it through another, or the list is short). See the module
-    /// documentation.
-    #[allow(clippy::too_many_arguments)]
-    fn within(
-        &self,
-        list: &KeptList,
-        mesh: &ObstacleMesh,
-        l0: &Point3<f64>,
-        l1: &Point3<f64>,
-        moved: f64,
-        limit: f64,
-        guard: f64,
-    ) -> Option<Vec<u32>> {
-        if list.triangles.len() <= SMALL_LIST + SMALL_LIST_PER_PATCH * self.patches.len() {
-            // Box-testing them all costs less than finding the part.
-            return None;
-        }
-        let upper = match self.near_now(mesh, l0, l1, moved, limit, guard) {
-            NearNow::Everything => return None,
-            NearNow::Nothing => return Some(Vec::new()),
-            NearNow::Within(upper) => upper,
-        };
-        let cutoff = upper + moved + 2.0 * guard;
-        // One pass in list order: cheaper than keeping the list sorted by distance
-        // (a sort per search) for the few evaluations that look for a part.
-        Some(
-            list.triangles
-                .iter()
-                .zip(&list.bounds)
-                .filter(|&(_, &bound)| bound <= cutoff)
-                .map(|(&t, _)| t)
-                .collect(),
-        )
+    /// Whether `list` is short enough to look at whole: box-testing it all costs less
+    /// than finding the part that can matter (an exact closest point per patch).
+    fn looked_at_whole(&self, list: &KeptList) -> bool {
+        list.triangles.len() <= SMALL_LIST + SMALL_LIST_PER_PATCH * self.patches.len()
+    }
+}
+
+impl KeptList {
+    /// The triangles (in the BVH's depth-first order) whose box distance at the search
+    /// is at most `cutoff` (m): the part that can matter (see the module documentation).
+    /// One pass in list order: cheaper than keeping the list sorted by distance (a sort
+    /// per search) for the few evaluations that look for a part.
+    fn part(&self, cutoff: f64) -> Vec<u32> {
+        self.triangles
+            .iter()
+            .zip(&self.bounds)
+            .filter(|&(_, &bound)| bound <= cutoff)
+            .map(|(&t, _)| t)
+            .collect()
     }
 }
 
@@ -242,23 +223,22 @@ impl ObstacleMesh {
         let (l0, l1) = (self.to_local(p0), self.to_local(p1));
         let limit = max_distance.next_up();
         let guard = super::near_scan::near_guard(self.tie_tolerance(&l0, &l1), limit);
+        // A short list is looked at whole; else the part that can matter given how near
+        // the kept patches are now (a listed part, or the BVH near them when unlisted),
+        // the whole list or a full search where a patch may be near through another
+        // triangle (see the module documentation).
+        let part: Vec<u32>;
         let candidates = match &kept.list {
-            Some(list) => match kept.within(list, self, &l0, &l1, moved, limit, guard) {
-                Some(part) => {
-                    let found = self.local_contacts_or_search(
-                        &l0,
-                        &l1,
-                        max_distance,
-                        Candidates::List(&part),
-                    );
-                    return self.contacts_to_world(found, p0, p1);
+            Some(list) if kept.looked_at_whole(list) => Candidates::List(&list.triangles),
+            listed => match (kept.near_now(self, &l0, &l1, moved, limit, guard), listed) {
+                (NearNow::Nothing, _) => return Vec::new(),
+                (NearNow::Everything, Some(list)) => Candidates::List(&list.triangles),
+                (NearNow::Everything, None) => Candidates::Everything,
+                (NearNow::Within(upper), Some(list)) => {
+                    part = list.part(upper + moved + 2.0 * guard);
+                    Candidates::List(&part)
                 }
-                None => Candidates::List(&list.triangles),
-            },
-            None => match kept.near_now(self, &l0, &l1, moved, limit, guard) {
-                NearNow::Everything => Candidates::Everything,
-                NearNow::Nothing => return Vec::new(),
-                NearNow::Within(upper) => Candidates::Within(upper + 2.0 * guard),
+                (NearNow::Within(upper), None) => Candidates::Within(upper + 2.0 * guard),
             },
         };
         let found = self.local_contacts_or_search(&l0, &l1, max_distance, candidates);
