@@ -86,6 +86,15 @@ struct GroupState {
     settled: bool,
 }
 
+impl GroupState {
+    /// From now on one row changes per pass (see the module documentation); the pass
+    /// bound counts again from this one.
+    fn end_batches(&mut self) {
+        self.single = true;
+        self.passes = 1;
+    }
+}
+
 /// The step with the `active` rows held at zero (see the module documentation). `None`
 /// if a group's Schur complement is singular or its refinement does not settle.
 pub(crate) fn exact_step(
@@ -195,8 +204,7 @@ pub(crate) fn exact_step_counted(
                 if state.single {
                     return None;
                 }
-                state.single = true;
-                state.passes = 1;
+                state.end_batches();
             }
             let context = Pass {
                 rows,
@@ -275,8 +283,7 @@ impl Pass<'_> {
                 // ridges): back to the set before them, one row per pass from now on.
                 let before = state.before_batch.take()?;
                 state.active = before;
-                state.single = true;
-                state.passes = 1;
+                state.end_batches();
                 return Some(None);
             };
             state.before_batch = None;
@@ -347,8 +354,7 @@ impl Pass<'_> {
                 return Some(None);
             }
             // A dropped row wants back in: one row per pass from now on.
-            state.single = true;
-            state.passes = 1;
+            state.end_batches();
         }
         let violated = violated.into_iter().min_by(|a, b| a.1.total_cmp(&b.1));
         if let Some((i, _)) = violated {
