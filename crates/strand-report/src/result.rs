@@ -73,10 +73,10 @@ pub struct ResultDoc {
     /// axis between pins).
     #[serde(default)]
     pub gauge_freedoms: usize,
-    /// Round-off floor of the residual at this model's stiffnesses, N (the tolerance
-    /// applied is the larger of this and `tolerance_N`; a solve that can make no further
-    /// progress within 4 × this floor is converged at round-off, so a converged
-    /// `residual_N` can exceed `tolerance_N`, never 4 × `residual_floor_N`).
+    /// Round-off floor of the residual at this model's stiffnesses, couplings and
+    /// coordinates, N: a solve that can make no further progress within 4 × this floor
+    /// is converged at round-off, so a converged `residual_N` can exceed `tolerance_N`,
+    /// never 4 × `residual_floor_N`.
     #[serde(default, rename = "residual_floor_N")]
     pub residual_floor_n: f64,
     /// Newton iterations of the final solve on the full model at full load (part of

@@ -42,9 +42,9 @@ pub struct SolveReport {
     /// Tolerance asked for, N.
     pub tolerance_n: f64,
     /// The round-off floor of the residual at this model's stiffnesses and coordinates,
-    /// N: the tolerance actually applied is the larger of the two, and a solve that can
-    /// make no further progress within 4 × this floor is converged at round-off (its
-    /// residual may then exceed both `tolerance_n` and the floor, never 4 × the floor).
+    /// N (from its Hessian at the start, see `iteration/floor.rs`): a solve that can make
+    /// no further progress within 4 × this floor is converged at round-off (its residual
+    /// may then exceed `tolerance_n`, never 4 × the floor).
     pub residual_floor_n: f64,
     /// Every Newton iteration performed: the final solve, the coarse levels of nested
     /// iteration and the continuation steps.

@@ -19,9 +19,10 @@ use serde::{Deserialize, Serialize};
 #[serde(default, deny_unknown_fields)]
 pub struct SolverSettings {
     /// Convergence threshold on the residual (largest out-of-balance vertex force, and
-    /// edge moment per rod length) in N. The round-off floor of the model (see
-    /// [`crate::SolveReport::residual_floor_n`]) is used instead when it is larger; a
-    /// solve that stalls within 4 × that floor is converged at round-off.
+    /// edge moment per rod length) in N. Two ulps of strain times the stiffest strain
+    /// stiffness (the least the residual resolves to) are used instead when they are
+    /// larger; a solve that stalls within 4 × the model's round-off floor (see
+    /// [`crate::SolveReport::residual_floor_n`]) is converged at round-off.
     pub tolerance_n: f64,
     /// Maximum number of Newton iterations of one solve (per level of nested
     /// iteration and per continuation step).

@@ -167,7 +167,7 @@ pub(crate) fn stiffen(
         let soft_model = Model::try_new(soft).map_err(crate::InitialStateError::from)?;
         // No iterations at the round-off floor of a step that is not the last.
         let floor_tolerance =
-            settings.stiffness_step_floor_multiple * crate::iteration::residual_floor(&soft_model);
+            settings.stiffness_step_floor_multiple * crate::iteration::strain_floor(&soft_model);
         let settings_of_step = SolverSettings {
             tolerance_n: step_tolerance.max(floor_tolerance),
             ..if first {
@@ -305,8 +305,8 @@ fn limp_start(
     let tolerance = start_settings
         .tolerance_n
         .max(start_settings.stiffness_step_tolerance * (load_scale(&scaled) + bending_scale));
-    let floor_tolerance = start_settings.stiffness_step_floor_multiple
-        * crate::iteration::residual_floor(&soft_model);
+    let floor_tolerance =
+        start_settings.stiffness_step_floor_multiple * crate::iteration::strain_floor(&soft_model);
     let settings = SolverSettings {
         tolerance_n: tolerance.max(floor_tolerance),
         ..start_settings.clone()

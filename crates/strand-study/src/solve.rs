@@ -184,3 +184,61 @@ pub fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use strand_report::{ResultDoc, Timing, collect};
+    use strand_rod::{Rod, Section};
+    use strand_solve::{ROUND_OFF_STALL, SolverSettings, solve};
+    use strand_system::{End, Model, RodSpec, System, initial_state};
+
+    use super::not_converged;
+
+    /// A solved clamped–pinned beam's `result.json`.
+    fn beam_doc() -> ResultDoc {
+        let section = Section::try_explicit(3e4, 1e4, 1.0, 1.0, 0.0, 0.0).unwrap();
+        let clamp =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+        let system = System {
+            rods: vec![RodSpec {
+                name: "beam".into(),
+                rod: Rod::try_straight(section, 1.0, 8).unwrap(),
+                start: End::clamped(Vector3::zeros(), clamp),
+                end: End::pinned(Vector3::new(0.95, 0.2, 0.0)),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: Vec::new(),
+            gravity: Vector3::zeros(),
+        };
+        let model = Model::try_new(system).unwrap();
+        let settings = SolverSettings::default();
+        let solution = solve(&model, initial_state(model.system()), &settings).unwrap();
+        collect("beam", &model, &solution, Timing::default())
+    }
+
+    #[test]
+    fn a_stall_is_called_the_round_off_floor_only_within_its_multiple_of_the_estimate() {
+        let mut doc = beam_doc();
+        assert!(doc.converged && doc.residual_floor_n > 0.0);
+        assert_eq!(not_converged("beam.ron", None, &doc), None);
+        doc.converged = false;
+        doc.termination = "stagnated".into();
+        // Within the multiple: the state is the equilibrium to round-off, and the
+        // warning says which tolerance accepts it.
+        doc.residual_n = 0.9 * ROUND_OFF_STALL * doc.residual_floor_n;
+        let warning = not_converged("beam.ron", Some("v1"), &doc).unwrap();
+        assert!(warning.starts_with("beam.ron (variant 'v1'): not converged (stagnated"));
+        assert!(warning.contains("round-off floor"), "{warning}");
+        assert!(warning.contains("set tolerance_n to at least"), "{warning}");
+        // Beyond it: a stall, not the floor.
+        doc.residual_n = 1.1 * ROUND_OFF_STALL * doc.residual_floor_n;
+        let warning = not_converged("beam.ron", None, &doc).unwrap();
+        assert!(!warning.contains("round-off"), "{warning}");
+        assert!(
+            warning.contains("while the energy stayed constant"),
+            "{warning}"
+        );
+    }
+}

@@ -30,10 +30,13 @@
 //!    classification of the returned state.
 
 mod curvature;
+mod floor;
 mod follow;
 mod globalise;
 mod stall;
 
+pub(crate) use floor::strain_floor;
+use floor::{ROUND_OFF_SPREAD, residual_floor};
 pub use stall::ROUND_OFF_STALL;
 pub(crate) use stall::stalled_at_floor;
 
@@ -296,7 +299,11 @@ impl<'a> Iteration<'a> {
         if let Some(c) = constraints {
             max_translation = max_translation.min(c.max_translation_m());
         }
-        let floor = residual_floor(model);
+        let floor = if work.eval.has_hessian {
+            residual_floor(model, &state, &work.eval.hessian)
+        } else {
+            strain_floor(model)
+        };
         let valley_turn = valley_turn(model);
         let mut report = SolveReport::new(model.dofs().len(), settings.tolerance_n);
         report.residual_floor_n = floor;
@@ -315,7 +322,11 @@ impl<'a> Iteration<'a> {
             radius: 1.0,
             max_translation,
             free_translation,
-            tolerance: settings.tolerance_n.max(floor),
+            // The least the residual is resolved to, not the floor's estimate: the iteration
+            // goes on while it still gains (a stall counts within its spread of the floor),
+            // for a residual at the floor leaves errors along the soft directions (5e-9 m
+            // across a stiff cantilever, EA 1e8 N, when it stopped there).
+            tolerance: settings.tolerance_n.max(strain_floor(model)),
             report,
             history: Vec::new(),
             trace: std::env::var_os("STRAND_TRACE").is_some(),
@@ -774,33 +785,6 @@ fn valley_turn(model: &Model) -> f64 {
 /// along a step and reject every trial however short.
 fn violation_of(rows: &[Row]) -> f64 {
     rows.iter().map(|r| (-r.value).max(0.0)).fold(0.0, f64::max)
-}
-
-/// Ulps of strain in the round-off floor of the residual (the tolerance applied when
-/// it exceeds the settings').
-const FLOOR_ULPS: f64 = 2.0;
-
-/// A vertex force is the difference of two edge forces, each from a strain computed in
-/// a handful of operations (rotate, scale, subtract the rest strain): measured over the
-/// convergence map, iterations stall at 0.6 to 2.0 times the floor. An iteration that
-/// can make no further progress (line search failed, stagnation) within this multiple
-/// of the floor has converged to round-off.
-const ROUND_OFF_SPREAD: f64 = 4.0;
-
-/// The round-off floor of the residual in N: [`FLOOR_ULPS`] ulps of strain times the
-/// largest axial or shear stiffness (positions are stored compensated, so it does not
-/// grow with the distance from the origin).
-pub(crate) fn residual_floor(model: &Model) -> f64 {
-    let stiffest = model
-        .system()
-        .rods
-        .iter()
-        .map(|r| {
-            let s = r.rod.section().strain_stiffness();
-            s.max()
-        })
-        .fold(0.0, f64::max);
-    FLOOR_ULPS * f64::EPSILON * stiffest
 }
 
 /// Adds the augmented-Lagrangian term `½ ρ (pulled + a·d)²` of an active `row` to the
