@@ -187,40 +187,23 @@ pub fn write_files(dir: &Path, files: &[(&str, &[u8])]) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use nalgebra::{UnitQuaternion, Vector3};
-    use strand_report::{ResultDoc, Timing, collect};
-    use strand_rod::{Rod, Section};
-    use strand_solve::{ROUND_OFF_STALL, SolverSettings, solve};
-    use strand_system::{End, Model, RodSpec, System, initial_state};
+    use strand_case::Case;
+    use strand_report::{ResultDoc, Timing};
+    use strand_solve::ROUND_OFF_STALL;
 
-    use super::not_converged;
+    use super::{not_converged, result_doc, solve_cold};
 
-    /// A solved clamped–pinned beam's `result.json`.
-    fn beam_doc() -> ResultDoc {
-        let section = Section::try_explicit(3e4, 1e4, 1.0, 1.0, 0.0, 0.0).unwrap();
-        let clamp =
-            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
-        let system = System {
-            rods: vec![RodSpec {
-                name: "beam".into(),
-                rod: Rod::try_straight(section, 1.0, 8).unwrap(),
-                start: End::clamped(Vector3::zeros(), clamp),
-                end: End::pinned(Vector3::new(0.95, 0.2, 0.0)),
-                route: None,
-            }],
-            bodies: vec![],
-            clips: Vec::new(),
-            gravity: Vector3::zeros(),
-        };
-        let model = Model::try_new(system).unwrap();
-        let settings = SolverSettings::default();
-        let solution = solve(&model, initial_state(model.system()), &settings).unwrap();
-        collect("beam", &model, &solution, Timing::default())
+    /// The bundled Elastica case's `result.json`, solved as `strand solve` does.
+    fn elastica_doc() -> ResultDoc {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../cases/elastica_fig3.ron");
+        let built = Case::from_path(path).unwrap().build(None).unwrap();
+        let solution = solve_cold(&built).unwrap();
+        result_doc(&built, &solution, Timing::default(), None, None).unwrap()
     }
 
     #[test]
     fn a_stall_is_called_the_round_off_floor_only_within_its_multiple_of_the_estimate() {
-        let mut doc = beam_doc();
+        let mut doc = elastica_doc();
         assert!(doc.converged && doc.residual_floor_n > 0.0);
         assert_eq!(not_converged("beam.ron", None, &doc), None);
         doc.converged = false;
