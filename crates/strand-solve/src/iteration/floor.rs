@@ -3,11 +3,11 @@
 //! within whose spread a stalled iteration has converged.
 //!
 //! The floor is measured on the model's Hessian at the solve's start, as a componentwise
-//! backward error: a state within one ulp of the equilibrium in every unknown — one ulp
+//! backward error: a state within an ulp of the equilibrium in every unknown — an ulp
 //! of strain in each vertex position (`ε h`, positions are stored compensated, so the
-//! distance from the origin does not enter), one ulp of a rotation (`ε` rad) — has the
+//! distance from the origin does not enter), an ulp of a rotation (`ε` rad) — has the
 //! residual `H δ`, at most `ε Σ_j |H_ij| s_j` in row `i` (`s_j` the unknown's ulp
-//! scale). The evaluation rounds at that scale too: each strain is computed from an
+//! scale), taken [`FLOOR_ULPS`] times. The evaluation rounds at that scale too: each strain is computed from an
 //! edge vector rotated into its frame (a few ulps of a unit vector), each stress is a
 //! stiffness times it. Unlike the strain stiffness alone (the estimate before), the
 //! row sums see what a model adds: a body whose ports lie far from its centre (one ulp
@@ -48,7 +48,7 @@ pub(crate) fn residual_floor(model: &Model, state: &SystemState, hessian: &[f64]
 /// Per block, in N: [`FLOOR_ULPS`] times `ε ‖(|H| s)_block‖ / force scale`, plus at the
 /// vertices next to a moving attachment what one ulp of its position does to their edge
 /// ([`add_moving_attachments`]).
-pub(crate) fn block_floors(model: &Model, state: &SystemState, hessian: &[f64]) -> Vec<f64> {
+fn block_floors(model: &Model, state: &SystemState, hessian: &[f64]) -> Vec<f64> {
     let scales = ulp_scales(model);
     let pattern = model.pattern();
     let mut sums = vec![0.0; pattern.dim()];
@@ -75,12 +75,11 @@ pub(crate) fn block_floors(model: &Model, state: &SystemState, hessian: &[f64]) 
 
 /// Adds, at each free vertex next to a moving attachment, `ε |x| C / h` (N): a vertex
 /// held by a sliding clip, by a turning clip with an offset, by a clip on a free body or
-/// a parent clip, or a rod end at a free
-/// body's port, is placed by a pose computed in the working frame (`x = p + R d`), so
-/// its position is rounded to an ulp of its distance `|x|` from the frame's origin
-/// (not to an ulp of the edge, as a free vertex's compensated one), a strain of
-/// `ε |x| / h` in the edge at it (`C` the rod's stiffest strain stiffness, `h` the
-/// edge). Measured on the clip harness: without it, the vertices next to its sliding and
+/// a parent clip, or a rod end at a free body's port, is placed by a pose computed in
+/// the solve's frame (`x = p + R d`), so its position is rounded to an ulp of its
+/// distance `|x|` from the frame's origin (not to an ulp of the edge, as a free
+/// vertex's compensated one), a strain of `ε |x| / h` in the edge at it (`C` the rod's
+/// stiffest strain stiffness, `h` the edge). Measured on the clip harness: without it, the vertices next to its sliding and
 /// body-mounted clips stalled at up to 22 times their row sums' floor, growing with the
 /// segments as `1/h`.
 fn add_moving_attachments(model: &Model, state: &SystemState, floors: &mut [f64]) {
