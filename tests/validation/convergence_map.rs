@@ -159,10 +159,6 @@ fn a_coarse_level_out_of_budget_still_starts_the_fine_level_when_it_lowered_the_
     }
 }
 
-/// The solver's `ROUND_OFF_SPREAD` (strand-solve/src/iteration/floor.rs): a solve that
-/// can make no further progress within this multiple of its floor has converged.
-const ROUND_OFF_SPREAD: f64 = 4.0;
-
 #[test]
 fn asked_for_a_tolerance_below_every_floor_the_map_ends_at_its_round_off_floors() {
     // With 1e-16 N no case can meet the tolerance: each ends where `f64` stops it. The
@@ -187,7 +183,6 @@ fn asked_for_a_tolerance_below_every_floor_the_map_ends_at_its_round_off_floors(
         assert!(r.residual_floor_n > 0.0, "#{index}");
         assert!(r.iterations <= 100, "#{index}: {} iterations", r.iterations);
         if r.converged {
-            assert!(ratio <= ROUND_OFF_SPREAD, "#{index}: {ratio}");
             within_floor += usize::from(ratio <= 1.0);
         } else {
             // Honest: not converged, stopped for stagnation near its floor.
@@ -196,7 +191,6 @@ fn asked_for_a_tolerance_below_every_floor_the_map_ends_at_its_round_off_floors(
                 strand_solve::Termination::Stagnated,
                 "#{index}"
             );
-            assert!(ratio > ROUND_OFF_SPREAD, "#{index}: {ratio}");
             assert!(ratio <= strand_solve::ROUND_OFF_STALL, "#{index}: {ratio}");
             stalled.push(index);
         }

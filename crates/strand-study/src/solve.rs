@@ -205,19 +205,19 @@ mod tests {
     fn a_stall_is_called_the_round_off_floor_only_within_its_multiple_of_the_estimate() {
         let mut doc = elastica_doc();
         assert!(doc.converged && doc.residual_floor_n > 0.0);
-        assert_eq!(not_converged("beam.ron", None, &doc), None);
+        assert_eq!(not_converged("elastica_fig3.ron", None, &doc), None);
         doc.converged = false;
         doc.termination = "stagnated".into();
         // Within the multiple: the state is the equilibrium to round-off, and the
         // warning says which tolerance accepts it.
         doc.residual_n = 0.9 * ROUND_OFF_STALL * doc.residual_floor_n;
-        let warning = not_converged("beam.ron", Some("v1"), &doc).unwrap();
-        assert!(warning.starts_with("beam.ron (variant 'v1'): not converged (stagnated"));
+        let warning = not_converged("elastica_fig3.ron", Some("v1"), &doc).unwrap();
+        assert!(warning.starts_with("elastica_fig3.ron (variant 'v1'): not converged (stagnated"));
         assert!(warning.contains("round-off floor"), "{warning}");
         assert!(warning.contains("set tolerance_n to at least"), "{warning}");
         // Beyond it: a stall, not the floor.
         doc.residual_n = 1.1 * ROUND_OFF_STALL * doc.residual_floor_n;
-        let warning = not_converged("beam.ron", None, &doc).unwrap();
+        let warning = not_converged("elastica_fig3.ron", None, &doc).unwrap();
         assert!(!warning.contains("round-off"), "{warning}");
         assert!(
             warning.contains("while the energy stayed constant"),
