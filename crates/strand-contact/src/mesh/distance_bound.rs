@@ -134,9 +134,9 @@ impl ObstacleMesh {
         }
         self.tree.bvh.nearer_first(
             &mut best,
-            |best, node| {
+            |best, _, node_box| {
                 count_node();
-                bound.distance(node, best.limit() + bound.rounding)
+                bound.distance(node_box, best.limit() + bound.rounding)
             },
             |best, node_bound, _| best.may_hold(node_bound - bound.rounding),
             |best, leaf| {

@@ -54,7 +54,7 @@ impl ObstacleMesh {
         // Read by the node test while the leaves set it.
         let ambiguous = std::cell::Cell::new(false);
         self.tree.bvh.depth_first(
-            |node| !ambiguous.get() && ray_hits_box(point, d, node),
+            |_, node| !ambiguous.get() && ray_hits_box(point, d, node),
             |leaf| {
                 for &t in self.tree.cluster(leaf) {
                     let [a, b, c] = self.local_triangle(t as usize);

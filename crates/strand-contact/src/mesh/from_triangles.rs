@@ -137,6 +137,7 @@ pub(crate) fn build(
         bounding_box: [min, max],
         patch: topology.patch.into(),
         node_patches: Default::default(),
+        node_frames: Default::default(),
         diagnostics: topology.diagnostics,
         placement: None,
         cache_use: crate::mesh_cache::MeshCacheUse::Off,

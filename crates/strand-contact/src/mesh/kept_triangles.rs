@@ -4,18 +4,23 @@
 //!
 //! On a finely tessellated surface the kept list is a disc of triangles around each
 //! contact (those whose boxes lie within the nearest distance plus twice the slack),
-//! and most of it matters only if the feature moves by the whole slack. A feature that
-//! moved by `δ` looks at the triangles whose stored box distance `b₀` is at most `u +
-//! δ + 2 guard`, `u` the largest distance of the segment now to the nearest triangle
-//! each patch had at the search ([`KeptList::part`]). Why the contacts are those
-//! of the whole kept list (and so of a full search):
+//! and most of it matters only if the feature moves by the whole slack. Each patch near
+//! at the search keeps one of its triangles `X_P`: its nearest at the search, replaced
+//! by its nearest at each later evaluation ([`KeptTriangles::follow`]), so that on a
+//! surface the feature slides along, `X_P` stays near the contact. A feature that moved
+//! by `δ` from the search looks at the triangles whose stored box distance `b₀` is at
+//! most `u + δ + 2 guard`, `u` the largest distance of the segment now to the patches'
+//! `X_P` ([`KeptList::part`]). Why the contacts are those of the whole kept list (and
+//! so of a full search), whichever triangle of its patch `X_P` is:
 //!
 //! - every left-out triangle `T` has a box distance now of at least `b₀ − δ > u + 2
 //!   guard` (distances move by at most `δ`; one guard covers rounding);
-//! - the scan of the part ([`ObstacleMesh::local_contacts_among`]) finds for every
-//!   patch `P` within reach a nearest distance `d_P ≤ u`: its nearest triangle at the
-//!   search `X_P` is in the part (`b₀(X_P) ≤ d_P⁰ ≤ |X_P now| + δ ≤ u + δ`) and is either
-//!   tested or deferred for being farther than a nearer one;
+//! - every patch `P` within reach has a nearest distance now `d_P ≤ |X_P now| ≤ u`, and
+//!   its nearest triangle now `Z_P` is in the part: it is in the whole list (at the
+//!   search it was within `d_P + δ ≤ d_P⁰ + 2δ` of the segment, `d_P⁰` the patch's
+//!   nearest distance at the search) and `b₀(Z_P) ≤ d_P + δ ≤ u + δ`; the scan of the
+//!   part ([`ObstacleMesh::local_contacts_among`]) tests it or defers it for being
+//!   farther than a nearer one, so it finds `d_P`;
 //! - so in a scan of the whole list every `T` of a patch with a member in the part is
 //!   deferred (its box is farther than `d_P + guard`) and never tested at the end (its
 //!   box is farther than `max_P d_P + guard`), and the midpoint of a stretch of `P`
@@ -23,22 +28,25 @@
 //! - the same holds for a part of the segment (a point of an edge): its box distances
 //!   are at least the segment's, and `u` is measured from the part;
 //! - a patch whose `X_P` is now out of reach is left out only when all of it is (its
-//!   distance at the search minus `δ` is beyond the reach); a patch not near at the
-//!   search was farther than reach plus slack. Otherwise the whole list is used.
+//!   nearest distance at the search minus `δ` is beyond the reach); a patch not near
+//!   at the search was farther than reach plus slack. Otherwise the whole list is used.
 //!
 //! **Kept lists too long to list.** On a finely tessellated surface the disc of the
 //! whole list grows with the density (a kept list of a 1M-triangle floor holds hundreds
 //! of triangles, most of them never looked at), so a search lists the kept triangles
 //! only when there are at most [`MAX_LISTED`]; otherwise it keeps just the patches'
-//! nearest triangles, and a later evaluation takes every triangle whose box is *now*
-//! within `u + 2 guard` of the segment, through the BVH ([`Candidates::Within`]). The
-//! argument above holds for that set as well: it holds every `X_P` within reach (their
-//! boxes are no farther than `u`), every triangle left out has a box now farther than
-//! `u + 2 guard`, and each of its triangles was in the whole list (its box at the
-//! search within `u + 2 guard + δ`, no farther than the list's bound `max_P d_P + 2
-//! slack + 2 guard`, since `u ≤ max_P d_P + δ`). Where the whole list would be used, a
-//! full search gives its answer. The work of a later evaluation is then that of the
-//! triangles near the contacts and the BVH's nodes above them, not of the disc.
+//! triangles `X_P`, and a later evaluation takes every triangle whose box is *now*
+//! within `u + 2 guard` of the segment and within reach, through the BVH
+//! ([`Candidates::Within`]). That set is part of a full search's candidates and holds
+//! every triangle the answer depends on: each patch within reach has its nearest
+//! triangle in it (`d_P ≤ u`), and every triangle left out is farther than `max_P d_P +
+//! 2 guard` from the segment now; so its answer is a full search's. Where the whole
+//! list would be used, a full search gives its answer. The work of a later evaluation
+//! is then that of the triangles within about `u` of the segment and the BVH's nodes
+//! above them, not of the disc; with `X_P` followed from the last evaluation, `u`
+//! exceeds the contact's distance by what the feature moved since, at second order on
+//! a smooth surface (a hose sliding over a 378k-triangle drum: see
+//! `kept_triangles_tests`).
 
 use nalgebra::Point3;
 
@@ -61,12 +69,14 @@ const SMALL_LIST_PER_PATCH: usize = 8;
 /// as much as scanning a list of this length.
 pub(super) const MAX_LISTED: usize = 64;
 
-/// The nearest triangle of one smooth patch at the search.
+/// One smooth patch near the feature at the search.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct KeptPatch {
-    /// The triangle (index `< triangle_count()`).
+    /// A triangle of the patch (index `< triangle_count()`): its nearest at the search,
+    /// then its nearest at the latest evaluation ([`KeptTriangles::follow`]).
     pub(super) triangle: u32,
-    /// Its distance from the segment searched at, m.
+    /// The patch's nearest distance from the segment searched at, m: no triangle of the
+    /// patch was nearer at the search.
     pub(super) distance: f64,
 }
 
@@ -178,6 +188,23 @@ impl KeptTriangles {
             NearNow::Nothing
         } else {
             NearNow::Within(upper)
+        }
+    }
+
+    /// Takes the triangles of `contacts` (found for this feature by
+    /// [`ObstacleMesh::local_contacts_kept`]) as their patches' triangles for the next
+    /// evaluation: the distance from a feature to its patches is then measured from
+    /// where the feature was last evaluated, not where it was searched, so a feature
+    /// that slid along a finely faceted surface looks at the triangles within about
+    /// its contact's distance, not within its distance to the triangle it was searched
+    /// at (see the module documentation: any triangle of the patch will do). The
+    /// contacts and their answers do not depend on it.
+    pub fn follow(&mut self, mesh: &ObstacleMesh, contacts: &[super::LocalContact]) {
+        for kept in &mut self.patches {
+            let patch = mesh.patch_of(kept.triangle as usize);
+            if let Some(found) = contacts.iter().find(|c| c.patch == patch) {
+                kept.triangle = found.proximity.triangle as u32;
+            }
         }
     }
 

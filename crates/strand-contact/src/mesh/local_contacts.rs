@@ -125,7 +125,7 @@ impl ObstacleMesh {
         let reachable = match candidates {
             Candidates::Everything => self.reachable(&bound, limit, None),
             Candidates::List(list) => self.reachable(&bound, limit, Some(list)),
-            Candidates::Within(near) => self.reachable(&bound, limit.min(near), None),
+            Candidates::Within(near) => self.reachable_near(&bound, limit.min(near)),
         };
         let partial = !matches!(candidates, Candidates::Everything);
         let guard = near_guard(tolerance, limit);

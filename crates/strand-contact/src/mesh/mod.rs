@@ -34,6 +34,9 @@ mod local_contacts;
 mod near_scan;
 #[cfg(test)]
 mod near_scan_tests;
+mod node_frames;
+#[cfg(test)]
+mod node_frames_tests;
 mod obstacle_mesh;
 mod patch_search;
 #[cfg(test)]

@@ -46,6 +46,15 @@ pub(super) fn near_guard(tolerance: f64, limit: f64) -> f64 {
     2e3 * tolerance + 1e-9 * (1.0 + limit)
 }
 
+/// What a BVH descent prunes its nodes by.
+#[derive(Clone, Copy)]
+enum NodeBounds {
+    /// Their axis-aligned boxes: every triangle whose box is within reach is found.
+    Boxes,
+    /// Their axis-aligned and oriented boxes: every triangle within reach is found.
+    Frames,
+}
+
 /// One triangle within reach, with its exact closest points.
 pub(super) struct Near {
     /// Its place among the candidates (their order breaks ties).
@@ -80,8 +89,9 @@ impl ObstacleMesh {
     ///
     /// Why nothing that matters is left out. Let `R = reach + slack` and `d_P` the
     /// nearest distance of smooth patch `P` to `[p0, p1]` among its triangles within
-    /// `R`; the list holds every triangle whose box is within `max_P d_P + 2 slack +
-    /// guard`. For a segment `[q0, q1]` with `|qᵢ − pᵢ| ≤ δ ≤ slack` every point moved
+    /// `R`; the list holds every triangle within `max_P d_P + 2 slack + guard` (those
+    /// whose boxes are, except under nodes whose oriented boxes are farther:
+    /// see `reachable_near`). For a segment `[q0, q1]` with `|qᵢ − pᵢ| ≤ δ ≤ slack` every point moved
     /// by at most `δ` (`(1 − s)|q0 − p0| + s |q1 − p1|`), so distances change by at most
     /// `δ`. A patch within `reach` of the new segment was within `R` of the old one,
     /// and its new nearest distance is at most `d_P + δ` (its old nearest triangle
@@ -135,8 +145,9 @@ impl ObstacleMesh {
         let guard = near_guard(tolerance, radius);
         let bound = SegmentBound::new(&l0, &l1, &self.bounding_box);
         // The nearest triangle of every patch within reach plus slack, then the part
-        // kept: every triangle whose box is within the farthest of them plus twice the
-        // slack and guard (and within reach plus slack), in depth-first order.
+        // kept: every triangle whose box (and oriented node boxes) is within the
+        // farthest of them plus twice the slack and guard (and within reach plus
+        // slack), in depth-first order.
         let patches = self.patch_nearest(&bound, &l0, &l1, radius, guard);
         let farthest = patches
             .iter()
@@ -145,7 +156,13 @@ impl ObstacleMesh {
             .unwrap_or(f64::NEG_INFINITY);
         let keep = farthest + 2.0 * slack + 2.0 * guard;
         let in_order = if keep >= 0.0 {
-            self.reachable_at_most(&bound, keep.min(radius), None, max_listed)
+            self.reachable_at_most(
+                &bound,
+                keep.min(radius),
+                None,
+                max_listed,
+                NodeBounds::Frames,
+            )
         } else {
             Some(Vec::new())
         };
@@ -167,18 +184,29 @@ impl ObstacleMesh {
         limit: f64,
         list: Option<&[u32]>,
     ) -> Vec<Reachable> {
-        self.reachable_at_most(bound, limit, list, usize::MAX)
+        self.reachable_at_most(bound, limit, list, usize::MAX, NodeBounds::Boxes)
             .expect("no limit to pass")
     }
 
-    /// [`ObstacleMesh::reachable`], or `None` as soon as more than `max_listed`
-    /// triangles are found (the rest is not looked at).
+    /// [`ObstacleMesh::reachable`] from the BVH, leaving out the nodes whose oriented
+    /// boxes ([`super::node_frames`]) are beyond `limit` as well: every triangle within
+    /// `limit` of the segment, and of the others only some whose boxes are (what a
+    /// search that needs every triangle within a distance, not every box, looks at).
+    pub(super) fn reachable_near(&self, bound: &SegmentBound, limit: f64) -> Vec<Reachable> {
+        self.reachable_at_most(bound, limit, None, usize::MAX, NodeBounds::Frames)
+            .expect("no limit to pass")
+    }
+
+    /// [`ObstacleMesh::reachable`] (or [`ObstacleMesh::reachable_near`], with
+    /// `NodeBounds::Frames`), or `None` as soon as more than `max_listed` triangles are
+    /// found (the rest is not looked at).
     fn reachable_at_most(
         &self,
         bound: &SegmentBound,
         limit: f64,
         list: Option<&[u32]>,
         max_listed: usize,
+        nodes: NodeBounds,
     ) -> Option<Vec<Reachable>> {
         let mut out = Vec::new();
         let over = std::cell::Cell::new(false);
@@ -205,9 +233,15 @@ impl ObstacleMesh {
         match list {
             Some(list) => list.iter().for_each(|&t| test(t)),
             None => self.tree.bvh.depth_first(
-                |node| {
+                |node, node_box| {
                     count_node();
-                    !over.get() && bound.may_be_within(node, limit)
+                    !over.get()
+                        && match nodes {
+                            NodeBounds::Boxes => bound.may_be_within(node_box, limit),
+                            NodeBounds::Frames => {
+                                bound.may_be_within_frames(node_box, self.node_frame(node), limit)
+                            }
+                        }
                 },
                 |leaf| self.tree.cluster(leaf).iter().for_each(|&t| test(t)),
             ),

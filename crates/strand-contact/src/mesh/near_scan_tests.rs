@@ -18,6 +18,25 @@ pub(super) fn wavy(n: usize) -> ObstacleMesh {
     })
 }
 
+/// A drum of radius 50 mm along y (`y ∈ [−0.2, 0.2]` m, open ends) of `facets` flat
+/// faces, two triangles each: one smooth patch (the hose-over-drum case of issue 11).
+pub(super) fn fine_drum(facets: usize) -> ObstacleMesh {
+    let radius = 0.05;
+    let ring = |i: usize| {
+        let angle = std::f64::consts::TAU * i as f64 / facets as f64;
+        [-0.2, 0.2].map(|y| Point3::new(radius * angle.cos(), y, radius * angle.sin()))
+    };
+    let vertices: Vec<Point3<f64>> = (0..facets).flat_map(ring).collect();
+    let n = facets as u32;
+    let triangles: Vec<[u32; 3]> = (0..n)
+        .flat_map(|i| {
+            let (a, b) = (2 * i, 2 * ((i + 1) % n));
+            [[a, b, b + 1], [a, b + 1, a + 1]]
+        })
+        .collect();
+    ObstacleMesh::try_from_triangles("drum", vertices, &triangles).expect("a valid drum")
+}
+
 /// A faceted box corner: many patches (a floor and two walls meeting), for the scan's
 /// patch bookkeeping.
 pub(super) fn corner() -> ObstacleMesh {

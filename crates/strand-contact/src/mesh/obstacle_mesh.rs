@@ -28,6 +28,9 @@ pub struct ObstacleMesh {
     /// The patch of every BVH node, computed on the first full search
     /// ([`ObstacleMesh::node_patches`]).
     pub(crate) node_patches: Arc<super::patch_search::NodePatches>,
+    /// The oriented boxes of the BVH's nodes, computed a chunk at a time as searches
+    /// reach them ([`ObstacleMesh::node_frame`]).
+    pub(crate) node_frames: Arc<super::node_frames::NodeFrames>,
     /// Diagnostics, with the bounding box in world coordinates.
     pub(crate) diagnostics: MeshDiagnostics,
     /// The map from the mesh's own frame to the world (`None`: the identity).
@@ -112,6 +115,7 @@ impl ObstacleMesh {
                 .node_patches
                 .get()
                 .map_or(0, |p| p.len() * std::mem::size_of::<u32>())
+            + self.node_frames.memory_bytes()
             + self.name.capacity()
     }
 }

@@ -6,7 +6,8 @@
 //! do ([`ObstacleMesh::node_patches`], computed on the first full search). A search
 //! from the nearest box first keeps the nearest distance `d_P` found on each patch and
 //! skips a node of a single patch `P` (or a triangle of `P`) whose box is farther than
-//! `d_P + guard`: nothing in it is as near as `d_P`. It takes the nodes nearest box
+//! `d_P + guard`: nothing in it is as near as `d_P` (a node's distance is the larger of
+//! its box's and its oriented box's, [`super::node_frames`]). It takes the nodes nearest box
 //! first (best first), so that `d_P` is known before farther boxes come up. Nodes holding several patches, and
 //! nodes of a patch not met yet, are entered while their box is within reach. On a
 //! finely tessellated floor (one patch) the search therefore visits the triangles
@@ -148,7 +149,7 @@ impl ObstacleMesh {
         // triangles whose boxes are within it plus the guard are tested exactly.
         let mut pending: BinaryHeap<Pending> = BinaryHeap::with_capacity(128);
         pending.push(Pending {
-            distance: bound.distance(&bvh.boxes[0], node_limit),
+            distance: bound.node_distance(&bvh.boxes[0], self.node_frame(0), node_limit),
             node: 0,
         });
         while let Some(Pending { distance, node }) = pending.pop() {
@@ -162,11 +163,13 @@ impl ObstacleMesh {
                     // A child of one patch with a nearest so far is skipped beyond it
                     // plus the guard: a bound above that is enough (cheaper to get).
                     let limit = within(&best, node_patches[child as usize], node_limit);
-                    let distance = bound.distance(&bvh.boxes[child as usize], limit);
+                    let child = child as usize;
+                    let distance =
+                        bound.node_distance(&bvh.boxes[child], self.node_frame(child), limit);
                     if distance <= limit {
                         pending.push(Pending {
                             distance,
-                            node: child,
+                            node: child as u32,
                         });
                     }
                 }

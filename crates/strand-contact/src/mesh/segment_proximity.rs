@@ -5,6 +5,7 @@ use parry3d_f64::math::Vector as GlamVector;
 
 use super::convert::to_glam;
 use super::flat_bvh::NodeBox;
+use super::node_frames::NodeFrame;
 use super::segment_box::{box_box_distance, segment_box_distance};
 use super::work::{count_box, count_exact, count_node};
 use super::{CLUSTER_SIZE, ObstacleMesh};
@@ -109,9 +110,9 @@ impl ObstacleMesh {
         let mut best = Nearest::within(max_distance);
         self.tree.bvh.nearer_first(
             &mut best,
-            |best, node| {
+            |best, _, node_box| {
                 count_node();
-                bound.distance(node, best.distance + bound.rounding)
+                bound.distance(node_box, best.distance + bound.rounding)
             },
             |best, node_bound, first| {
                 best.may_be_beaten(node_bound - bound.rounding, first as usize * CLUSTER_SIZE)
@@ -189,7 +190,7 @@ impl ObstacleMesh {
         let bound = SegmentBound::new(p0, p1, &self.bounding_box);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
         self.tree.bvh.depth_first(
-            |node| {
+            |_, node| {
                 count_node();
                 bound.may_be_within(node, limit)
             },
@@ -266,6 +267,8 @@ impl Nearest {
 
 /// Lower bounds of the distance between a segment and BVH nodes.
 pub(super) struct SegmentBound {
+    /// The segment's ends, m.
+    ends: [Point3<f64>; 2],
     start: GlamVector,
     direction: GlamVector,
     min: GlamVector,
@@ -291,6 +294,7 @@ impl SegmentBound {
             .map(|p| p.coords.amax())
             .fold(0.0, f64::max);
         Self {
+            ends: [*p0, *p1],
             start,
             direction: end - start,
             min: start.min(end),
@@ -304,6 +308,32 @@ impl SegmentBound {
     pub(super) fn may_be_within(&self, node: &NodeBox, limit: f64) -> bool {
         let limit = limit + self.rounding;
         self.distance(node, limit) <= limit
+    }
+
+    /// [`SegmentBound::may_be_within`], the node also pruned when its oriented box
+    /// ([`NodeFrame`]) is farther than `limit` (m): then no triangle in it is within
+    /// `limit`, though its axis-aligned box may be.
+    pub(super) fn may_be_within_frames(
+        &self,
+        node: &NodeBox,
+        frame: &NodeFrame,
+        limit: f64,
+    ) -> bool {
+        let limit = limit + self.rounding;
+        self.node_distance(node, frame, limit) <= limit
+    }
+
+    /// A lower bound (m) of the distance between the segment and anything in a node:
+    /// the larger of its box's distance ([`SegmentBound::distance`]) and its oriented
+    /// box's ([`NodeFrame::distance`]), which is not looked at when the box is already
+    /// farther than `limit` (m).
+    pub(super) fn node_distance(&self, node: &NodeBox, frame: &NodeFrame, limit: f64) -> f64 {
+        let to_box = self.distance(node, limit);
+        if to_box > limit {
+            to_box
+        } else {
+            to_box.max(frame.distance(&self.ends[0], &self.ends[1]))
+        }
     }
 
     /// Distance between the segment and the node's box, or a lower bound of it that

@@ -180,7 +180,7 @@ mod tests {
         assert!(tree.bvh.is_well_formed(leaves as usize));
         let mut met = Vec::new();
         tree.bvh.depth_first(
-            |_| true,
+            |_, _| true,
             |leaf| {
                 met.push(leaf);
                 let node = tree

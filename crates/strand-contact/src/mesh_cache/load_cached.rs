@@ -82,6 +82,7 @@ fn from_cached(name: String, cached: CachedMesh) -> ObstacleMesh {
         tree: Arc::new(cached.tree),
         patch: cached.patch.into(),
         node_patches: Default::default(),
+        node_frames: Default::default(),
         diagnostics: cached.diagnostics,
         placement: None,
         cache_use: MeshCacheUse::Off,

@@ -81,7 +81,9 @@ impl Contact {
             let contacts = match lists.as_mut() {
                 Some(lists) => {
                     let kept = lists.near(false, j, mesh, p, p, reach);
-                    mesh.local_contacts_kept(p, p, reach, kept, kept.moved_by(p, p))
+                    let contacts = mesh.local_contacts_kept(p, p, reach, kept, kept.moved_by(p, p));
+                    lists.follow(false, j, mesh, &contacts);
+                    contacts
                 }
                 None => mesh.local_contacts(p, p, reach),
             };
@@ -118,7 +120,8 @@ impl Contact {
                 Some(kept) => mesh.local_contacts_kept(p0, p1, reach, kept, moved),
                 None => mesh.local_contacts(p0, p1, reach),
             };
-            for contact in contacts_of(a, b) {
+            let edge_contacts = contacts_of(a, b);
+            for contact in &edge_contacts {
                 let near = &contact.proximity;
                 let patch = contact.patch;
                 // Where the edge runs along the patch over a stretch (lying on a face and
@@ -165,6 +168,9 @@ impl Contact {
                     let (gap, feature) = gap_of(&at, edge, s, point)?;
                     out.push((gap, Tag::new(patch, end, feature)));
                 }
+            }
+            if let Some(lists) = lists.as_mut() {
+                lists.follow(true, edge, mesh, &edge_contacts);
             }
         }
         Ok(())

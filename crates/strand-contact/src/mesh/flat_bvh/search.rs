@@ -8,12 +8,13 @@ use super::{FlatBvh, LEAF, NodeBox};
 pub(super) const STACK_CAPACITY: usize = 128;
 
 impl FlatBvh {
-    /// Visits the tree depth first, left child first: `enter(box)` for each node
-    /// reached (`false`: skip it and its subtree), then `leaf(cluster)` for each leaf
-    /// entered. The leaves come in increasing cluster order.
+    /// Visits the tree depth first, left child first: `enter(node, box)` for each node
+    /// reached (its index in preorder; `false`: skip it and its subtree), then
+    /// `leaf(cluster)` for each leaf entered. The leaves come in increasing cluster
+    /// order.
     pub(crate) fn depth_first(
         &self,
-        mut enter: impl FnMut(&NodeBox) -> bool,
+        mut enter: impl FnMut(usize, &NodeBox) -> bool,
         mut leaf: impl FnMut(u32),
     ) {
         if self.boxes.is_empty() {
@@ -24,7 +25,7 @@ impl FlatBvh {
         while pending > 0 {
             pending -= 1;
             let node = stack[pending] as usize;
-            if !enter(&self.boxes[node]) {
+            if !enter(node, &self.boxes[node]) {
                 continue;
             }
             let link = self.links[node];
@@ -39,15 +40,15 @@ impl FlatBvh {
     }
 
     /// Visits the tree depth first, the child of smaller `bound` first, for a search
-    /// whose answer (held in `state`) only improves: `bound(state, box)` is a lower
-    /// bound of the cost of anything in a node; `worth(state, bound, first_cluster)`
+    /// whose answer (held in `state`) only improves: `bound(state, node, box)` is a
+    /// lower bound of the cost of anything in a node (its index in preorder and box); `worth(state, bound, first_cluster)`
     /// says whether a node of that bound, whose first cluster is `first_cluster`, may
     /// still hold a better answer (asked again when the node's turn comes);
     /// `leaf(state, cluster)` looks at each leaf worth it.
     pub(crate) fn nearer_first<S>(
         &self,
         state: &mut S,
-        bound: impl Fn(&S, &NodeBox) -> f64,
+        bound: impl Fn(&S, usize, &NodeBox) -> f64,
         worth: impl Fn(&S, f64, u32) -> bool,
         mut leaf: impl FnMut(&mut S, u32),
     ) {
@@ -56,7 +57,7 @@ impl FlatBvh {
         }
         // (node, its first cluster, its bound).
         let mut stack = [(0u32, 0u32, 0.0f64); STACK_CAPACITY];
-        stack[0].2 = bound(state, &self.boxes[0]);
+        stack[0].2 = bound(state, 0, &self.boxes[0]);
         let mut pending = 1;
         while pending > 0 {
             pending -= 1;
@@ -72,11 +73,15 @@ impl FlatBvh {
             let left = (
                 node + 1,
                 first,
-                bound(state, &self.boxes[node as usize + 1]),
+                bound(state, node as usize + 1, &self.boxes[node as usize + 1]),
             );
             // The left subtree has `link − node − 1 = 2 m − 1` nodes over `m` clusters.
             let right_first = first + (link - node) / 2;
-            let right = (link, right_first, bound(state, &self.boxes[link as usize]));
+            let right = (
+                link,
+                right_first,
+                bound(state, link as usize, &self.boxes[link as usize]),
+            );
             // The nearer child on top (the left one on a tie: cluster order).
             let (top, below) = if right.2 < left.2 {
                 (right, left)

@@ -97,7 +97,7 @@ fn every_node_box_is_the_union_of_its_children_and_the_leaves_come_in_order() {
         assert_eq!(count, clusters);
         assert!(depth <= 94, "depth {depth}");
         let mut met = Vec::new();
-        tree.depth_first(|_| true, |leaf| met.push(leaf as usize));
+        tree.depth_first(|_, _| true, |leaf| met.push(leaf as usize));
         assert_eq!(met, (0..clusters).collect::<Vec<_>>());
     }
     let empty = FlatBvh::build(&[], &|_| unreachable!());
