@@ -37,7 +37,8 @@
 //! only when there are at most [`MAX_LISTED`]; otherwise it keeps just the patches'
 //! triangles `X_P`, and a later evaluation takes every triangle whose box is *now*
 //! within `u + 2 guard` of the segment and within reach, through the BVH
-//! ([`Candidates::Within`]). That set is part of a full search's candidates and holds
+//! ([`Candidates::Within`]; its nodes pruned by their oriented boxes too, which leaves
+//! out only triangles farther than that). That set is part of a full search's candidates and holds
 //! every triangle the answer depends on: each patch within reach has its nearest
 //! triangle in it (`d_P ≤ u`), and every triangle left out is farther than `max_P d_P +
 //! 2 guard` from the segment now; so its answer is a full search's. Where the whole
