@@ -268,29 +268,39 @@ fn aligned((sum, area): (Vector3<f64>, f64)) -> Option<Vector3<f64>> {
 fn aabb_extent(node: &[f64; 6], axes: &[Vector3<f64>; 3]) -> ([f64; 3], [f64; 3]) {
     let centre = Vector3::new(node[0] + node[3], node[1] + node[4], node[2] + node[5]) * 0.5;
     let half = Vector3::new(node[3] - node[0], node[4] - node[1], node[5] - node[2]) * 0.5;
-    let middle = axes.map(|a| a.dot(&centre));
-    let spread = axes.map(|a| a.abs().dot(&half));
-    (
-        [0, 1, 2].map(|k| middle[k] - spread[k]),
-        [0, 1, 2].map(|k| middle[k] + spread[k]),
+    box_extent(
+        &[Vector3::x(), Vector3::y(), Vector3::z()],
+        centre,
+        half,
+        axes,
     )
+}
+
+/// The least and greatest coordinates along `axes` (m) of the box of centre `centre`
+/// and half extents `half` (m, both in coordinates along the orthonormal `box_axes`).
+fn box_extent(
+    box_axes: &[Vector3<f64>; 3],
+    centre: Vector3<f64>,
+    half: Vector3<f64>,
+    axes: &[Vector3<f64>; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let mut low = [0.0; 3];
+    let mut high = [0.0; 3];
+    for k in 0..3 {
+        // The direction in the box's axes.
+        let along = Vector3::from(box_axes.map(|a| a.dot(&axes[k])));
+        let (middle, spread) = (along.dot(&centre), along.abs().dot(&half));
+        (low[k], high[k]) = (middle - spread, middle + spread);
+    }
+    (low, high)
 }
 
 impl NodeFrame {
     /// The least and greatest coordinates along `axes` (m) of this (non-empty) box.
     fn extent(&self, axes: &[Vector3<f64>; 3]) -> ([f64; 3], [f64; 3]) {
-        let own = Self::axes(&self.normal);
         let centre = Vector3::from([0, 1, 2].map(|k| 0.5 * (self.low[k] + self.high[k])));
         let half = Vector3::from([0, 1, 2].map(|k| 0.5 * (self.high[k] - self.low[k])));
-        let mut low = [0.0; 3];
-        let mut high = [0.0; 3];
-        for k in 0..3 {
-            // The direction in this box's axes.
-            let along = Vector3::from(own.map(|a| a.dot(&axes[k])));
-            let (middle, spread) = (along.dot(&centre), along.abs().dot(&half));
-            (low[k], high[k]) = (middle - spread, middle + spread);
-        }
-        (low, high)
+        box_extent(&Self::axes(&self.normal), centre, half, axes)
     }
 
     /// This box if it is much thinner along its normal than the node's axis-aligned
