@@ -201,39 +201,45 @@ impl ObstacleMesh {
         for node in (root..root + len).rev() {
             let here = node - root;
             let link = bvh.links[node];
-            if link & LEAF != 0 {
+            let children = [node + 1, link as usize];
+            let mut corners = [[Point3::origin(); 3]; CLUSTER_SIZE];
+            let leaf = (link & LEAF != 0).then(|| {
                 let cluster = self.tree.cluster(link & !LEAF);
-                let mut corners = [[Point3::origin(); 3]; CLUSTER_SIZE];
                 for (c, &t) in corners.iter_mut().zip(cluster) {
                     *c = self.local_triangle(t as usize);
                 }
-                let corners = &corners[..cluster.len()];
-                sums[here] = corners
+                &corners[..cluster.len()]
+            });
+            sums[here] = match leaf {
+                Some(corners) => corners
                     .iter()
                     .map(|[a, b, c]| {
                         let n = (b - a).cross(&(c - a));
                         (n, n.norm())
                     })
-                    .fold((Vector3::zeros(), 0.0), |(n, a), (m, b)| (n + m, a + b));
-                if let Some(normal) = aligned(sums[here]) {
-                    let axes = NodeFrame::axes(&normal);
-                    let mut frame = NodeFrame::empty(normal);
-                    for p in corners.iter().flatten() {
-                        for k in 0..3 {
-                            let s = axes[k].dot(&p.coords);
-                            frame.low[k] = frame.low[k].min(s);
-                            frame.high[k] = frame.high[k].max(s);
-                        }
-                    }
-                    frames[here] = frame.if_tighter(&bvh.boxes[node], &axes);
+                    .fold((Vector3::zeros(), 0.0), |(n, a), (m, b)| (n + m, a + b)),
+                None => {
+                    let [left, right] = children.map(|c| sums[c - root]);
+                    (left.0 + right.0, left.1 + right.1)
                 }
-            } else {
-                let children = [node + 1, link as usize];
-                let [left, right] = children.map(|c| sums[c - root]);
-                sums[here] = (left.0 + right.0, left.1 + right.1);
-                if let Some(normal) = aligned(sums[here]) {
-                    let axes = NodeFrame::axes(&normal);
-                    let mut frame = NodeFrame::empty(normal);
+            };
+            let Some(normal) = aligned(sums[here]) else {
+                continue;
+            };
+            let axes = NodeFrame::axes(&normal);
+            let mut frame = NodeFrame::empty(normal);
+            let mut take = |(low, high): ([f64; 3], [f64; 3])| {
+                for k in 0..3 {
+                    frame.low[k] = frame.low[k].min(low[k]);
+                    frame.high[k] = frame.high[k].max(high[k]);
+                }
+            };
+            match leaf {
+                Some(corners) => corners.iter().flatten().for_each(|p| {
+                    let s = axes.map(|a| a.dot(&p.coords));
+                    take((s, s));
+                }),
+                None => {
                     for child in children {
                         let (mut low, mut high) = aabb_extent(&bvh.boxes[child], &axes);
                         let own = &frames[child - root];
@@ -243,14 +249,11 @@ impl ObstacleMesh {
                                 (low[k], high[k]) = (low[k].max(l[k]), high[k].min(h[k]));
                             }
                         }
-                        for k in 0..3 {
-                            frame.low[k] = frame.low[k].min(low[k]);
-                            frame.high[k] = frame.high[k].max(high[k]);
-                        }
+                        take((low, high));
                     }
-                    frames[here] = frame.if_tighter(&bvh.boxes[node], &axes);
                 }
             }
+            frames[here] = frame.if_tighter(&bvh.boxes[node], &axes);
         }
         frames.into_boxed_slice()
     }
