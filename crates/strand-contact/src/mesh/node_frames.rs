@@ -25,7 +25,7 @@ use parry3d_f64::math::Vector as GlamVector;
 
 use super::ObstacleMesh;
 use super::flat_bvh::LEAF;
-use super::segment_box::segment_box_distance;
+use super::segment_box::{box_box_distance, segment_box_distance};
 use super::triangle_tree::CLUSTER_SIZE;
 
 /// Clusters of a chunk at most (256 triangles): computing a chunk costs about as much as
@@ -83,8 +83,11 @@ impl NodeFrames {
 /// normal (the triangles face every way) bounds nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct NodeFrame {
-    /// Unit mean normal of the node's triangles (area-weighted), or zero.
-    normal: Vector3<f64>,
+    /// The box's axes ([`NodeFrame::axes`]): first the unit mean normal of the node's
+    /// triangles (area-weighted), or all zero for a node without a box. Kept rather
+    /// than derived from the normal at each test (a normalisation and two cross
+    /// products per node a search enters).
+    axes: [Vector3<f64>; 3],
     /// Least coordinates of the node's vertices along the axes, m.
     low: [f64; 3],
     /// Greatest coordinates of the node's vertices along the axes, m.
@@ -94,7 +97,7 @@ pub(crate) struct NodeFrame {
 impl NodeFrame {
     /// What a node whose triangles face every way has: no bound.
     const NONE: Self = Self {
-        normal: Vector3::new(0.0, 0.0, 0.0),
+        axes: [Vector3::new(0.0, 0.0, 0.0); 3],
         low: [0.0; 3],
         high: [0.0; 3],
     };
@@ -108,16 +111,31 @@ impl NodeFrame {
         [*normal, tangent, normal.cross(&tangent)]
     }
 
+    /// Whether the node has a box (its triangles do not face every way).
+    #[inline]
+    fn is_box(&self) -> bool {
+        self.axes[0] != Vector3::zeros()
+    }
+
     /// A lower bound (m) of the distance between segment `[p0, p1]` and anything in
     /// the box: the exact distance to it, up to the rounding of the change of frame
     /// (a few ulps of the coordinates; the caller's rounding allowance covers it).
     /// Zero for a node without a box.
-    #[inline]
+    #[cfg(test)]
     pub(crate) fn distance(&self, p0: &Point3<f64>, p1: &Point3<f64>) -> f64 {
-        if self.normal == Vector3::zeros() {
+        self.distance_within(p0, p1, f64::INFINITY)
+    }
+
+    /// [`NodeFrame::distance`], or a lower bound of it already above `limit` (m): the
+    /// distance between the box and the segment's box in the same axes, which rules
+    /// out most nodes beside a contact (those beyond reach along the normal) for a
+    /// few products instead of the segment–box distance.
+    #[inline]
+    pub(crate) fn distance_within(&self, p0: &Point3<f64>, p1: &Point3<f64>, limit: f64) -> f64 {
+        if !self.is_box() {
             return 0.0;
         }
-        let axes = Self::axes(&self.normal);
+        let axes = &self.axes;
         let local = |p: &Point3<f64>| {
             GlamVector::new(
                 axes[0].dot(&p.coords),
@@ -126,12 +144,13 @@ impl NodeFrame {
             )
         };
         let (start, end) = (local(p0), local(p1));
-        segment_box_distance(
-            start,
-            end - start,
-            GlamVector::from(self.low),
-            GlamVector::from(self.high),
-        )
+        let (low, high) = (GlamVector::from(self.low), GlamVector::from(self.high));
+        let cheap = box_box_distance(low, high, start.min(end), start.max(end));
+        if cheap > limit || start == end {
+            cheap
+        } else {
+            segment_box_distance(start, end - start, low, high)
+        }
     }
 }
 
@@ -226,8 +245,8 @@ impl ObstacleMesh {
             let Some(normal) = aligned(sums[here]) else {
                 continue;
             };
-            let axes = NodeFrame::axes(&normal);
             let mut frame = NodeFrame::empty(normal);
+            let axes = frame.axes;
             let mut take = |(low, high): ([f64; 3], [f64; 3])| {
                 for k in 0..3 {
                     frame.low[k] = frame.low[k].min(low[k]);
@@ -243,7 +262,7 @@ impl ObstacleMesh {
                     for child in children {
                         let (mut low, mut high) = aabb_extent(&bvh.boxes[child], &axes);
                         let own = &frames[child - root];
-                        if own.normal != Vector3::zeros() {
+                        if own.is_box() {
                             let (l, h) = own.extent(&axes);
                             for k in 0..3 {
                                 (low[k], high[k]) = (low[k].max(l[k]), high[k].min(h[k]));
@@ -303,7 +322,7 @@ impl NodeFrame {
     fn extent(&self, axes: &[Vector3<f64>; 3]) -> ([f64; 3], [f64; 3]) {
         let centre = Vector3::from([0, 1, 2].map(|k| 0.5 * (self.low[k] + self.high[k])));
         let half = Vector3::from([0, 1, 2].map(|k| 0.5 * (self.high[k] - self.low[k])));
-        box_extent(&Self::axes(&self.normal), centre, half, axes)
+        box_extent(&self.axes, centre, half, axes)
     }
 
     /// This box if it is much thinner along its normal than the node's axis-aligned
@@ -322,7 +341,7 @@ impl NodeFrame {
     /// A box of axes from `normal` holding nothing yet.
     fn empty(normal: Vector3<f64>) -> Self {
         Self {
-            normal,
+            axes: Self::axes(&normal),
             low: [f64::INFINITY; 3],
             high: [f64::NEG_INFINITY; 3],
         }

@@ -325,15 +325,21 @@ impl SegmentBound {
 
     /// A lower bound (m) of the distance between the segment and anything in a node:
     /// the larger of its box's distance ([`SegmentBound::distance`]) and its oriented
-    /// box's ([`NodeFrame::distance`]), which is not looked at when the box is already
-    /// farther than `limit` (m).
+    /// box's ([`NodeFrame::distance_within`]), or a lower bound of either already above
+    /// `limit` (m). The cheap bounds of both boxes come first, then the oriented box's
+    /// exact distance (on a slope the tighter one), the axis-aligned box's last.
     pub(super) fn node_distance(&self, node: &NodeBox, frame: &NodeFrame, limit: f64) -> f64 {
-        let to_box = self.distance(node, limit);
-        if to_box > limit {
-            to_box
-        } else {
-            to_box.max(frame.distance(&self.ends[0], &self.ends[1]))
+        let min = GlamVector::new(node[0], node[1], node[2]);
+        let max = GlamVector::new(node[3], node[4], node[5]);
+        let cheap = box_box_distance(min, max, self.min, self.max);
+        if cheap > limit {
+            return cheap;
         }
+        let framed = frame.distance_within(&self.ends[0], &self.ends[1], limit);
+        if framed > limit || self.direction == GlamVector::ZERO {
+            return framed.max(cheap);
+        }
+        segment_box_distance(self.start, self.direction, min, max).max(framed)
     }
 
     /// Distance between the segment and the node's box, or a lower bound of it that
