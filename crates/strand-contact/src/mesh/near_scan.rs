@@ -238,9 +238,11 @@ impl ObstacleMesh {
                     !over.get()
                         && match nodes {
                             NodeBounds::Boxes => bound.may_be_within(node_box, limit),
-                            NodeBounds::Frames => {
-                                bound.may_be_within_frames(node_box, self.node_frame(node), limit)
-                            }
+                            NodeBounds::Frames => bound.may_be_within_frames(
+                                node_box,
+                                || self.node_frame(node),
+                                limit,
+                            ),
                         }
                 },
                 |leaf| self.tree.cluster(leaf).iter().for_each(|&t| test(t)),

@@ -149,7 +149,7 @@ impl ObstacleMesh {
         // triangles whose boxes are within it plus the guard are tested exactly.
         let mut pending: BinaryHeap<Pending> = BinaryHeap::with_capacity(128);
         pending.push(Pending {
-            distance: bound.node_distance(&bvh.boxes[0], self.node_frame(0), node_limit),
+            distance: bound.node_distance(&bvh.boxes[0], || self.node_frame(0), node_limit),
             node: 0,
         });
         while let Some(Pending { distance, node }) = pending.pop() {
@@ -165,7 +165,7 @@ impl ObstacleMesh {
                     let limit = within(&best, node_patches[child as usize], node_limit);
                     let child = child as usize;
                     let distance =
-                        bound.node_distance(&bvh.boxes[child], self.node_frame(child), limit);
+                        bound.node_distance(&bvh.boxes[child], || self.node_frame(child), limit);
                     if distance <= limit {
                         pending.push(Pending {
                             distance,

@@ -313,10 +313,10 @@ impl SegmentBound {
     /// [`SegmentBound::may_be_within`], the node also pruned when its oriented box
     /// ([`NodeFrame`]) is farther than `limit` (m): then no triangle in it is within
     /// `limit`, though its axis-aligned box may be.
-    pub(super) fn may_be_within_frames(
+    pub(super) fn may_be_within_frames<'f>(
         &self,
         node: &NodeBox,
-        frame: &NodeFrame,
+        frame: impl FnOnce() -> &'f NodeFrame,
         limit: f64,
     ) -> bool {
         let limit = limit + self.rounding;
@@ -327,15 +327,22 @@ impl SegmentBound {
     /// the larger of its box's distance ([`SegmentBound::distance`]) and its oriented
     /// box's ([`NodeFrame::distance_within`]), or a lower bound of either already above
     /// `limit` (m). The cheap bounds of both boxes come first, then the oriented box's
-    /// exact distance (on a slope the tighter one), the axis-aligned box's last.
-    pub(super) fn node_distance(&self, node: &NodeBox, frame: &NodeFrame, limit: f64) -> f64 {
+    /// exact distance (on a slope the tighter one), the axis-aligned box's last. The
+    /// oriented box is asked for (`frame`, computed with its chunk on first use) only
+    /// for a node whose axis-aligned box is not ruled out by its cheap bound.
+    pub(super) fn node_distance<'f>(
+        &self,
+        node: &NodeBox,
+        frame: impl FnOnce() -> &'f NodeFrame,
+        limit: f64,
+    ) -> f64 {
         let min = GlamVector::new(node[0], node[1], node[2]);
         let max = GlamVector::new(node[3], node[4], node[5]);
         let cheap = box_box_distance(min, max, self.min, self.max);
         if cheap > limit {
             return cheap;
         }
-        let framed = frame.distance_within(&self.ends[0], &self.ends[1], limit);
+        let framed = frame().distance_within(&self.ends[0], &self.ends[1], limit);
         if framed > limit || self.direction == GlamVector::ZERO {
             return framed.max(cheap);
         }
