@@ -148,6 +148,7 @@ fn mounted_at_its_nominal_ends_a_moulded_rod_keeps_its_shape_without_stress() {
                 report: at_rest.report.clone(),
                 constraints: Vec::new(),
                 analysis: None,
+                hessian: None,
             },
         )
         .0;

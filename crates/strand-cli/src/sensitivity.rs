@@ -32,7 +32,9 @@ pub(crate) fn run(
     let case = Case::from_path(path)?;
     strand_study::limits::check_case(&case)?;
     parameters(&case, names)?;
-    let built = case.build(None)?;
+    let mut built = case.build(None)?;
+    // The sensitivities reuse the solver's Hessian at the equilibrium.
+    built.settings.keep_hessian = true;
     let solution = crate::commands::solve_cold(&built)?;
     let solve_s = started.elapsed().as_secs_f64();
     let doc = sensitivities(&case, names, &solution)?;

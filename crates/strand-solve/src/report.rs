@@ -129,4 +129,10 @@ pub struct Solution {
     /// the sensitivities of this equilibrium ([`crate::sensitivity`]) factor the
     /// Hessian without analysing the pattern again; `None` where no solver made it.
     pub analysis: Option<crate::PatternAnalysis>,
+    /// The Hessian's values at the returned state (the model's pattern, upper
+    /// triangle, the gauge not held), kept when [`crate::SolverSettings::keep_hessian`]
+    /// is set and the solve converged: the sensitivities of the equilibrium
+    /// ([`crate::sensitivity`]) then factorise it without evaluating it again (the
+    /// same values bit for bit). `None` otherwise.
+    pub hessian: Option<std::sync::Arc<[f64]>>,
 }

@@ -220,6 +220,11 @@ pub struct SolverSettings {
     /// relative to its diagonal, `|λ| ≤ neutral_tolerance`, is a neutral (zero)
     /// direction; below `−neutral_tolerance` the equilibrium is unstable.
     pub neutral_tolerance: f64,
+    /// Keep the Hessian at a converged equilibrium with the solution
+    /// ([`crate::Solution::hessian`]), for sensitivities that then do not evaluate it
+    /// again. Off by default: it holds one number per entry of the Hessian's pattern
+    /// for as long as the solution is kept.
+    pub keep_hessian: bool,
 }
 
 impl Default for SolverSettings {
@@ -271,6 +276,7 @@ impl Default for SolverSettings {
             stiffness_step_escape_shift: 1e-3,
             constraint_tolerance: 1e-9,
             neutral_tolerance: 1e-11,
+            keep_hessian: false,
         }
     }
 }

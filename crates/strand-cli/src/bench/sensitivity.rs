@@ -90,7 +90,9 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Runs the benchmark on `case`, `repeats` times.
 pub fn run(case: &Path, repeats: usize) -> Result<SensitivityBench, Box<dyn std::error::Error>> {
     let case = Case::from_path(case)?;
-    let built = case.build(None)?;
+    let mut built = case.build(None)?;
+    // As `strand sensitivity` does: the solver hands its Hessian at the equilibrium on.
+    built.settings.keep_hessian = true;
     let params = parameters(&case);
     let (mut solve, mut analysis, mut state, mut outputs) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());

@@ -737,6 +737,10 @@ impl<'a> Iteration<'a> {
                 &mut work.damped,
             )
         };
+        // The Hessian at the converged state (the true one: see above), handed on
+        // for the sensitivities when asked for.
+        let hessian = (self.settings.keep_hessian && converged)
+            .then(|| std::sync::Arc::from(work.eval.hessian.as_slice()));
         let report = &mut self.report;
         match inertia {
             Ok(inertia) => {
@@ -761,6 +765,7 @@ impl<'a> Iteration<'a> {
             state: self.state,
             constraints,
             analysis: Some(self.work.cholesky.analysis()),
+            hessian,
         }
     }
 }

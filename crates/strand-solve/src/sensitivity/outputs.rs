@@ -55,6 +55,8 @@ impl Sensitivities {
             report: base.report.clone(),
             constraints,
             analysis: base.analysis.clone(),
+            // A point along the path, not the equilibrium the Hessian is of.
+            hessian: None,
         };
         Ok((point.built, solution))
     }

@@ -98,6 +98,9 @@ pub struct Sensitivities {
     /// active rows hold (stable on the directions they leave free): the derivatives
     /// were solved with the factor of `H + ρ AᵀA`, the same linearised KKT system.
     pub held_by_active_rows: bool,
+    /// Whether the solver's Hessian at the equilibrium was used
+    /// ([`crate::Solution::hessian`]): none was evaluated here.
+    pub reused_hessian: bool,
     /// One entry per parameter.
     pub parameters: Vec<ParameterSensitivity>,
     gauge: Gauge,
@@ -107,7 +110,8 @@ impl Sensitivities {
     /// Differentiates the converged `solution` of `design` (at zero offsets) with
     /// respect to every parameter.
     ///
-    /// Costs one factorisation of the Hessian at the equilibrium, one solve per active
+    /// Costs one factorisation of the Hessian at the equilibrium (evaluated there unless
+    /// the solver handed it on, [`crate::Solution::hessian`]), one solve per active
     /// row, and per parameter its right-hand side (in closed form along the model's
     /// line: one evaluation of each element it changes, no design built; else two
     /// builds and the changed elements' gradients per difference), one solve and one
@@ -163,11 +167,25 @@ impl Sensitivities {
                 });
             }
         }
-        let mut eval = model.new_evaluation();
-        model.evaluate(&solution.state, &mut eval, true);
+        // The solver's own Hessian at the equilibrium where it handed it on, else
+        // evaluated here.
+        let kept = solution
+            .hessian
+            .as_deref()
+            .filter(|h| h.len() == model.pattern().nnz());
+        let evaluated;
+        let hessian = match kept {
+            Some(hessian) => hessian,
+            None => {
+                let mut eval = model.new_evaluation();
+                model.evaluate(&solution.state, &mut eval, true);
+                evaluated = eval.hessian;
+                &evaluated[..]
+            }
+        };
         let mut factor = KktFactor::new(
             model,
-            &eval.hessian,
+            hessian,
             &gauge,
             &active_rows,
             solution.analysis.as_ref(),
@@ -178,6 +196,7 @@ impl Sensitivities {
             flagged,
             dependent_rows: factor.dependent,
             held_by_active_rows: factor.augmented(),
+            reused_hessian: kept.is_some(),
             parameters: Vec::with_capacity(count),
             gauge,
         };

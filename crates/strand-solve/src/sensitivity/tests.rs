@@ -277,3 +277,63 @@ fn right_hand_sides_solved_together_equal_each_ones_own_solve_bit_for_bit() {
         }
     }
 }
+
+/// The solver's own Hessian at the equilibrium ([`SolverSettings::keep_hessian`])
+/// serves the sensitivities: none is evaluated for them, and every derivative and
+/// multiplier derivative is the one from a Hessian evaluated again, bit for bit
+/// (the same values: the true Hessian at the returned state), with and without an
+/// active contact.
+#[test]
+fn the_solver_s_hessian_at_the_equilibrium_serves_the_sensitivities() {
+    let keeping = |design: &Bench| {
+        let built = design.build(&[0.0; 4]).unwrap();
+        let settings = SolverSettings {
+            tolerance_n: 1e-11,
+            keep_hessian: true,
+            ..SolverSettings::default()
+        };
+        let initial = initial_state(built.model.system());
+        let solution = match &built.floor {
+            Some(f) => solve_constrained(&built.model, f, initial, &settings).unwrap(),
+            None => solve(&built.model, initial, &settings).unwrap(),
+        };
+        assert!(solution.report.converged);
+        solution
+    };
+    let settings = SensitivitySettings::default();
+    for (design, parameters) in [
+        (
+            Bench {
+                base: [-0.5, 0.8, -9.81, 0.0],
+                floor: false,
+                far_clamp: false,
+            },
+            0..3,
+        ),
+        (
+            Bench {
+                base: [-1.0, 0.8, -9.81, -0.005],
+                floor: true,
+                far_clamp: true,
+            },
+            1..4,
+        ),
+    ] {
+        let (_, fresh) = solve_at(&design, &[0.0; 4], None);
+        assert!(fresh.hessian.is_none(), "kept only when asked for");
+        let kept = keeping(&design);
+        assert!(kept.hessian.is_some());
+        assert_eq!(kept.state, fresh.state, "the same solve");
+        let own = Sensitivities::compute(&design, &fresh, &settings).unwrap();
+        let reused = Sensitivities::compute(&design, &kept, &settings).unwrap();
+        assert!(!own.reused_hessian && reused.reused_hessian);
+        assert_eq!(own.active, reused.active);
+        for j in parameters {
+            let (a, b) = (&own.parameters[j], &reused.parameters[j]);
+            assert!(
+                a.state == b.state && a.multipliers == b.multipliers,
+                "parameter {j}"
+            );
+        }
+    }
+}

@@ -84,7 +84,12 @@ impl<'c> Evaluator<'c> {
         let solved = match from {
             None => {
                 let b = &built.built;
-                self.solve(&built, b.initial.clone(), &b.settings)
+                // The sensitivities reuse the solver's Hessian at the equilibrium.
+                let settings = SolverSettings {
+                    keep_hessian: true,
+                    ..b.settings.clone()
+                };
+                self.solve(&built, b.initial.clone(), &settings)
             }
             Some(from) => {
                 let model = &built.built.model;
@@ -100,6 +105,7 @@ impl<'c> Evaluator<'c> {
                 let predicted = model.retract(&start, &delta);
                 let settings = SolverSettings {
                     nested_iteration: false,
+                    keep_hessian: true,
                     ..built.built.settings.clone()
                 };
                 match self.solve(&built, predicted, &settings) {
