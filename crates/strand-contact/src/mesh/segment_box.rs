@@ -96,7 +96,10 @@ fn segment_box_distance_walk(
     for piece in breaks.windows(2) {
         let (s0, s1) = (piece[0], piece[1]);
         // On this piece each axis is below, inside or above the box (as at its middle):
-        // its term is (offset_k + s d_k)² or 0.
+        // its term is (offset_k + s d_k)² or 0. The same closed form as the one-piece
+        // case above, written out again: a shared helper cost the contact solves 2–5 %
+        // more instructions (measured on the 1M and 4M cases), this being their
+        // innermost kernel.
         let x = p + (0.5 * (s0 + s1)) * d;
         let (below, above) = (x.cmplt(min), x.cmpgt(max));
         let offset = GlamVector::select(
