@@ -167,12 +167,16 @@ impl Sensitivities {
                 });
             }
         }
-        // The solver's own Hessian at the equilibrium where it handed it on, else
-        // evaluated here.
+        // The solver's own Hessian at the equilibrium where it handed it on (with the
+        // analysis of this model's pattern: the same model), else evaluated here.
+        let same_model = solution
+            .analysis
+            .as_ref()
+            .is_some_and(|a| a.is_of(model.pattern()));
         let kept = solution
             .hessian
             .as_deref()
-            .filter(|h| h.len() == model.pattern().nnz());
+            .filter(|h| same_model && h.len() == model.pattern().nnz());
         let evaluated;
         let hessian = match kept {
             Some(hessian) => hessian,
