@@ -127,6 +127,16 @@ fn segment_box_distance_walk(
 mod tests {
     use super::*;
 
+    /// Pseudo-random numbers in `[-1, 1)` (xorshift) from `seed`.
+    fn uniform(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
     fn point_box(x: GlamVector, min: GlamVector, max: GlamVector) -> f64 {
         (min - x).max(x - max).max(GlamVector::ZERO).length()
     }
@@ -135,13 +145,7 @@ mod tests {
     /// pseudo-random segments and boxes.
     #[test]
     fn matches_dense_sampling() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         for case in 0..2000 {
             let min = GlamVector::new(next(), next(), next()) * 0.5;
             let max = min + GlamVector::new(next().abs(), next().abs(), next().abs()) * 0.5;
@@ -172,13 +176,7 @@ mod tests {
     /// for most of them (the contrast that makes the comparison mean something).
     #[test]
     fn one_piece_agrees_with_the_walk() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         let (min, max) = (
             GlamVector::new(-0.5, -0.2, -0.1),
             GlamVector::new(0.5, 0.2, 0.1),
