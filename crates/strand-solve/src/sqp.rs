@@ -11,6 +11,9 @@ mod groups;
 mod kkt;
 #[cfg(test)]
 mod kkt_tests;
+mod kkt_updates;
+#[cfg(test)]
+mod kkt_updates_tests;
 #[cfg(test)]
 mod scaling_tests;
 

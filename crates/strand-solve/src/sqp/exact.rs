@@ -8,8 +8,11 @@
 //! own, by one of two methods ([`GroupMethod`]):
 //!
 //! * a group of many rows on a narrow band (one rod with many contacts) solves the KKT
-//!   system of its active rows in profile form ([`super::kkt`]): each pass costs
-//!   `O((unknowns + rows) · width²)`, without a solve per row or a dense Schur matrix;
+//!   system of its active rows in profile form ([`super::kkt`]): a factorisation costs
+//!   `O((unknowns + rows) · width²)`, without a solve per row or a dense Schur matrix,
+//!   and later passes that change a few rows border it instead of factorising again
+//!   ([`super::kkt_updates`]: a substitution per changed row and a dense solve over the
+//!   changes);
 //!   While no row it dropped wants back in, such a group changes its active set by
 //!   whole batches (every violated row joins, every row of negative multiplier leaves,
 //!   as a primal–dual active set method does): a cable landing on a floor along
@@ -27,6 +30,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::groups::RowGroups;
 use super::kkt::KktInput;
+use super::kkt_updates::KktUpdates;
 use super::{ConstrainedStep, violation_by};
 use crate::SparseCholesky;
 use crate::constraints::Row;
@@ -84,6 +88,8 @@ struct GroupState {
     before_batch: Option<Vec<usize>>,
     /// Whether the group's step meets all its rows with non-negative multipliers.
     settled: bool,
+    /// The group's KKT factorisation, kept for the next pass's changes.
+    kkt_factor: Option<KktUpdates>,
 }
 
 impl GroupState {
@@ -275,9 +281,12 @@ impl Pass<'_> {
         let (multipliers, correction) = if m == 0 {
             (DVector::zeros(0), None)
         } else if state.kkt {
-            let solved = self
-                .kkt
-                .solve(&state.active, rhs.as_slice(), &mut work.products);
+            let solved = self.kkt.solve_updating(
+                &mut state.kkt_factor,
+                &state.active,
+                rhs.as_slice(),
+                &mut work.products,
+            );
             let Some(solution) = solved else {
                 // Rows that joined together made the held rows dependent (nearly tied
                 // ridges): back to the set before them, one row per pass from now on.

@@ -10,6 +10,9 @@
 //! on every leading block, every unknown's pivot is positive and every multiplier's
 //! negative (the inertia of a KKT matrix); a pivot of the wrong sign means the rows are
 //! dependent, where the Schur complement would not be positive definite either.
+//!
+//! The factor is owned ([`KktFactor`]), so that later passes of the same step reuse it
+//! for nearby active sets ([`super::kkt_updates`]).
 
 use crate::constraints::Row;
 
@@ -40,7 +43,7 @@ pub(super) struct KktInput<'a> {
     pub local: &'a [usize],
 }
 
-/// The solution of one group's KKT system.
+/// The solution of one group's KKT system (refined once against the unfactorised one).
 pub(super) struct KktSolution {
     /// The multipliers `λ = −μ` of the active rows, in their order.
     pub multipliers: Vec<f64>,
@@ -81,16 +84,16 @@ impl KktInput<'_> {
             .unwrap_or(0)
     }
 
-    /// Solves the KKT system of the `active` rows (ascending) with the right-hand
-    /// side `rhs` per active row (`−value − a·d_N`). Adds the multiply–adds of the
-    /// factorisation and solve to `products`. `None` if a pivot has the wrong sign (the
+    /// Factorises the KKT system of the `active` rows (ascending) and solves it for the
+    /// right-hand side `rhs` per active row (`−value − a·d_N`), without refinement.
+    /// Adds the multiply–adds to `products`. `None` if a pivot has the wrong sign (the
     /// active rows are dependent on a leading block, or `H` is not positive definite).
-    pub(super) fn solve(
+    pub(super) fn factor(
         &self,
         active: &[usize],
         rhs: &[f64],
         products: &mut usize,
-    ) -> Option<KktSolution> {
+    ) -> Option<KktFactor> {
         let n = self.unknowns.len();
         let m = active.len();
         // The numbering: unknowns along the band, each row's multiplier right after the
@@ -152,12 +155,12 @@ impl KktInput<'_> {
                 l[start[k] + c - first[k]] += a;
             }
         }
-        let matrix = l.clone();
         let mut is_multiplier = vec![false; size];
         for &k in &multiplier_position {
             is_multiplier[k] = true;
         }
         let mut d = vec![0.0; size];
+        let mut factorisation_products = 0;
         for k in 0..size {
             let fk = first[k];
             let (done, rest) = l.split_at_mut(start[k]);
@@ -173,7 +176,7 @@ impl KktInput<'_> {
                     .map(|(a, b)| a * b)
                     .sum();
                 current[0] -= dot;
-                *products += j - t0;
+                factorisation_products += j - t0;
             }
             let mut pivot = row[k - fk];
             for (j, g) in (fk..k).zip(row.iter_mut()) {
@@ -181,63 +184,124 @@ impl KktInput<'_> {
                 pivot -= *g * lkj;
                 *g = lkj;
             }
-            *products += k - fk;
+            factorisation_products += k - fk;
             // Unknowns' pivots are positive, multipliers' negative (NaN fails both).
             let sign = if is_multiplier[k] { -1.0 } else { 1.0 };
             if pivot.is_nan() || pivot * sign <= 0.0 {
+                *products += factorisation_products;
                 return None;
             }
             d[k] = pivot;
         }
-        let profile = Profile {
-            first: &first,
-            start: &start,
-            l: &l,
-            d: &d,
+        let mut factor = KktFactor {
+            position,
+            rows: active.to_vec(),
+            rhs: rhs.to_vec(),
+            multiplier_position,
+            first,
+            start,
+            l,
+            d,
+            base_solution: Vec::new(),
+            substitution_products: 0,
+            factorisation_products,
         };
+        factor.substitution_products = 2 * (factor.start[size] - size) + size;
         let mut x = vec![0.0; size];
         for (r, &b) in rhs.iter().enumerate() {
-            x[multiplier_position[r]] = b;
+            x[factor.multiplier_position[r]] = b;
         }
-        let b = x.clone();
-        profile.substitute(&mut x);
-        // One step of iterative refinement with the unfactorised system: the
-        // multipliers (contact forces) to round-off of the residual, not of the
-        // factorisation without pivoting.
-        let mut residual = b;
-        for k in 0..size {
-            let row = &matrix[start[k]..start[k + 1]];
-            for (j, &a) in (first[k]..=k).zip(row) {
-                residual[k] -= a * x[j];
-                if j != k {
-                    residual[j] -= a * x[k];
+        factor.substitute(&mut x);
+        factor.base_solution = x;
+        *products += factorisation_products + factor.substitution_products;
+        Some(factor)
+    }
+
+    /// The residual of the KKT system of the `active` rows at `(δ, μ)` (`δ` on the
+    /// group's unknowns in their order, `μ` per active row):
+    /// `(−(H δ + Aᵀ μ), rhs − A δ)`. Adds the multiply–adds to `products`.
+    pub(super) fn residual(
+        &self,
+        active: &[usize],
+        rhs: &[f64],
+        delta: &[f64],
+        mu: &[f64],
+        products: &mut usize,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let mut on_unknowns = vec![0.0; self.unknowns.len()];
+        for (p, &u) in self.unknowns.iter().enumerate() {
+            for at in self.col_ptr[u]..self.col_ptr[u + 1] {
+                let (q, v) = (self.local[self.row_idx[at]], self.values[at]);
+                on_unknowns[q] -= v * delta[p];
+                if q != p {
+                    on_unknowns[p] -= v * delta[q];
                 }
             }
+            *products += 2 * (self.col_ptr[u + 1] - self.col_ptr[u]);
         }
-        profile.substitute(&mut residual);
-        for (xk, dk) in x.iter_mut().zip(&residual) {
-            *xk += dk;
-        }
-        *products += 6 * (start[size] - size);
-        Some(KktSolution {
-            multipliers: multiplier_position.iter().map(|&k| -x[k]).collect(),
-            correction: position.iter().map(|&k| x[k]).collect(),
-        })
+        let on_rows = (active.iter().zip(rhs).zip(mu))
+            .map(|((&i, &b), &m)| {
+                let gradient = &self.rows[i].gradient;
+                *products += 2 * gradient.len();
+                let mut reach = 0.0;
+                for &(k, a) in gradient {
+                    let p = self.local[k];
+                    on_unknowns[p] -= a * m;
+                    reach += a * delta[p];
+                }
+                b - reach
+            })
+            .collect();
+        (on_unknowns, on_rows)
+    }
+
+    /// Solves the KKT system of the `active` rows (ascending) for `rhs` per active row,
+    /// with a fresh factorisation and one step of iterative refinement (see
+    /// [`Self::solve_updating`]).
+    #[cfg(test)]
+    pub(super) fn solve(
+        &self,
+        active: &[usize],
+        rhs: &[f64],
+        products: &mut usize,
+    ) -> Option<KktSolution> {
+        self.solve_updating(&mut None, active, rhs, products)
     }
 }
 
-/// A factorised profile `L D Lᵀ` (unit lower `L` by rows, strictly below the diagonal;
-/// the diagonal slot of each row is unused).
-struct Profile<'a> {
-    first: &'a [usize],
-    start: &'a [usize],
-    l: &'a [f64],
-    d: &'a [f64],
+/// A factorised KKT system of one group's base rows, `[H Aᵀ; A 0] = L D Lᵀ` in profile
+/// form (the unit lower `L` by rows, strictly below the diagonal; the diagonal slot of
+/// each row is unused), owned so that later passes with other rows can reuse it
+/// ([`super::kkt_updates`]).
+pub(super) struct KktFactor {
+    /// Per local unknown: its node in the numbering.
+    pub position: Vec<usize>,
+    /// The base rows, ascending.
+    pub rows: Vec<usize>,
+    /// Their right-hand sides.
+    pub rhs: Vec<f64>,
+    /// Per base row: its multiplier's node.
+    pub multiplier_position: Vec<usize>,
+    first: Vec<usize>,
+    start: Vec<usize>,
+    l: Vec<f64>,
+    d: Vec<f64>,
+    /// The solution for the base rows' right-hand sides (by node).
+    pub base_solution: Vec<f64>,
+    /// Multiply–adds of one substitution.
+    pub substitution_products: usize,
+    /// Multiply–adds of the factorisation.
+    pub factorisation_products: usize,
 }
 
-impl Profile<'_> {
+impl KktFactor {
+    /// Unknowns and multipliers (nodes).
+    pub fn size(&self) -> usize {
+        self.d.len()
+    }
+
     /// Solves `L D Lᵀ x = b` in place: forward, diagonal and backward substitution.
-    fn substitute(&self, x: &mut [f64]) {
+    pub fn substitute(&self, x: &mut [f64]) {
         let size = self.d.len();
         for k in 0..size {
             let row = &self.l[self.start[k]..self.start[k + 1] - 1];
@@ -248,7 +312,7 @@ impl Profile<'_> {
                 .sum();
             x[k] -= s;
         }
-        for (xk, dk) in x.iter_mut().zip(self.d) {
+        for (xk, dk) in x.iter_mut().zip(&self.d) {
             *xk /= dk;
         }
         for k in (0..size).rev() {

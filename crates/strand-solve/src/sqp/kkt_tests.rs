@@ -17,14 +17,14 @@ use crate::constraints::Row;
 /// Newton step for a random gradient, and one row per even block `2k` reaching blocks
 /// `2k` and `2k + 2` (a contact on a segment), valued so that the Newton step violates
 /// about half of them.
-struct Chain {
-    cholesky: SparseCholesky,
-    dense: nalgebra::DMatrix<f64>,
-    newton: DVector<f64>,
-    rows: Vec<Row>,
+pub(super) struct Chain {
+    pub cholesky: SparseCholesky,
+    pub dense: nalgebra::DMatrix<f64>,
+    pub newton: DVector<f64>,
+    pub rows: Vec<Row>,
 }
 
-fn chain(blocks: usize, seed: u64) -> Chain {
+pub(super) fn chain(blocks: usize, seed: u64) -> Chain {
     let elements: Vec<Vec<usize>> = (0..blocks - 2).map(|b| vec![b, b + 1, b + 2]).collect();
     let pattern = HessianPattern::new(blocks, elements.iter().map(|e| e.as_slice()));
     let mut seed = seed;
