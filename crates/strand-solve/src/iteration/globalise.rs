@@ -100,7 +100,8 @@ impl Iteration<'_> {
         let mut correction: Option<Vec<f64>> = None;
         // Whether a positions-only correction overwrote this iteration's factor.
         let mut factor_lost = false;
-        for attempt in 0..=settings.max_line_search_steps {
+        let mut attempt = 0;
+        while attempt <= settings.max_line_search_steps {
             let full = attempt == 0;
             self.step_at_limit = full && advance_bound;
             // The quadratic model's decrease along the trial's step (energy only).
@@ -374,8 +375,18 @@ impl Iteration<'_> {
             } else {
                 REJECTED_SHRINK
             };
-            self.radius = (self.radius * shrink).min(shrink * t / fits(1.0).max(1e-300));
-            t = fits(self.radius);
+            let next = after_rejection(
+                Region {
+                    radius: self.radius,
+                    t,
+                    attempt,
+                },
+                reach,
+                shrink,
+                !full,
+                settings.max_line_search_steps,
+            );
+            (self.radius, t, attempt) = (next.radius, next.t, next.attempt);
         }
         Err(Termination::LineSearchFailed)
     }
@@ -588,4 +599,95 @@ fn curved_step(step: &[f64], t: f64, correction: &[f64], w: f64) -> Vec<f64> {
 fn within_noise(before: f64, after: f64, predicted: f64) -> bool {
     let noise = ENERGY_NOISE * before.abs().max(after.abs()).max(1e-12);
     (before - after).abs() <= noise && predicted.abs() <= noise
+}
+
+/// The trust region's `radius`, the trial's multiple `t` of the step and the attempt
+/// counter of a line search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Region {
+    radius: f64,
+    t: f64,
+    attempt: usize,
+}
+
+/// The region and next trial after the trial at `region.t` was rejected, for a step of
+/// which `reach(radius)` times fit into a region of `radius`: the region shrinks to `shrink`
+/// of itself, and to at most `shrink` of the radius the tried step fits; the next trial
+/// is the multiple of the step that fits (at most 1).
+///
+/// A trial after the first is decided on its energy alone (no corrections), so with
+/// `repeats_rejected` one the region did not shorten — a step much shorter than the
+/// region stays whole while the region halves — would be the rejected trial again: the
+/// region shrinks on without evaluating it, each shrink counted as an attempt (up to
+/// `max_attempt`), so the attempts, the region and the next trial are those of
+/// evaluating it. On the 94,500-facet drum one iteration evaluated one trial 17 times
+/// while the region halved from 1 to 1e-5.
+fn after_rejection(
+    region: Region,
+    reach: impl Fn(f64) -> f64,
+    shrink: f64,
+    repeats_rejected: bool,
+    max_attempt: usize,
+) -> Region {
+    let fits = |radius: f64| reach(radius).min(1.0);
+    let step = |r: Region| {
+        let radius = (r.radius * shrink).min(shrink * r.t / fits(1.0).max(1e-300));
+        Region {
+            radius,
+            t: fits(radius),
+            attempt: r.attempt + 1,
+        }
+    };
+    let mut next = step(region);
+    while repeats_rejected && next.t == region.t && next.attempt <= max_attempt {
+        next = step(next);
+    }
+    next
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Region, after_rejection};
+
+    /// The old rule, one rejected evaluation per attempt.
+    fn evaluating_every_attempt(mut region: Region, unit_reach: f64, shrink: f64) -> Region {
+        let tried = region.t;
+        while region.t == tried {
+            region = after_rejection(region, |r| r * unit_reach, shrink, false, usize::MAX);
+        }
+        region
+    }
+
+    #[test]
+    fn a_repeated_rejected_trial_is_skipped_with_the_region_and_attempts_of_evaluating_it() {
+        // A step 1e5 times shorter than the unit region: t stays 1 while the region
+        // halves from 1 to below 1e-5 (17 halvings), then the trial shortens.
+        let start = Region {
+            radius: 1.0,
+            t: 1.0,
+            attempt: 1,
+        };
+        let skipped = after_rejection(start, |r| r * 1e5, 0.5, true, 40);
+        let evaluated = evaluating_every_attempt(start, 1e5, 0.5);
+        assert_eq!(skipped, evaluated);
+        assert!(skipped.t < 1.0, "{skipped:?}");
+        assert_eq!(skipped.attempt, 1 + 17, "{skipped:?}");
+        // After the first trial (full evaluation, corrections) nothing is skipped: the
+        // same `t` is evaluated again on its energy alone.
+        let once = after_rejection(start, |r| r * 1e5, 0.5, false, 40);
+        assert_eq!((once.t, once.attempt), (1.0, 2));
+        // A step that fills the region shortens at once: the rules agree.
+        let filling = Region {
+            radius: 1.0,
+            t: 1.0,
+            attempt: 1,
+        };
+        assert_eq!(
+            after_rejection(filling, |r| r, 0.25, true, 40),
+            after_rejection(filling, |r| r, 0.25, false, 40)
+        );
+        // The attempts stop at the limit, as evaluating them would.
+        let limited = after_rejection(start, |r| r * 1e5, 0.5, true, 5);
+        assert_eq!((limited.t, limited.attempt), (1.0, 6));
+    }
 }
