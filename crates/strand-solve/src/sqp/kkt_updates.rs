@@ -190,22 +190,10 @@ impl KktUpdates {
         let keep: Vec<bool> = (self.changes.iter())
             .map(|(c, _)| wanted.binary_search(c).is_ok())
             .collect();
-        let mut index = 0;
-        self.changes.retain(|_| {
-            index += 1;
-            keep[index - 1]
-        });
-        let mut index = 0;
-        self.gram.retain(|_| {
-            index += 1;
-            keep[index - 1]
-        });
+        retain_flagged(&mut self.changes, &keep);
+        retain_flagged(&mut self.gram, &keep);
         for row in &mut self.gram {
-            let mut index = 0;
-            row.retain(|_| {
-                index += 1;
-                keep[index - 1]
-            });
+            retain_flagged(row, &keep);
         }
         for change in new {
             let mut column = vec![0.0; factor.size()];
@@ -285,7 +273,7 @@ impl KktUpdates {
         &self,
         bordered: Option<&Bordered>,
         mut z: Vec<f64>,
-        active: &[usize],
+        (active, in_base): (&[usize], &[Option<usize>]),
         row_rhs: &[f64],
         input: &KktInput<'_>,
         products: &mut usize,
@@ -315,16 +303,9 @@ impl KktUpdates {
             *products += k * (factor.size() + 2 * k);
         }
         let delta = factor.position.iter().map(|&n| z[n]).collect();
-        let mut mu = vec![0.0; active.len()];
-        let mut b = 0;
-        for (a, row) in active.iter().enumerate() {
-            while factor.rows.get(b).is_some_and(|x| x < row) {
-                b += 1;
-            }
-            if factor.rows.get(b) == Some(row) {
-                mu[a] = z[factor.multiplier_position[b]];
-            }
-        }
+        let mut mu: Vec<f64> = (in_base.iter())
+            .map(|b| b.map_or(0.0, |b| z[factor.multiplier_position[b]]))
+            .collect();
         for (j, at) in joined_at.iter().enumerate() {
             if let Some(a) = at {
                 mu[*a] = w[j];
@@ -349,9 +330,10 @@ impl KktUpdates {
             Some(self.bordered()?)
         };
         let factor = &self.factor;
+        let (_, in_base) = self.changes_to(active);
+        let rows = (active, in_base.as_slice());
         let base = factor.base_solution.clone();
-        let (mut delta, mut mu) =
-            self.combine(bordered.as_ref(), base, active, rhs, input, products);
+        let (mut delta, mut mu) = self.combine(bordered.as_ref(), base, rows, rhs, input, products);
         // One step of iterative refinement with the unfactorised system: the multipliers
         // (contact forces) to round-off of the residual, not of the factorisation
         // without pivoting or of the border.
@@ -360,18 +342,14 @@ impl KktUpdates {
         for (&n, &r) in factor.position.iter().zip(&on_unknowns) {
             z[n] = r;
         }
-        let mut b = 0;
-        for (row, &r) in active.iter().zip(&on_rows) {
-            while factor.rows.get(b).is_some_and(|x| x < row) {
-                b += 1;
-            }
-            if factor.rows.get(b) == Some(row) {
-                z[factor.multiplier_position[b]] = r;
+        for (b, &r) in in_base.iter().zip(&on_rows) {
+            if let Some(b) = b {
+                z[factor.multiplier_position[*b]] = r;
             }
         }
         factor.substitute(&mut z);
         *products += factor.substitution_products;
-        let (d_delta, d_mu) = self.combine(bordered.as_ref(), z, active, &on_rows, input, products);
+        let (d_delta, d_mu) = self.combine(bordered.as_ref(), z, rows, &on_rows, input, products);
         for (x, dx) in delta.iter_mut().zip(&d_delta) {
             *x += dx;
         }
@@ -393,4 +371,10 @@ fn border_dot(input: &KktInput<'_>, factor: &KktFactor, change: Change, x: &[f64
             .map(|&(u, a)| a * x[factor.position[input.local[u]]])
             .sum(),
     }
+}
+
+/// Keeps the items of `items` whose flag in `keep` (one per item, in order) is set.
+fn retain_flagged<T>(items: &mut Vec<T>, keep: &[bool]) {
+    let mut flags = keep.iter();
+    items.retain(|_| flags.next().copied().unwrap_or(false));
 }
