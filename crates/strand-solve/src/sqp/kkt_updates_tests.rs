@@ -34,6 +34,20 @@ fn dense_kkt(rod: &Chain, active: &[usize], rhs: &[f64]) -> (Vec<f64>, Vec<f64>)
     )
 }
 
+/// The KKT input of the whole chain as one group (`numbering`: `0..n`, which is both the
+/// group's unknowns and each unknown's place among them).
+fn whole_chain<'a>(rod: &'a Chain, numbering: &'a [usize]) -> KktInput<'a> {
+    let (col_ptr, row_idx, values) = rod.cholesky.matrix();
+    KktInput {
+        col_ptr,
+        row_idx,
+        values,
+        rows: &rod.rows,
+        unknowns: numbering,
+        local: numbering,
+    }
+}
+
 fn assert_close(solution: &KktSolution, expected: &(Vec<f64>, Vec<f64>), what: &str) {
     for (got, want) in [
         (&solution.multipliers, &expected.0),
@@ -53,16 +67,8 @@ fn assert_close(solution: &KktSolution, expected: &(Vec<f64>, Vec<f64>), what: &
 fn bordered_solves_over_changing_active_sets_are_the_dense_kkt_solutions() {
     let rod = chain(61, 3);
     let n = rod.dense.nrows();
-    let (unknowns, local): (Vec<usize>, Vec<usize>) = ((0..n).collect(), (0..n).collect());
-    let (col_ptr, row_idx, values) = rod.cholesky.matrix();
-    let input = KktInput {
-        col_ptr,
-        row_idx,
-        values,
-        rows: &rod.rows,
-        unknowns: &unknowns,
-        local: &local,
-    };
+    let numbering: Vec<usize> = (0..n).collect();
+    let input = whole_chain(&rod, &numbering);
     // A fixed right-hand side per row (as within one exact step).
     let mut seed = 17;
     let row_rhs: Vec<f64> = rod.rows.iter().map(|_| next(&mut seed)).collect();
@@ -125,16 +131,8 @@ fn a_joined_row_dependent_on_the_base_rows_is_refused_as_a_fresh_factorisation_r
     let copy = rod.rows[3].gradient.clone();
     rod.rows.push(row(99, 0.1, copy));
     let dependent = rod.rows.len() - 1;
-    let (unknowns, local): (Vec<usize>, Vec<usize>) = ((0..n).collect(), (0..n).collect());
-    let (col_ptr, row_idx, values) = rod.cholesky.matrix();
-    let input = KktInput {
-        col_ptr,
-        row_idx,
-        values,
-        rows: &rod.rows,
-        unknowns: &unknowns,
-        local: &local,
-    };
+    let numbering: Vec<usize> = (0..n).collect();
+    let input = whole_chain(&rod, &numbering);
     let mut kept = None;
     let mut products = 0;
     assert!(
