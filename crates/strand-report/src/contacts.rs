@@ -90,7 +90,8 @@ pub fn collect_clearances(
         a[edge] + s * (a[edge + 1] - a[edge])
     };
     doc.clearance.clear();
-    let gaps = contact.gaps(model, &solution.state, search_m.max(CLEARANCE_SEARCH_M))?;
+    // The least gap of every pair of rods, not every pair of edges within the reach.
+    let gaps = contact.clearances(model, &solution.state, search_m.max(CLEARANCE_SEARCH_M))?;
     let mut record = |rod: usize, with: String, distance: f64, s: f64| {
         let name = &rods[rod].name;
         match doc

@@ -166,6 +166,35 @@ impl Contact {
             .collect())
     }
 
+    /// The clearances at `state` within `margin_m` (m): the gaps to the meshes as
+    /// [`Contact::gaps`] lists them, and of every pair of rods (a rod with itself too)
+    /// only the least ([`strand_contact::rod_rod_clearances`]: a search whose reach
+    /// shrinks to the least gap found, linear in the edges where listing every pair
+    /// within a report's reach is quadratic).
+    pub fn clearances(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        margin_m: f64,
+    ) -> Result<Vec<Gap>, ConstraintError> {
+        let centrelines = centrelines(state);
+        let rods = rod_geometries(model, &centrelines);
+        let mut gaps = self.mesh_part(model, &rods, margin_m)?;
+        let exclusion = Exclusion::new(model, state);
+        let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
+            exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
+        };
+        let least = strand_contact::rod_rod_clearances(&rods, margin_m, exclude)
+            .map_err(|e| describe_error(model, e))?;
+        gaps.extend(
+            least
+                .into_iter()
+                .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
+        );
+        add_low_order(state, &mut gaps);
+        Ok(gaps.into_iter().map(|(gap, _)| gap).collect())
+    }
+
     /// [`Contact::gaps`] with the [`Tag`] that tells the gaps of one feature apart
     /// (for the row keys).
     fn tagged_gaps(
@@ -176,6 +205,30 @@ impl Contact {
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
+        let mut gaps = self.mesh_part(model, &rods, margin_m)?;
+        // Arc lengths once per evaluation, not per candidate pair.
+        let exclusion = Exclusion::new(model, state);
+        let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
+            exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
+        };
+        let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
+            .map_err(|e| describe_error(model, e))?;
+        gaps.extend(
+            rod_minima::local_minima(between_rods)
+                .into_iter()
+                .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
+        );
+        add_low_order(state, &mut gaps);
+        Ok(gaps)
+    }
+
+    /// The gaps of every rod to the meshes within `margin_m` (m).
+    fn mesh_part(
+        &self,
+        model: &Model,
+        rods: &[RodGeometry<'_>],
+        margin_m: f64,
+    ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
         // A search beyond the solver's margin (a report's clearances) is a one-off: its
@@ -197,33 +250,6 @@ impl Contact {
                     model, rod, geometry, index, mesh, margin_m, lists, &mut gaps,
                 )?;
             }
-        }
-        drop(lists);
-        // Arc lengths once per evaluation, not per candidate pair.
-        let exclusion = Exclusion::new(model, state);
-        let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
-            exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
-        };
-        let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
-            .map_err(|e| describe_error(model, e))?;
-        gaps.extend(
-            rod_minima::local_minima(between_rods)
-                .into_iter()
-                .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
-        );
-        // The positions' low-order parts (compensated summation), to first order: a gap
-        // then resolves the vertex positions beyond double precision, as the elastic
-        // forces do, and stiff rods in contact converge to the force tolerance.
-        let low = |rod: usize, edge: usize, s: f64| {
-            let r = &state.rods[rod];
-            (1.0 - s) * r.compensation(edge) + s * r.compensation(edge + 1)
-        };
-        for (gap, _) in &mut gaps {
-            let mut shift = low(gap.rod, gap.edge, gap.s);
-            if let Obstacle::Rod { rod, edge, t } = gap.with {
-                shift -= low(rod, edge, t);
-            }
-            gap.gap += gap.normal.dot(&shift);
         }
         Ok(gaps)
     }
@@ -390,5 +416,22 @@ impl Constraints for Contact {
         target: &SystemState,
     ) -> Result<f64, ConstraintError> {
         Contact::advancement(self, model, state, target)
+    }
+}
+
+/// Adds the positions' low-order parts (compensated summation) to `gaps`, to first
+/// order: a gap then resolves the vertex positions beyond double precision, as the
+/// elastic forces do, and stiff rods in contact converge to the force tolerance.
+fn add_low_order(state: &SystemState, gaps: &mut [(Gap, Tag)]) {
+    let low = |rod: usize, edge: usize, s: f64| {
+        let r = &state.rods[rod];
+        (1.0 - s) * r.compensation(edge) + s * r.compensation(edge + 1)
+    };
+    for (gap, _) in gaps {
+        let mut shift = low(gap.rod, gap.edge, gap.s);
+        if let Obstacle::Rod { rod, edge, t } = gap.with {
+            shift -= low(rod, edge, t);
+        }
+        gap.gap += gap.normal.dot(&shift);
     }
 }

@@ -21,6 +21,15 @@ impl Aabb {
         }
     }
 
+    /// The box grown by `inflation` (m) on every side.
+    pub fn grown(&self, inflation: f64) -> Self {
+        let grow = nalgebra::Vector3::repeat(inflation);
+        Self {
+            min: self.min - grow,
+            max: self.max + grow,
+        }
+    }
+
     /// Whether the two boxes overlap (touching counts).
     pub fn overlaps(&self, other: &Aabb) -> bool {
         (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])

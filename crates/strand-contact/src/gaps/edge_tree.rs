@@ -54,6 +54,11 @@ impl EdgeTree {
         }
     }
 
+    /// The box of all the edges' boxes (empty for no edges).
+    pub(crate) fn bounds(&self) -> Aabb {
+        self.boxes[1]
+    }
+
     /// Calls `found(j)` for every edge `j ≥ from` whose box overlaps `query` (touching
     /// counts), in increasing `j`.
     pub(crate) fn overlapping_from(&self, query: &Aabb, from: usize, mut found: impl FnMut(usize)) {

@@ -22,6 +22,7 @@ mod broad_phase;
 mod edge_tree;
 mod mesh_gaps;
 mod mesh_index;
+mod rod_rod_clearances;
 mod rod_rod_gaps;
 
 use nalgebra::{Point3, Unit, Vector3};
@@ -29,6 +30,7 @@ use nalgebra::{Point3, Unit, Vector3};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use mesh_gaps::mesh_gaps;
 pub use mesh_index::MeshIndex;
+pub use rod_rod_clearances::rod_rod_clearances;
 pub use rod_rod_gaps::rod_rod_gaps;
 
 /// The centreline and outer radius of one rod.
@@ -193,5 +195,7 @@ fn validate(rods: &[RodGeometry]) -> Result<(), GapError> {
     Ok(())
 }
 
+#[cfg(test)]
+mod rod_rod_clearances_tests;
 #[cfg(test)]
 mod rod_rod_tests;

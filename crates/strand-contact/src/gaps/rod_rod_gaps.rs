@@ -63,47 +63,64 @@ pub fn rod_rod_gaps(
             if exclude(rod_a, edge_a, rod_b, edge_b) {
                 continue;
             }
-            let (a, b) = (&rods[rod_a], &rods[rod_b]);
-            let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
-            let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
-            let closest = closest_segment_segment(a0, a1, b0, b1);
-            let gap = closest.distance - a.radius - b.radius;
-            if gap > margin {
-                continue;
+            if let Some(gap) = edge_pair_gap(rods, (rod_a, edge_a), (rod_b, edge_b), margin)? {
+                gaps.push(gap);
             }
-            let size = (a1 - a0).norm().max((b1 - b0).norm());
-            let direction = closest.point_on_first - closest.point_on_second;
-            if closest.distance <= TIE_TOLERANCE * size {
-                return Err(GapError::CentrelineTouches {
-                    rod: rod_a,
-                    edge: edge_a,
-                    what: format!("crosses rod {rod_b} edge {edge_b}"),
-                    point: closest.point_on_second,
-                });
-            }
-            gaps.push(Gap {
-                rod: rod_a,
-                edge: edge_a,
-                s: closest.s,
-                with: Obstacle::Rod {
-                    rod: rod_b,
-                    edge: edge_b,
-                    t: closest.t,
-                },
-                point: closest.point_on_first,
-                witness: closest.point_on_second,
-                normal: Unit::new_normalize(direction),
-                gap,
-            });
         }
     }
     Ok(gaps)
 }
 
+/// The gap between edge `edge_a` of rod `rod_a` and edge `edge_b` of rod `rod_b`
+/// (`(rod_a, edge_a)` the lower) if it is at most `within` (m); `Err` if their
+/// centrelines touch (a gap below any `within ≥ 0`).
+pub(super) fn edge_pair_gap(
+    rods: &[RodGeometry],
+    (rod_a, edge_a): (usize, usize),
+    (rod_b, edge_b): (usize, usize),
+    within: f64,
+) -> Result<Option<Gap>, GapError> {
+    let (a, b) = (&rods[rod_a], &rods[rod_b]);
+    let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
+    let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
+    let closest = closest_segment_segment(a0, a1, b0, b1);
+    let gap = closest.distance - a.radius - b.radius;
+    if gap > within {
+        return Ok(None);
+    }
+    let size = (a1 - a0).norm().max((b1 - b0).norm());
+    if closest.distance <= TIE_TOLERANCE * size {
+        return Err(GapError::CentrelineTouches {
+            rod: rod_a,
+            edge: edge_a,
+            what: format!("crosses rod {rod_b} edge {edge_b}"),
+            point: closest.point_on_second,
+        });
+    }
+    Ok(Some(Gap {
+        rod: rod_a,
+        edge: edge_a,
+        s: closest.s,
+        with: Obstacle::Rod {
+            rod: rod_b,
+            edge: edge_b,
+            t: closest.t,
+        },
+        point: closest.point_on_first,
+        witness: closest.point_on_second,
+        normal: Unit::new_normalize(closest.point_on_first - closest.point_on_second),
+        gap,
+    }))
+}
+
 /// The first edge `b ≥ edge + 2` of a rod of `segments` edges with `excluded(b)`
 /// false, or `segments` if there is none, assuming the excluded ones form a run from
 /// `edge + 2` (see [`rod_rod_gaps`]): a galloping search, `O(log run)` calls.
-fn first_partner(edge: usize, segments: usize, mut excluded: impl FnMut(usize) -> bool) -> usize {
+pub(super) fn first_partner(
+    edge: usize,
+    segments: usize,
+    mut excluded: impl FnMut(usize) -> bool,
+) -> usize {
     let start = edge + 2;
     if start >= segments || !excluded(start) {
         return start.min(segments);
