@@ -177,22 +177,11 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, ConstraintError> {
-        let centrelines = centrelines(state);
-        let rods = rod_geometries(model, &centrelines);
-        let mut gaps = self.mesh_part(model, &rods, margin_m)?;
-        let exclusion = Exclusion::new(model, state);
-        let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
-            exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
-        };
-        let least = strand_contact::rod_rod_clearances(&rods, margin_m, exclude)
-            .map_err(|e| describe_error(model, e))?;
-        gaps.extend(
-            least
-                .into_iter()
-                .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
-        );
-        add_low_order(state, &mut gaps);
-        Ok(gaps.into_iter().map(|(gap, _)| gap).collect())
+        Ok(self
+            .gaps_of(model, state, margin_m, RodPairs::Least)?
+            .into_iter()
+            .map(|(gap, _)| gap)
+            .collect())
     }
 
     /// [`Contact::gaps`] with the [`Tag`] that tells the gaps of one feature apart
@@ -203,6 +192,17 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
+        self.gaps_of(model, state, margin_m, RodPairs::LocalMinima)
+    }
+
+    /// The gaps to the meshes and the rod–rod gaps of `pairs` within `margin_m` (m).
+    fn gaps_of(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        margin_m: f64,
+        pairs: RodPairs,
+    ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
         let mut gaps = self.mesh_part(model, &rods, margin_m)?;
@@ -211,10 +211,15 @@ impl Contact {
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
             exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
         };
-        let between_rods = strand_contact::rod_rod_gaps(&rods, margin_m, exclude)
-            .map_err(|e| describe_error(model, e))?;
+        let between_rods = match pairs {
+            RodPairs::LocalMinima => {
+                strand_contact::rod_rod_gaps(&rods, margin_m, exclude).map(rod_minima::local_minima)
+            }
+            RodPairs::Least => strand_contact::rod_rod_clearances(&rods, margin_m, exclude),
+        }
+        .map_err(|e| describe_error(model, e))?;
         gaps.extend(
-            rod_minima::local_minima(between_rods)
+            between_rods
                 .into_iter()
                 .map(|gap| (gap, Tag::new(0, 0, Feature::Point))),
         );
@@ -417,6 +422,15 @@ impl Constraints for Contact {
     ) -> Result<f64, ConstraintError> {
         Contact::advancement(self, model, state, target)
     }
+}
+
+/// Which rod–rod gaps [`Contact::gaps_of`] lists.
+#[derive(Clone, Copy)]
+enum RodPairs {
+    /// Every pair of edges at a local minimum along the partner rod (the contact rows).
+    LocalMinima,
+    /// The least of every pair of rods (a report's clearances).
+    Least,
 }
 
 /// Adds the positions' low-order parts (compensated summation) to `gaps`, to first
