@@ -159,11 +159,7 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, ConstraintError> {
-        Ok(self
-            .tagged_gaps(model, state, margin_m)?
-            .into_iter()
-            .map(|(gap, _)| gap)
-            .collect())
+        untagged(self.tagged_gaps(model, state, margin_m))
     }
 
     /// The clearances at `state` within `margin_m` (m): the gaps to the meshes as
@@ -177,11 +173,7 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, ConstraintError> {
-        Ok(self
-            .gaps_of(model, state, margin_m, RodPairs::Least)?
-            .into_iter()
-            .map(|(gap, _)| gap)
-            .collect())
+        untagged(self.gaps_of(model, state, margin_m, RodPairs::Least))
     }
 
     /// [`Contact::gaps`] with the [`Tag`] that tells the gaps of one feature apart
@@ -422,6 +414,11 @@ impl Constraints for Contact {
     ) -> Result<f64, ConstraintError> {
         Contact::advancement(self, model, state, target)
     }
+}
+
+/// The gaps without their tags.
+fn untagged(gaps: Result<Vec<(Gap, Tag)>, ConstraintError>) -> Result<Vec<Gap>, ConstraintError> {
+    Ok(gaps?.into_iter().map(|(gap, _)| gap).collect())
 }
 
 /// Which rod–rod gaps [`Contact::gaps_of`] lists.
