@@ -194,6 +194,8 @@ pub(crate) fn exact_step_counted(
                 if columns_pass > costs.kkt_pass {
                     state.kkt = true;
                     state.columns.clear();
+                    // Another method from here on: its passes are not the ones seen.
+                    state.seen.clear();
                     missing.push(Vec::new());
                     continue;
                 }
