@@ -193,6 +193,7 @@ impl KktInput<'_> {
             }
             d[k] = pivot;
         }
+        let substitution_products = 2 * (start[size] - size) + size;
         let mut factor = KktFactor {
             position,
             rows: active.to_vec(),
@@ -203,10 +204,9 @@ impl KktInput<'_> {
             l,
             d,
             base_solution: Vec::new(),
-            substitution_products: 0,
+            substitution_products,
             factorisation_products,
         };
-        factor.substitution_products = 2 * (factor.start[size] - size) + size;
         let mut x = vec![0.0; size];
         for (r, &b) in rhs.iter().enumerate() {
             x[factor.multiplier_position[r]] = b;
