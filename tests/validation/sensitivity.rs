@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 
 use strand_case::{Case, CaseDesign, DesignParameter, DesignedCase};
 use strand_report::OutputValue;
-use strand_solve::sensitivity::{Design, Sample, Sensitivities, SensitivitySettings};
+use strand_solve::sensitivity::{Design, PathRows, Sample, Sensitivities, SensitivitySettings};
 use strand_solve::{Solution, SolverSettings};
 use strand_study::sensitivity::{ENERGY, outputs_at};
 
@@ -167,7 +167,7 @@ fn check_held(
     let mut compared = 0;
     for (j, p) in params.iter().enumerate() {
         let exact = s
-            .derivative(&design, &base, j, |built, at| {
+            .derivative(&design, &base, j, PathRows::Active, |built, at| {
                 let here = outputs(built, at, Some(&pins));
                 names
                     .iter()
@@ -187,7 +187,9 @@ fn check_held(
             // Warm-started from the base state, or (when that overlaps a moved
             // obstacle) from the first-order path point: the start only picks the
             // branch, the solve converges to the tolerance at the changed design.
-            let (_, near) = s.path_point(&design, &base, j, t).unwrap();
+            let (_, near) = s
+                .path_point(&design, &base, j, t, PathRows::Active)
+                .unwrap();
             let solution = solve_from(&built, base.state.clone(), Some(near.state));
             (
                 outputs(&built, &solution, Some(&pins)),

@@ -8,7 +8,7 @@
 
 use strand_case::{Case, CaseDesign, DesignParameter};
 use strand_solve::Solution;
-use strand_solve::sensitivity::{Design, PathPlace, Sensitivities, SensitivitySettings};
+use strand_solve::sensitivity::{Design, PathPlace, PathRows, Sensitivities, SensitivitySettings};
 use strand_study::sensitivity::{
     ENERGY, EnergyOutput, LocalOutputs, LocalPath, OutputEvaluation, output_table,
     output_table_with, outputs_at,
@@ -84,7 +84,9 @@ fn local_outputs_equal_the_whole_table_along_the_path_and_far_from_the_base() {
         // of a length, 5 kg, 0.5 m/s², 29°): peaks move off their base vertex there.
         let h = s.parameters[j].output_step;
         for t in [h, -2.0 * h, 1e-2 * h, 10.0 * h, 500.0 * h, -50.0 * h] {
-            let (point, at) = s.path_point(&design, &solution, j, t).unwrap();
+            let (point, at) = s
+                .path_point(&design, &solution, j, t, PathRows::Active)
+                .unwrap();
             let whole = outputs_at(&point, &at, Some(&outputs)).unwrap();
             let local = plan.read(&point.built.model, &at, PathPlace::Outermost);
             assert_eq!(whole.len(), local.len());
@@ -142,7 +144,9 @@ fn readings_along_an_affine_line_equal_those_of_the_built_design() {
         let mut path = LocalPath::new(&plan, line, &solution.state, &s.parameters[j].state);
         let h = s.parameters[j].output_step;
         for t in [0.0, h, -2.0 * h, 1e-2 * h, 10.0 * h, 500.0 * h, -50.0 * h] {
-            let (point, at) = s.path_point(&design, &solution, j, t).unwrap();
+            let (point, at) = s
+                .path_point(&design, &solution, j, t, PathRows::Active)
+                .unwrap();
             for place in [PathPlace::Outermost, PathPlace::Inner] {
                 let built = plan.read(&point.built.model, &at, place);
                 let local = path.read(t, place).unwrap();

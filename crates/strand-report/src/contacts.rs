@@ -36,8 +36,19 @@ pub fn collect_contacts(
     solution: &Solution,
     contact: &Contact,
 ) -> Result<(), strand_solve::ConstraintError> {
+    collect_contact_list(doc, model, solution, contact)?;
+    collect_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
+}
+
+/// Fills `doc.contacts` (see [`collect_contacts`]).
+fn collect_contact_list(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+) -> Result<(), strand_solve::ConstraintError> {
     let rods = &model.system().rods;
-    // Reference arc lengths once per rod, not once per contact or clearance pair.
+    // Reference arc lengths once per rod, not once per contact.
     let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();
     let arc = |rod: usize, edge: usize, s: f64| {
         let a = &lengths[rod];
@@ -69,7 +80,21 @@ pub fn collect_contacts(
             });
         }
     }
-    collect_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
+    Ok(())
+}
+
+/// [`collect_contacts`] without the rods' per-vertex clearances (`clearance_m`, left
+/// empty): the contacts and the clearance of every rod and obstacle, what the named
+/// outputs of a design read ([`crate::design_outputs`]) at every point of a
+/// sensitivity's path.
+pub fn collect_contact_outputs(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+) -> Result<(), strand_solve::ConstraintError> {
+    collect_contact_list(doc, model, solution, contact)?;
+    pair_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
 }
 
 /// Fills `doc.clearance`: per rod and obstacle (mesh or other rod), the smallest
@@ -77,6 +102,25 @@ pub fn collect_contacts(
 /// searched), e.g. the largest required clearance, so that every closer approach is
 /// listed. Needs no contact forces: works for a solve without contact too.
 pub fn collect_clearances(
+    doc: &mut ResultDoc,
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+    search_m: f64,
+) -> Result<(), strand_solve::ConstraintError> {
+    pair_clearances(doc, model, solution, contact, search_m)?;
+    vertex_clearances(
+        doc,
+        model,
+        solution,
+        contact,
+        search_m.max(CLEARANCE_SEARCH_M),
+    );
+    Ok(())
+}
+
+/// Fills `doc.clearance` (see [`collect_clearances`]).
+fn pair_clearances(
     doc: &mut ResultDoc,
     model: &Model,
     solution: &Solution,
@@ -126,13 +170,6 @@ pub fn collect_clearances(
     }
     doc.clearance
         .sort_by(|a, b| (&a.rod, &a.with).cmp(&(&b.rod, &b.with)));
-    vertex_clearances(
-        doc,
-        model,
-        solution,
-        contact,
-        search_m.max(CLEARANCE_SEARCH_M),
-    );
     Ok(())
 }
 

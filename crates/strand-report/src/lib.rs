@@ -82,7 +82,10 @@ mod tests;
 
 pub use cad::{ExportUnit, tube_triangles, tubes_stl, tubes_stl_of};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
-pub use contacts::{CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contacts};
+pub use contacts::{
+    CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contact_outputs,
+    collect_contacts,
+};
 pub use csv::{CSV_HEADER, rod_csv};
 pub use digits::significant;
 pub use environment::{MeshDiagnosticsResult, collect_environment};

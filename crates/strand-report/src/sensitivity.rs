@@ -19,7 +19,7 @@ use strand_solve::contact::Contact;
 use strand_system::Model;
 
 use crate::study::peak;
-use crate::{ResultDoc, Timing, bend_radii, collect, collect_contacts, name_connectors};
+use crate::{ResultDoc, Timing, bend_radii, collect, collect_contact_outputs, name_connectors};
 
 /// One named output value of a result, with where a peak or minimum is attained.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,7 +33,8 @@ pub struct OutputValue {
 }
 
 /// The result document of `solution` with what sensitivities read: rods, reactions,
-/// clips, bodies, contacts and clearances (no environment outlines, no findings).
+/// clips, bodies, contacts and clearances (no environment outlines, no findings, no
+/// per-vertex clearances).
 pub fn sensitivity_doc(
     case: &str,
     model: &Model,
@@ -43,7 +44,7 @@ pub fn sensitivity_doc(
 ) -> Result<ResultDoc, strand_solve::ConstraintError> {
     let mut doc = collect(case, model, solution, Timing::default());
     if let Some(contact) = contact {
-        collect_contacts(&mut doc, model, solution, contact)?;
+        collect_contact_outputs(&mut doc, model, solution, contact)?;
     }
     name_connectors(&mut doc, connector_names);
     Ok(doc)

@@ -17,6 +17,9 @@ use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 mod advance;
 mod curvature;
 mod exclusion;
+mod least_mesh_gaps;
+#[cfg(test)]
+mod least_mesh_gaps_tests;
 mod mesh_gaps;
 mod mesh_path;
 #[cfg(test)]
@@ -163,8 +166,9 @@ impl Contact {
     }
 
     /// The clearances at `state` within `margin_m` (m): the gaps to the meshes as
-    /// [`Contact::gaps`] lists them, and of every pair of rods (a rod with itself too)
-    /// only the least ([`strand_contact::rod_rod_clearances`]: a search whose reach
+    /// [`Contact::gaps`] lists them, but only on the edges that may hold a rod's least
+    /// gap to each mesh (the least is the same, at the same place), and of every pair
+    /// of rods (a rod with itself too) only the least ([`strand_contact::rod_rod_clearances`]: a search whose reach
     /// shrinks to the least gap found, linear in the edges where listing every pair
     /// within a report's reach is quadratic).
     pub fn clearances(
@@ -197,7 +201,7 @@ impl Contact {
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
-        let mut gaps = self.mesh_part(model, &rods, margin_m)?;
+        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs)?;
         // Arc lengths once per evaluation, not per candidate pair.
         let exclusion = Exclusion::new(model, state);
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
@@ -219,12 +223,15 @@ impl Contact {
         Ok(gaps)
     }
 
-    /// The gaps of every rod to the meshes within `margin_m` (m).
+    /// The gaps of every rod to the meshes within `margin_m` (m): with
+    /// [`RodPairs::Least`], only those of the edges that may hold the rod's least gap
+    /// to each mesh ([`Contact::least_gap_edges`]).
     fn mesh_part(
         &self,
         model: &Model,
         rods: &[RodGeometry<'_>],
         margin_m: f64,
+        pairs: RodPairs,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
@@ -240,11 +247,27 @@ impl Contact {
             }
         });
         for (rod, geometry) in rods.iter().enumerate() {
-            for index in self.meshes_near(geometry.vertices, geometry.radius + margin_m) {
+            let reach = geometry.radius + margin_m;
+            for index in self.meshes_near(geometry.vertices, reach) {
                 let mesh = &self.meshes[index];
+                let only = match pairs {
+                    RodPairs::LocalMinima => None,
+                    RodPairs::Least => match Self::least_gap_edges(mesh, geometry, reach) {
+                        Some(edges) => Some(edges),
+                        None => continue,
+                    },
+                };
                 let lists = lists.as_mut();
                 self.mesh_gaps(
-                    model, rod, geometry, index, mesh, margin_m, lists, &mut gaps,
+                    model,
+                    rod,
+                    geometry,
+                    index,
+                    mesh,
+                    margin_m,
+                    lists,
+                    only.as_deref(),
+                    &mut gaps,
                 )?;
             }
         }

@@ -91,6 +91,21 @@ impl ObstacleMesh {
         Some(result)
     }
 
+    /// The distance (m) from segment `[p0, p1]` (m) to the mesh, when it is within
+    /// `max_distance` (m): the least exact segment–triangle distance as the search of
+    /// [`ObstacleMesh::segment_proximity`] compares them, without closest points or a
+    /// tie interval.
+    pub fn segment_distance(
+        &self,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+        max_distance: f64,
+    ) -> Option<f64> {
+        let (l0, l1) = (self.to_local(p0), self.to_local(p1));
+        self.nearest(&l0, &l1, max_distance)
+            .map(|(_, candidate)| candidate.squared.sqrt())
+    }
+
     /// The nearest mesh point to `point` (m) within `max_distance` (m).
     pub fn point_proximity(&self, point: &Point3<f64>, max_distance: f64) -> Option<Proximity> {
         self.segment_proximity(point, point, max_distance)

@@ -29,7 +29,9 @@ impl Contact {
     ///
     /// With `lists` each feature looks only at its kept candidate triangles
     /// (incremental proximity, [`super::proximity_cache`]; the same gaps as a full
-    /// search), else every search goes through the mesh's BVH.
+    /// search), else every search goes through the mesh's BVH. With `only`, just the
+    /// edges it marks and their vertices are listed (in the same order, with the
+    /// same numbers).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn mesh_gaps(
         &self,
@@ -40,12 +42,16 @@ impl Contact {
         mesh: &ObstacleMesh,
         margin_m: f64,
         lists: Option<&mut Candidates>,
+        only: Option<&[bool]>,
         out: &mut Vec<(Gap, Tag)>,
     ) -> Result<(), ConstraintError> {
         let reach = geometry.radius + margin_m;
         let vertices = geometry.vertices;
         let mut lists = lists.map(|l| l.of(rod, index, vertices.len()));
         let last_edge = vertices.len() - 2;
+        let edge_listed = |edge: usize| only.is_none_or(|only| only[edge]);
+        let vertex_listed =
+            |j: usize| (j > 0 && edge_listed(j - 1)) || (j <= last_edge && edge_listed(j));
         let touches = |point: &Point3<f64>| ConstraintError::CentrelineTouches {
             rod: model.system().rods[rod].name.clone(),
             what: format!("touches mesh '{}'", mesh.name()),
@@ -70,7 +76,7 @@ impl Contact {
         // Per vertex: its local contacts (patch, distance).
         let mut vertex_contacts: Vec<Vec<(usize, f64)>> = vec![Vec::new(); vertices.len()];
         for (j, p) in vertices.iter().enumerate() {
-            if !Self::in_reach(mesh, p, p, reach) {
+            if !vertex_listed(j) || !Self::in_reach(mesh, p, p, reach) {
                 continue;
             }
             let (edge, s) = if j <= last_edge {
@@ -104,7 +110,7 @@ impl Contact {
         };
         for edge in 0..=last_edge {
             let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-            if !Self::in_reach(mesh, a, b, reach) {
+            if !edge_listed(edge) || !Self::in_reach(mesh, a, b, reach) {
                 continue;
             }
             // The edge's candidates serve its nearest points too: the contact of such a
@@ -178,7 +184,12 @@ impl Contact {
 
     /// Whether segment `[a, b]` is within `reach` (m) of the mesh's bounding box: most
     /// features are far from most meshes, ruled out without a BVH search.
-    fn in_reach(mesh: &ObstacleMesh, a: &Point3<f64>, b: &Point3<f64>, reach: f64) -> bool {
+    pub(super) fn in_reach(
+        mesh: &ObstacleMesh,
+        a: &Point3<f64>,
+        b: &Point3<f64>,
+        reach: f64,
+    ) -> bool {
         super::nearby::count_mesh_pair();
         let [low, high] = mesh.bounding_box();
         let outside = (0..3)

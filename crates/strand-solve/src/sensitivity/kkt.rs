@@ -50,11 +50,21 @@ impl Kkt {
 }
 
 /// A point of the first-order path: the design at `offsets`, the base state moved by
-/// `delta` in its chart (held vertices on the design's supports), and the rows there.
+/// `delta` in its chart (held vertices on the design's supports), and the rows there
+/// (where asked for).
 pub(crate) struct Point<B> {
     pub built: B,
     pub state: SystemState,
     pub rows: Vec<Row>,
+}
+
+/// Whether a [`Point`] evaluates the rows at its state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RowsAt {
+    /// The joint-limit and contact rows at the point (a residual `Φ` reads them).
+    Evaluated,
+    /// None (the outputs at a point read only its state).
+    Skipped,
 }
 
 /// Builds the design at `offsets` and moves `base` by `delta` on it.
@@ -64,6 +74,7 @@ pub(crate) fn point<D: Design>(
     offsets: &[f64],
     base: &SystemState,
     delta: &[f64],
+    rows: RowsAt,
 ) -> Result<Point<D::Built>, SensitivityError> {
     let built = design
         .build(offsets)
@@ -89,7 +100,10 @@ pub(crate) fn point<D: Design>(
     } else {
         model.retract(&start, delta)
     };
-    let rows = rows_at(model, built.constraints(), &state, parameter)?;
+    let rows = match rows {
+        RowsAt::Evaluated => rows_at(model, built.constraints(), &state, parameter)?,
+        RowsAt::Skipped => Vec::new(),
+    };
     Ok(Point { built, state, rows })
 }
 

@@ -68,7 +68,7 @@ use strand_system::Model;
 
 use crate::constraints::{ConstraintError, Constraints, RowKey};
 
-pub use outputs::{OutputDerivative, PathPlace, Sample};
+pub use outputs::{OutputDerivative, PathPlace, PathRows, Sample};
 pub use settings::SensitivitySettings;
 pub use solve::{Flag, FlaggedRow, ParameterSensitivity, Sensitivities};
 

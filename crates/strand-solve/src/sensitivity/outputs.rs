@@ -1,8 +1,10 @@
 //! Derivatives of outputs (reactions, peaks, clearances, poses, contact forces) by
 //! the chain rule along the first-order path of the equilibrium.
 
+use super::kkt::RowsAt;
 use super::{Design, Sensitivities, SensitivityError};
 use crate::Solution;
+use crate::constraints::RowKey;
 
 /// One output value, with where a peak or minimum is attained (`arg`: any index that
 /// changes when the location jumps, e.g. the vertex of a peak; 0 for a smooth output).
@@ -26,30 +28,43 @@ pub struct OutputDerivative {
 
 impl Sensitivities {
     /// The design and an equilibrium-to-first-order at `p + t e_j`: the base state
-    /// moved by `t · dδ/dp_j`, the active multipliers by `t · dμ/dp_j` (every other
-    /// row at zero force). Its report is the base solution's.
+    /// moved by `t · dδ/dp_j`, the active multipliers by `t · dμ/dp_j`; its
+    /// constraints are as `rows` says. Its report is the base solution's.
     pub fn path_point<D: Design>(
         &self,
         design: &D,
         base: &Solution,
         parameter: usize,
         t: f64,
+        rows: PathRows,
     ) -> Result<(D::Built, Solution), SensitivityError> {
         let p = &self.parameters[parameter];
-        let (point, _, mu) =
-            self.path(design, &base.state, parameter, t, &p.state, &p.multipliers)?;
-        let constraints = point
-            .rows
-            .iter()
-            .map(|row| {
-                let force = self
-                    .active
-                    .iter()
-                    .position(|k| *k == row.key)
-                    .map_or(0.0, |i| mu[i]);
-                (row.clone(), force)
-            })
-            .collect();
+        let evaluated = match rows {
+            PathRows::All => RowsAt::Evaluated,
+            PathRows::Active => RowsAt::Skipped,
+        };
+        let (point, _, mu) = self.path(
+            design,
+            &base.state,
+            parameter,
+            t,
+            &p.state,
+            &p.multipliers,
+            evaluated,
+        )?;
+        let force = |key: &RowKey| self.active.iter().position(|k| k == key).map(|i| mu[i]);
+        let constraints = match rows {
+            PathRows::All => point
+                .rows
+                .iter()
+                .map(|row| (row.clone(), force(&row.key).unwrap_or(0.0)))
+                .collect(),
+            PathRows::Active => base
+                .constraints
+                .iter()
+                .filter_map(|(row, _)| Some((row.clone(), force(&row.key)?)))
+                .collect(),
+        };
         let solution = Solution {
             state: point.state,
             report: base.report.clone(),
@@ -63,20 +78,25 @@ impl Sensitivities {
 
     /// The derivatives of the outputs that `outputs` computes from a design and a
     /// solution, with respect to parameter `parameter`: [`Sensitivities::derivative_at`]
-    /// with the same evaluation at every point of the path.
+    /// with the same evaluation at every point of the path (its constraints as `rows`
+    /// says).
     pub fn derivative<D: Design>(
         &self,
         design: &D,
         base: &Solution,
         parameter: usize,
+        rows: PathRows,
         mut outputs: impl FnMut(&D::Built, &Solution) -> Vec<Sample>,
     ) -> Result<Vec<OutputDerivative>, SensitivityError> {
-        self.derivative_at(design, base, parameter, |built, at, _| outputs(built, at))
+        self.derivative_at(design, base, parameter, rows, |built, at, _| {
+            outputs(built, at)
+        })
     }
 
     /// The derivatives of the outputs that `outputs` computes from a design, a
-    /// solution and the [`PathPlace`] of the point, with respect to parameter
-    /// `parameter`, by the chain rule along the first-order path: central differences
+    /// solution and the [`PathPlace`] of the point (its constraints as `rows` says:
+    /// [`PathRows`]), with respect to parameter `parameter`, by the chain rule along
+    /// the first-order path: central differences
     /// of steps `h` and `2h`, extrapolated (error `O(h⁴)`), at up to three steps `h`,
     /// `h/10`, `h/100` (`h` the parameter's
     /// [`super::ParameterSensitivity::output_step`]). Per output, the largest step is
@@ -96,10 +116,11 @@ impl Sensitivities {
         design: &D,
         base: &Solution,
         parameter: usize,
+        rows: PathRows,
         mut outputs: impl FnMut(&D::Built, &Solution, PathPlace) -> Vec<Sample>,
     ) -> Result<Vec<OutputDerivative>, SensitivityError> {
         self.derivative_along(parameter, |t, place| {
-            let (built, at) = self.path_point(design, base, parameter, t)?;
+            let (built, at) = self.path_point(design, base, parameter, t, rows)?;
             Ok(outputs(&built, &at, place))
         })
     }
@@ -170,6 +191,21 @@ impl Sensitivities {
             })
             .collect())
     }
+}
+
+/// The constraints of a point of the first-order path
+/// ([`Sensitivities::path_point`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathRows {
+    /// Every joint-limit and contact row evaluated at the point, each with its
+    /// multiplier moved along the path (zero unless active at the base).
+    All,
+    /// Only the base's active rows, with their multipliers moved along the path
+    /// (their values are the base's): enough for what takes a pair's force by its
+    /// key ([`crate::contact::Contact::forces`]: a contact at the point carries its
+    /// multiplier when its key is active, none otherwise, as with
+    /// [`PathRows::All`]), without evaluating the rows at every point.
+    Active,
 }
 
 /// Where on the first-order path [`Sensitivities::derivative_at`] evaluates the

@@ -2,7 +2,7 @@
 
 use strand_system::{Model, SystemState};
 
-use super::kkt::{self, Kkt, Point};
+use super::kkt::{self, Kkt, Point, RowsAt};
 use super::schur::KktFactor;
 use super::{Design, Designed, ModelLine, SensitivityError, SensitivitySettings};
 use crate::Solution;
@@ -505,8 +505,9 @@ impl Sensitivities {
         let mut differences = Vec::with_capacity(2);
         let mut elements = 0;
         for &step in steps {
-            let (plus, _, mu) = self.path(design, base, j, step, &zero_v, &zero_w)?;
-            let (minus, _, _) = self.path(design, base, j, -step, &zero_v, &zero_w)?;
+            let evaluated = RowsAt::Evaluated;
+            let (plus, _, mu) = self.path(design, base, j, step, &zero_v, &zero_w, evaluated)?;
+            let (minus, _, _) = self.path(design, base, j, -step, &zero_v, &zero_w, evaluated)?;
             let difference = if element_differences {
                 let (d, count) =
                     kkt::residual_difference(&plus, &minus, &self.active, &mu, &self.gauge, j)?;
@@ -541,6 +542,7 @@ impl Sensitivities {
         t: f64,
         v: &[f64],
         w: &[f64],
+        rows: RowsAt,
     ) -> Result<(Point<D::Built>, Vec<f64>, Vec<f64>), SensitivityError> {
         let mut offsets = vec![0.0; design.parameter_count()];
         offsets[j] = t;
@@ -551,7 +553,7 @@ impl Sensitivities {
             .zip(w)
             .map(|(l, x)| l + t * x)
             .collect();
-        let point = kkt::point(design, j, &offsets, base, &delta)?;
+        let point = kkt::point(design, j, &offsets, base, &delta, rows)?;
         Ok((point, delta, mu))
     }
 }

@@ -6,7 +6,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::{Rod, Section};
 use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
 
-use super::{Design, Designed, Sample, Sensitivities, SensitivitySettings};
+use super::{Design, Designed, PathRows, Sample, Sensitivities, SensitivitySettings};
 use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 use crate::{Solution, SolverSettings, solve, solve_constrained};
 
@@ -161,7 +161,9 @@ fn check(design: &Bench, parameters: &[usize], fd: f64) {
             "{:?}",
             s.parameters[j].kkt_residual
         );
-        let exact = s.derivative(design, &base, j, outputs).unwrap();
+        let exact = s
+            .derivative(design, &base, j, PathRows::All, outputs)
+            .unwrap();
         // Central differences of full solves at steps fd and 2 fd, extrapolated.
         let at = |t: f64| {
             let mut offsets = [0.0; 4];

@@ -7,7 +7,7 @@ use strand_case::{CaseDesign, DesignedCase};
 use strand_report::{OutputValue, design_outputs, sensitivity_doc};
 use strand_solve::Solution;
 use strand_solve::sensitivity::{
-    Design, Sample, Sensitivities, SensitivityError, SensitivitySettings,
+    Design, PathRows, Sample, Sensitivities, SensitivityError, SensitivitySettings,
 };
 
 use super::local::{LocalOutputs, LocalPath, LocalTangents};
@@ -220,7 +220,7 @@ pub fn output_table_with(
                 if let Some(plan) = plan.as_ref().filter(|p| p.reads_energy()) {
                     outer_vertices += 2 * all_vertices;
                     let along = sensitivities
-                        .derivative_at(design, solution, j, |built, at, place| {
+                        .derivative_at(design, solution, j, PathRows::Active, |built, at, place| {
                             plan.read(&built.built.model, at, place)
                         })
                         .map_err(failed)?;
@@ -242,13 +242,20 @@ pub fn output_table_with(
             }
             (Some(plan), None) => {
                 outer_vertices += 2 * all_vertices;
-                sensitivities.derivative_at(design, solution, j, |built, at, place| {
-                    plan.read(&built.built.model, at, place)
+                sensitivities.derivative_at(
+                    design,
+                    solution,
+                    j,
+                    PathRows::Active,
+                    |built, at, place| plan.read(&built.built.model, at, place),
+                )
+            }
+            // The outputs read contact forces by their keys: the active rows suffice.
+            (None, _) => {
+                sensitivities.derivative(design, solution, j, PathRows::Active, |built, at| {
+                    whole_table_samples(built, at, &outputs, energy, &mut failure)
                 })
             }
-            (None, _) => sensitivities.derivative(design, solution, j, |built, at| {
-                whole_table_samples(built, at, &outputs, energy, &mut failure)
-            }),
         }
         .map_err(failed)?;
         if let Some(e) = failure {

@@ -1,0 +1,121 @@
+//! The clearances' least gap to each mesh ([`Contact::clearances`], which lists only
+//! the edges that may hold it) against the least of the whole listing
+//! ([`Contact::gaps`]): the same gap bit for bit at the same place, for much less work.
+
+use std::sync::Arc;
+
+use nalgebra::{Point3, Vector3};
+use strand_assets::wavy_surface;
+use strand_contact::{Gap, ObstacleMesh, QueryWork, query_work};
+use strand_system::{Model, SystemState, initial_state};
+
+use super::Contact;
+use super::tests::straight_rod;
+
+/// A report's clearance search (m).
+const SEARCH_M: f64 = 0.1;
+
+/// A wavy floor over `[-0.6, 0.6]²` m (amplitude 24 mm) and a 90° groove along x
+/// beside it (flanks `z = |y − 0.9| − 0.05`: the rod passes under its near flank).
+fn meshes(triangles: usize) -> Vec<Arc<ObstacleMesh>> {
+    let floor = wavy_surface(1.2, triangles);
+    let floor =
+        ObstacleMesh::try_from_triangles("floor", floor.vertices, &floor.triangles).unwrap();
+    let mut vertices = Vec::new();
+    let mut faces = Vec::new();
+    for (k, side) in [-1.0, 1.0].into_iter().enumerate() {
+        let base = 4 * k as u32;
+        for (x, t) in [(-0.6, 0.0), (1.6, 0.0), (1.6, 0.3), (-0.6, 0.3)] {
+            vertices.push(Point3::new(x, 0.9 + side * t, t - 0.05));
+        }
+        faces.push([base, base + 1, base + 2]);
+        faces.push([base, base + 2, base + 3]);
+    }
+    let groove = ObstacleMesh::try_from_triangles("groove", vertices, &faces).unwrap();
+    vec![Arc::new(floor), Arc::new(groove)]
+}
+
+/// The straight rod's state bent into a wave across the floor towards the groove,
+/// its lowest point `height` (m) above the floor's crests.
+fn bent(model: &Model, height: f64, phase: f64) -> SystemState {
+    let mut state = initial_state(model.system());
+    let rod = &mut state.rods[0];
+    let n = rod.positions.len() - 1;
+    for j in 0..=n {
+        let u = j as f64 / n as f64;
+        let wave = 0.03 * (1.0 + (9.0 * u + phase).sin());
+        let p = Vector3::new(u - 0.5, 0.7 * u, 0.024 + 0.01 + height + wave);
+        rod.set_position(j, p);
+    }
+    state
+}
+
+/// Per mesh, the least gap of `gaps` (the first of equal ones, in their order).
+fn least_per_mesh(gaps: &[Gap], meshes: usize) -> Vec<Option<Gap>> {
+    let mut least: Vec<Option<Gap>> = vec![None; meshes];
+    for gap in gaps {
+        let strand_contact::Obstacle::Mesh(i) = gap.with else {
+            continue;
+        };
+        if least[i].as_ref().is_none_or(|l| gap.gap < l.gap) {
+            least[i] = Some(*gap);
+        }
+    }
+    least
+}
+
+#[test]
+fn the_least_gap_to_each_mesh_is_the_whole_listings_least_at_the_same_place() {
+    let meshes = meshes(20_000);
+    let contact = Contact::new(meshes.clone(), 0.02);
+    let mut compared = [0; 2];
+    for segments in [40, 333] {
+        let model = straight_rod(segments, 0.0);
+        for (height, phase) in [(0.0005, 0.0), (0.004, 1.3), (0.03, 2.1), (0.07, 4.0)] {
+            let state = bent(&model, height, phase);
+            let all = contact.gaps(&model, &state, SEARCH_M).unwrap();
+            let least = contact.clearances(&model, &state, SEARCH_M).unwrap();
+            let expected = least_per_mesh(&all, meshes.len());
+            let found = least_per_mesh(&least, meshes.len());
+            for (k, (e, f)) in expected.iter().zip(&found).enumerate() {
+                match (e, f) {
+                    (Some(e), Some(f)) => {
+                        assert_eq!(e.gap.to_bits(), f.gap.to_bits(), "{e:?} vs {f:?}");
+                        assert_eq!((e.edge, e.s.to_bits()), (f.edge, f.s.to_bits()));
+                        compared[k] += 1;
+                    }
+                    (None, None) => {}
+                    _ => panic!("{segments} segments at {height} m: {e:?} vs {f:?}"),
+                }
+            }
+        }
+    }
+    assert_eq!(compared, [8, 8], "least gaps compared per mesh");
+}
+
+#[test]
+fn the_least_gaps_cost_a_fraction_of_the_whole_listing_and_grow_linearly() {
+    let meshes = meshes(20_000);
+    let contact = Contact::new(meshes, 0.02);
+    let total = |w: QueryWork| w.bvh_nodes + w.box_tests + w.exact_tests;
+    let work = |segments: usize| {
+        let model = straight_rod(segments, 0.0);
+        let state = bent(&model, 0.002, 0.5);
+        let start = query_work();
+        contact.gaps(&model, &state, SEARCH_M).unwrap();
+        let middle = query_work();
+        contact.clearances(&model, &state, SEARCH_M).unwrap();
+        (
+            total(middle.since(&start)),
+            total(query_work().since(&middle)),
+        )
+    };
+    let (listing, least) = work(200);
+    let (_, least_fine) = work(800);
+    println!("200 segments: listing {listing}, least {least}; 800 segments: least {least_fine}");
+    assert!(least * 4 < listing, "least {least} vs listing {listing}");
+    assert!(
+        least_fine < 6 * least,
+        "{least} → {least_fine} for 4× the segments"
+    );
+}
