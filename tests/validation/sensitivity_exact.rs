@@ -200,3 +200,129 @@ fn outer_vertices_grow_with_the_candidates_not_the_segments() {
         );
     }
 }
+
+/// `case` (in `cases/`) solved, with its exact table (`OutputEvaluation::Local`) and
+/// its whole table (every output differentiated along the path, as checked against
+/// full solves in `sensitivity.rs`) for `params`, and the mesh queries each took.
+fn contact_tables(case: &str, params: &[DesignParameter]) -> (OutputTable, OutputTable, [u64; 2]) {
+    let case = Case::from_path(cases_dir().join(case)).unwrap();
+    let built = case.build(None).unwrap();
+    let solution = built
+        .solve_from(built.initial.clone(), &built.settings)
+        .unwrap();
+    assert!(solution.report.converged);
+    let work = || {
+        let w = strand_contact::query_work();
+        w.bvh_nodes + w.box_tests + w.exact_tests
+    };
+    let table = |evaluation| {
+        let design = CaseDesign::new(&case, params.to_vec()).starting_from(&solution.state);
+        let before = work();
+        let table = output_table_with(
+            &design,
+            &solution,
+            &SensitivitySettings::default(),
+            evaluation,
+            EnergyOutput::Omitted,
+        )
+        .unwrap();
+        (table, work() - before)
+    };
+    let (exact, exact_work) = table(OutputEvaluation::Local);
+    let (whole, whole_work) = table(OutputEvaluation::WholeTable);
+    (exact, whole, [exact_work, whole_work])
+}
+
+/// With contact, the clearances (from their least gaps at the base: `n · (dP − dQ)`)
+/// and the contact forces (their multipliers' derivatives) are exact too, with every
+/// other output: the same derivatives and one-sided flags as the whole table
+/// differentiated along the path, for a fraction of its mesh queries (which the whole
+/// table repeats at every point of every path). A parameter that moves a mesh (the
+/// brackets' height) is not an affine line of the model: it keeps the whole table.
+#[test]
+fn contact_cases_exact_derivatives_equal_the_whole_tables() {
+    let cases = [
+        (
+            "cooler_hose_contact.ron",
+            vec![
+                param("rods.hose1.length", None, 1000.0),
+                param("rods.hose3.length", None, 1000.0),
+                param("junctions.tee.mass", None, 100.0),
+                param("connectors.engine_stub.position", Some(2), 1000.0),
+                param("connectors.oil_cooler.position", Some(0), 1000.0),
+                param("environment.brackets.position", Some(2), 1000.0),
+            ],
+        ),
+        (
+            "hose_in_groove.ron",
+            vec![
+                param("rods.hose.length", None, 1000.0),
+                param("connectors.a.position", Some(1), 1000.0),
+            ],
+        ),
+        (
+            "cable_over_box.ron",
+            vec![
+                param("rods.cable.length", None, 1000.0),
+                param("connectors.a.position", Some(2), 1000.0),
+            ],
+        ),
+    ];
+    for (case, params) in cases {
+        let (exact, whole, [exact_work, whole_work]) = contact_tables(case, &params);
+        assert_eq!(exact.outputs, whole.outputs);
+        let mut worst: f64 = 0.0;
+        let mut contact_outputs = 0;
+        for (k, o) in whole.outputs.iter().enumerate() {
+            contact_outputs +=
+                usize::from(o.name.contains("clearance") || o.name.contains("contact"));
+            for (j, p) in params.iter().enumerate() {
+                let (a, b) = (exact.derivatives[k][j], whole.derivatives[k][j]);
+                let error = (a - b).abs();
+                // Relative, or absolute per 1e-9; a derivative that vanishes (a
+                // connector's pull across the groove's axis) is round-off in both.
+                let vanishes = a.abs().max(b.abs()) <= 1e-12;
+                let score = (error / a.abs().max(b.abs())).min(error / 1e-9);
+                let score = if vanishes { 0.0 } else { score };
+                // A rod's clearance to itself along a straight stretch is attained by
+                // every pair of edges at the exclusion distance (a cable's edge length
+                // less its diameter), tied to rounding: its derivative is one of
+                // theirs, which the differences' steps average. Where the table's
+                // value ties so, both are the strain's change of a straight stretch:
+                // within 1e-9 m per unit of the parameter.
+                let score = if self_clearance(&o.name) && error <= 1e-9 {
+                    0.0
+                } else {
+                    score
+                };
+                assert!(
+                    score <= 1e-6,
+                    "{case}: d {} / d {}: exact {a} vs whole table {b}",
+                    o.name,
+                    p.item
+                );
+                worst = worst.max(score);
+                assert_eq!(
+                    exact.one_sided[k][j], whole.one_sided[k][j],
+                    "{case}: one-sided flag of d {} / d {}",
+                    o.name, p.item
+                );
+            }
+        }
+        println!(
+            "{case}: {} outputs ({contact_outputs} clearances and contact forces), largest error {worst:.2e}; mesh queries {exact_work} exact, {whole_work} whole table",
+            whole.outputs.len()
+        );
+        assert!(contact_outputs >= 3, "{case}: {contact_outputs}");
+        assert!(
+            exact_work * 5 < whole_work * 2,
+            "{case}: {exact_work} vs {whole_work}"
+        );
+    }
+}
+
+/// Whether `name` is a rod's clearance to itself (`<rod>.clearance_m.<rod>`).
+fn self_clearance(name: &str) -> bool {
+    name.split_once(".clearance_m.")
+        .is_some_and(|(rod, with)| rod == with)
+}

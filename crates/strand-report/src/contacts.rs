@@ -1,10 +1,10 @@
 //! Contacts and clearances of a solved case for `result.json`.
 
 use strand_contact::gaps::Aabb;
-use strand_contact::{MeshIndex, Obstacle};
-use strand_solve::Solution;
+use strand_contact::{Gap, MeshIndex, Obstacle};
 use strand_solve::contact::Contact;
-use strand_system::Model;
+use strand_solve::{RowKey, Solution};
+use strand_system::{Model, SystemState};
 
 use crate::{ClearanceResult, ContactResult, ResultDoc};
 
@@ -47,6 +47,21 @@ fn collect_contact_list(
     solution: &Solution,
     contact: &Contact,
 ) -> Result<(), strand_solve::ConstraintError> {
+    doc.contacts = pressing_contacts(model, solution, contact)?
+        .into_iter()
+        .map(|(result, _)| result)
+        .collect();
+    Ok(())
+}
+
+/// The contacts of `doc.contacts` ([`collect_contacts`]: every pair that carries a
+/// force, on the rod that is touched; a rod–rod contact for both rods), in its order,
+/// each with the key of its row (its multiplier's in `solution.constraints`).
+pub fn pressing_contacts(
+    model: &Model,
+    solution: &Solution,
+    contact: &Contact,
+) -> Result<Vec<(ContactResult, RowKey)>, strand_solve::ConstraintError> {
     let rods = &model.system().rods;
     // Reference arc lengths once per rod, not once per contact.
     let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();
@@ -54,33 +69,39 @@ fn collect_contact_list(
         let a = &lengths[rod];
         a[edge] + s * (a[edge + 1] - a[edge])
     };
-    doc.contacts.clear();
+    let mut contacts = Vec::new();
     for force in contact.forces(model, &solution.state, &solution.constraints)? {
         if force.force_n <= 0.0 {
             continue;
         }
         let gap = &force.gap;
         let normal = gap.normal.into_inner();
-        doc.contacts.push(ContactResult {
-            rod: rods[gap.rod].name.clone(),
-            s_m: arc(gap.rod, gap.edge, gap.s),
-            point_m: arr(&gap.point.coords),
-            normal: arr(&normal),
-            force_n: force.force_n,
-            with: contact.obstacle_name(model, &gap.with),
-        });
-        if let Obstacle::Rod { rod, edge, t } = gap.with {
-            doc.contacts.push(ContactResult {
-                rod: rods[rod].name.clone(),
-                s_m: arc(rod, edge, t),
-                point_m: arr(&gap.witness.coords),
-                normal: arr(&-normal),
+        contacts.push((
+            ContactResult {
+                rod: rods[gap.rod].name.clone(),
+                s_m: arc(gap.rod, gap.edge, gap.s),
+                point_m: arr(&gap.point.coords),
+                normal: arr(&normal),
                 force_n: force.force_n,
-                with: rods[gap.rod].name.clone(),
-            });
+                with: contact.obstacle_name(model, &gap.with),
+            },
+            force.key,
+        ));
+        if let Obstacle::Rod { rod, edge, t } = gap.with {
+            contacts.push((
+                ContactResult {
+                    rod: rods[rod].name.clone(),
+                    s_m: arc(rod, edge, t),
+                    point_m: arr(&gap.witness.coords),
+                    normal: arr(&-normal),
+                    force_n: force.force_n,
+                    with: rods[gap.rod].name.clone(),
+                },
+                force.key,
+            ));
         }
     }
-    Ok(())
+    Ok(contacts)
 }
 
 /// [`collect_contacts`] without the rods' per-vertex clearances (`clearance_m`, left
@@ -133,44 +154,85 @@ fn pair_clearances(
         let a = &lengths[rod];
         a[edge] + s * (a[edge + 1] - a[edge])
     };
-    doc.clearance.clear();
-    // The least gap of every pair of rods, not every pair of edges within the reach.
-    let gaps = contact.clearances(model, &solution.state, search_m.max(CLEARANCE_SEARCH_M))?;
-    let mut record = |rod: usize, with: String, distance: f64, s: f64| {
-        let name = &rods[rod].name;
-        match doc
-            .clearance
-            .iter_mut()
-            .find(|c| &c.rod == name && c.with == with)
-        {
-            Some(entry) if entry.distance_m <= distance => {}
-            Some(entry) => {
-                entry.distance_m = distance;
-                entry.s_m = s;
+    doc.clearance = least_clearances(model, &solution.state, contact, search_m)?
+        .into_iter()
+        .map(|least| {
+            let gap = &least.gap;
+            let s_m = match gap.with {
+                Obstacle::Rod { rod, edge, t } if least.partner => arc(rod, edge, t),
+                _ => arc(gap.rod, gap.edge, gap.s),
+            };
+            ClearanceResult {
+                rod: rods[least.rod].name.clone(),
+                distance_m: least.distance_m(),
+                with: least.with,
+                s_m,
             }
-            None => doc.clearance.push(ClearanceResult {
-                rod: name.clone(),
+        })
+        .collect();
+    Ok(())
+}
+
+/// The least gap of one rod to one obstacle ([`least_clearances`]).
+#[derive(Clone, Debug)]
+pub struct LeastClearance {
+    /// The rod's index.
+    pub rod: usize,
+    /// The obstacle's name: a mesh's, or another rod's (the rod's own for its
+    /// self-clearance).
+    pub with: String,
+    /// The gap (m) as the contact search found it: of `rod` to the obstacle, or, where
+    /// `partner`, of the other rod to `rod` (`gap.with` is then `rod`).
+    pub gap: Gap,
+    /// Whether `rod` is the gap's partner rod (`gap.with`) rather than `gap.rod`.
+    pub partner: bool,
+}
+
+impl LeastClearance {
+    /// The clearance (m): the gap, or 0 where the surfaces overlap.
+    pub fn distance_m(&self) -> f64 {
+        self.gap.gap.max(0.0)
+    }
+}
+
+/// Per rod and obstacle (mesh or rod) within `search_m` (m; at least
+/// [`CLEARANCE_SEARCH_M`]), the least gap at `state`, in the order of
+/// `doc.clearance` ([`collect_clearances`]: by rod name, then obstacle name; of equal
+/// clearances the first found).
+pub fn least_clearances(
+    model: &Model,
+    state: &SystemState,
+    contact: &Contact,
+    search_m: f64,
+) -> Result<Vec<LeastClearance>, strand_solve::ConstraintError> {
+    let rods = &model.system().rods;
+    // The least gap of every pair of rods, not every pair of edges within the reach.
+    let gaps = contact.clearances(model, state, search_m.max(CLEARANCE_SEARCH_M))?;
+    let mut least: Vec<LeastClearance> = Vec::new();
+    let mut record = |rod: usize, with: String, gap: &Gap, partner: bool| {
+        let distance = gap.gap.max(0.0);
+        match least.iter_mut().find(|c| c.rod == rod && c.with == with) {
+            Some(entry) if entry.distance_m() <= distance => {}
+            Some(entry) => {
+                entry.gap = *gap;
+                entry.partner = partner;
+            }
+            None => least.push(LeastClearance {
+                rod,
                 with,
-                distance_m: distance,
-                s_m: s,
+                gap: *gap,
+                partner,
             }),
         }
     };
     for gap in &gaps {
-        let distance = gap.gap.max(0.0);
-        record(
-            gap.rod,
-            contact.obstacle_name(model, &gap.with),
-            distance,
-            arc(gap.rod, gap.edge, gap.s),
-        );
-        if let Obstacle::Rod { rod, edge, t } = gap.with {
-            record(rod, rods[gap.rod].name.clone(), distance, arc(rod, edge, t));
+        record(gap.rod, contact.obstacle_name(model, &gap.with), gap, false);
+        if let Obstacle::Rod { rod, .. } = gap.with {
+            record(rod, rods[gap.rod].name.clone(), gap, true);
         }
     }
-    doc.clearance
-        .sort_by(|a, b| (&a.rod, &a.with).cmp(&(&b.rod, &b.with)));
-    Ok(())
+    least.sort_by(|a, b| (&rods[a.rod].name, &a.with).cmp(&(&rods[b.rod].name, &b.with)));
+    Ok(least)
 }
 
 /// Fills every rod's per-vertex `clearance_m`: the distance from each vertex to the

@@ -83,8 +83,8 @@ mod tests;
 pub use cad::{ExportUnit, tube_triangles, tubes_stl, tubes_stl_of};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{
-    CLEARANCE_SEARCH_M, clearance_search_m, collect_clearances, collect_contact_outputs,
-    collect_contacts,
+    CLEARANCE_SEARCH_M, LeastClearance, clearance_search_m, collect_clearances,
+    collect_contact_outputs, collect_contacts, least_clearances, pressing_contacts,
 };
 pub use csv::{CSV_HEADER, rod_csv};
 pub use digits::significant;
@@ -120,8 +120,8 @@ pub use result::{
     RodResult, Timing, collect, name_connectors,
 };
 pub use sensitivity::{
-    OutputValue, SensitivityDoc, SensitivityOutput, SensitivityParameter, design_outputs,
-    sensitivity_doc,
+    ARG_TIE, OutputValue, SensitivityDoc, SensitivityOutput, SensitivityParameter, design_outputs,
+    sensitivity_doc, ties,
 };
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,

@@ -50,6 +50,18 @@ pub fn sensitivity_doc(
     Ok(doc)
 }
 
+/// Relative difference within which a peak's or minimum's value at another place
+/// ties with its extreme: a difference rounding alone can make (the sectional
+/// quantities of two mirror-image vertices differ by about 1e-13 of their size),
+/// far below any change of the extreme over a sensitivity's difference steps that
+/// makes its derivative one-sided.
+pub const ARG_TIE: f64 = 1e-10;
+
+/// Whether `value` ties with the extreme `extreme` ([`ARG_TIE`]).
+pub fn ties(value: f64, extreme: f64) -> bool {
+    (value - extreme).abs() <= ARG_TIE * extreme.abs()
+}
+
 fn push3(out: &mut Vec<OutputValue>, stem: &str, v: &[f64; 3]) {
     for (axis, x) in ["x", "y", "z"].iter().zip(v) {
         out.push(OutputValue {
@@ -66,7 +78,10 @@ fn push3(out: &mut Vec<OutputValue>, stem: &str, v: &[f64; 3]) {
 /// With `pins` (the outputs of the base design), a peak or minimum is read where the
 /// base attains it (the vertex or obstacle of the base's `arg`), while `arg` still
 /// says where this document attains it: the derivative of a peak is then the
-/// derivative at the base's arg-max, and a differing `arg` marks it one-sided.
+/// derivative at the base's arg-max, and a differing `arg` marks it one-sided. The
+/// base's place stays the `arg` while its value is within [`ARG_TIE`] of the extreme
+/// (a tie that only rounding breaks, e.g. the two symmetric peaks of a symmetric
+/// hose, does not mark a derivative one-sided).
 pub fn design_outputs(doc: &ResultDoc, pins: Option<&[OutputValue]>) -> Vec<OutputValue> {
     let mut out = Vec::new();
     let pinned = |name: &str| {
@@ -75,14 +90,13 @@ pub fn design_outputs(doc: &ResultDoc, pins: Option<&[OutputValue]>) -> Vec<Outp
     };
     // The extreme (value, arg), read at the pinned arg if there is one.
     let read = |name: String, values: &[f64], extreme: (f64, usize)| {
-        let value = pinned(&name)
-            .and_then(|j| values.get(j).copied())
-            .unwrap_or(extreme.0);
-        OutputValue {
-            name,
-            value,
-            arg: extreme.1,
-        }
+        let at_pin = pinned(&name).and_then(|j| Some((values.get(j).copied()?, j)));
+        let (value, arg) = match at_pin {
+            Some((value, j)) if ties(value, extreme.0) => (value, j),
+            Some((value, _)) => (value, extreme.1),
+            None => extreme,
+        };
+        OutputValue { name, value, arg }
     };
     for rod in &doc.rods {
         let forces: Vec<f64> = rod.force_n.iter().map(crate::magnitude).collect();

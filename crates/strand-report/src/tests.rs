@@ -364,3 +364,32 @@ fn arc_length_is_measured_from_the_junction() {
         [ArcOrigin::End, ArcOrigin::Start, ArcOrigin::Start]
     );
 }
+
+/// A peak whose value at the base's place ties with the largest (to rounding) keeps
+/// the base's place as its arg: only a clear change of place marks it one-sided.
+#[test]
+fn a_peak_tied_at_the_pinned_place_keeps_it_as_its_arg() {
+    let mut doc = solved_doc();
+    let rod = &mut doc.rods[0];
+    let n = rod.force_n.len();
+    assert!(n > 4);
+    let peak = 10.0;
+    rod.force_n.iter_mut().for_each(|f| *f = [1.0, 0.0, 0.0]);
+    rod.force_n[1] = [peak, 0.0, 0.0];
+    let name = format!("{}.peak_force_N", rod.name);
+    let pins = design_outputs(&doc, None);
+    let base = pins.iter().find(|o| o.name == name).unwrap().clone();
+    assert_eq!(base.arg, 1);
+    let arg_with = |other: f64| {
+        let mut moved = doc.clone();
+        moved.rods[0].force_n[3] = [other, 0.0, 0.0];
+        let out = design_outputs(&moved, Some(&pins));
+        let o = out.into_iter().find(|o| o.name == name).unwrap();
+        assert_eq!(o.value, peak, "read at the pinned place");
+        o.arg
+    };
+    // Larger by rounding only: the base's place; by more than `ARG_TIE`: the new one.
+    assert_eq!(arg_with(peak * (1.0 + 1e-13)), 1);
+    assert_eq!(arg_with(peak * (1.0 + 0.5 * ARG_TIE)), 1);
+    assert_eq!(arg_with(peak * (1.0 + 10.0 * ARG_TIE)), 3);
+}

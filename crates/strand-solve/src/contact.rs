@@ -85,6 +85,9 @@ pub struct ContactForce {
     pub gap: Gap,
     /// Force on the rod along `gap.normal`, N (≥ 0; 0 for an open pair).
     pub force_n: f64,
+    /// The key of the pair's row (its multiplier's key in
+    /// [`crate::Solution::constraints`]).
+    pub key: RowKey,
 }
 
 impl Contact {
@@ -295,7 +298,7 @@ impl Contact {
                 let force_n = by_key
                     .binary_search_by_key(&key, |(k, _)| *k)
                     .map_or(0.0, |i| by_key[i].1);
-                ContactForce { gap, force_n }
+                ContactForce { gap, force_n, key }
             })
             .collect())
     }

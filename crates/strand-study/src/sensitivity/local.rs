@@ -9,16 +9,23 @@
 //! A plan is made only where every output has a local reading that reproduces the
 //! whole table at the base exactly: rods' peaks and bend radii, connector and port
 //! reactions, free junctions' poses and the energy (where the table has it). A case
-//! with clips, contacts or clearances keeps the whole table ([`LocalOutputs::plan`] is `None`).
+//! with clips keeps the whole table ([`LocalOutputs::plan`] is `None`); so does a
+//! case with contact, except for the exact derivatives
+//! ([`LocalOutputs::plan_exact`]), which read its clearances from their least gaps
+//! and its contact forces from their multipliers.
 
 mod path;
 mod tangent;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
-use strand_report::{OutputValue, magnitude};
+use strand_report::{
+    CLEARANCE_SEARCH_M, LeastClearance, OutputValue, least_clearances, magnitude,
+    pressing_contacts, ties,
+};
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::sectional_at;
+use strand_solve::RowKey;
 use strand_solve::Solution;
 use strand_solve::sensitivity::{PathPlace, Sample};
 use strand_system::{Model, System, SystemState};
@@ -50,6 +57,13 @@ enum Reading {
     Rotation { body: usize, axis: usize },
     /// The total potential energy, J.
     Energy,
+    /// A rod's clearance to one obstacle (the plan's least gap `index`), m.
+    Clearance { index: usize },
+    /// A rod's least clearance over its obstacles (the plan's least gaps of the rod),
+    /// m; its arg is the obstacle's place among them.
+    MinClearance { rod: usize },
+    /// A contact's force (the multiplier of the plan's contact key `index`), N.
+    ContactForce { index: usize },
 }
 
 /// The local readings of every output of a base table, in its order.
@@ -63,6 +77,12 @@ pub struct LocalOutputs {
     reaction_ends: Vec<(usize, bool)>,
     /// Per rod, the vertices and edges the readings look at.
     windows: Vec<Window>,
+    /// The least gaps the clearance readings read, at the base.
+    clearances: Vec<LeastClearance>,
+    /// Per rod, its least gaps (indices into `clearances`, in the table's order).
+    rod_clearances: Vec<Vec<usize>>,
+    /// The row keys of the contacts whose forces are read.
+    contact_keys: Vec<RowKey>,
 }
 
 /// Largest relative difference between a local reading and the whole table at the
@@ -80,11 +100,41 @@ impl LocalOutputs {
         solution: &Solution,
         outputs: &[OutputValue],
     ) -> Option<Self> {
-        let model = &built.built.model;
-        let system = model.system();
-        if built.contact.is_some() || !system.clips.is_empty() {
+        if built.contact.is_some() {
             return None;
         }
+        Self::plan_exact(built, solution, outputs)
+    }
+
+    /// [`LocalOutputs::plan`], also of a case with contact: its clearances and contact
+    /// forces are read at the base only (each clearance from its least gap, each
+    /// contact force from its row's multiplier), so that the plan serves the exact
+    /// derivatives ([`LocalTangents`]) and nothing read along a path
+    /// ([`LocalOutputs::reads_contacts`]).
+    pub fn plan_exact(
+        built: &DesignedCase,
+        solution: &Solution,
+        outputs: &[OutputValue],
+    ) -> Option<Self> {
+        let model = &built.built.model;
+        let system = model.system();
+        if !system.clips.is_empty() {
+            return None;
+        }
+        let (clearances, contacts) = match &built.contact {
+            Some(contact) => (
+                least_clearances(model, &solution.state, contact, CLEARANCE_SEARCH_M).ok()?,
+                pressing_contacts(model, solution, contact).ok()?,
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let rod_clearances: Vec<Vec<usize>> = (0..system.rods.len())
+            .map(|rod| {
+                (0..clearances.len())
+                    .filter(|&k| clearances[k].rod == rod)
+                    .collect()
+            })
+            .collect();
         let mut readings = Vec::with_capacity(outputs.len());
         let mut next = 0;
         let mut take = |name: &str, reading: &dyn Fn(usize) -> Reading| -> bool {
@@ -112,6 +162,22 @@ impl LocalOutputs {
             take(&format!("{name}.min_bend_radius_m"), &|vertex| {
                 Reading::BendRadius { rod, vertex }
             });
+            // The least clearance, then each obstacle's, where the rod has any.
+            if !rod_clearances[rod].is_empty()
+                && !take(&format!("{name}.min_clearance_m"), &|_| {
+                    Reading::MinClearance { rod }
+                })
+            {
+                return None;
+            }
+            for &index in &rod_clearances[rod] {
+                let with = &clearances[index].with;
+                if !take(&format!("{name}.clearance_m.{with}"), &|_| {
+                    Reading::Clearance { index }
+                }) {
+                    return None;
+                }
+            }
         }
         // Reactions and bodies carry their document names (connectors renamed); their
         // order is the document's, checked by the values below.
@@ -156,6 +222,17 @@ impl LocalOutputs {
                 readings.push(reading);
             }
         }
+        // Each pressing contact's force, numbered per rod and obstacle.
+        let mut counts: std::collections::BTreeMap<(&str, &str), usize> = Default::default();
+        for (index, (result, _)) in contacts.iter().enumerate() {
+            let k = counts.entry((&result.rod, &result.with)).or_insert(0);
+            let o = rest.next()?;
+            if o.name != format!("{}.contact_force_N.{}.{k}", result.rod, result.with) {
+                return None;
+            }
+            readings.push(Reading::ContactForce { index });
+            *k += 1;
+        }
         // The energy, last, where the table has it ([`super::EnergyOutput`]).
         match rest.next() {
             None => {}
@@ -184,7 +261,12 @@ impl LocalOutputs {
                         windows[rod].add(0, 1, n);
                     }
                 }
-                Reading::Position { .. } | Reading::Rotation { .. } | Reading::Energy => {}
+                Reading::Position { .. }
+                | Reading::Rotation { .. }
+                | Reading::Energy
+                | Reading::Clearance { .. }
+                | Reading::MinClearance { .. }
+                | Reading::ContactForce { .. } => {}
             }
         }
         windows.iter_mut().for_each(Window::finish);
@@ -193,6 +275,9 @@ impl LocalOutputs {
             args: outputs.iter().map(|o| o.arg).collect(),
             reaction_ends,
             windows,
+            clearances,
+            rod_clearances,
+            contact_keys: contacts.into_iter().map(|(_, key)| key).collect(),
         };
         let local = plan.read(model, solution, PathPlace::Base);
         let agrees = local.iter().zip(outputs).all(|(l, o)| {
@@ -214,7 +299,44 @@ impl LocalOutputs {
         if let Some(k) = self.readings.iter().position(|r| *r == Reading::Energy) {
             samples[k].value = model.energy(state);
         }
+        for (sample, reading) in samples.iter_mut().zip(&self.readings) {
+            if let Reading::ContactForce { index } = *reading {
+                let key = self.contact_keys[index];
+                sample.value = solution
+                    .constraints
+                    .iter()
+                    .find(|(row, _)| row.key == key)
+                    .map_or(0.0, |(_, force)| *force);
+            }
+        }
         samples
+    }
+
+    /// Whether the plan reads clearances or contact forces: those are read at the
+    /// base only (the least gaps and the contacts found there), so the plan serves
+    /// only exact derivatives ([`LocalTangents`]), no reading along a path.
+    pub fn reads_contacts(&self) -> bool {
+        self.readings.iter().any(|r| {
+            matches!(
+                r,
+                Reading::Clearance { .. }
+                    | Reading::MinClearance { .. }
+                    | Reading::ContactForce { .. }
+            )
+        })
+    }
+
+    /// The least clearance of rod `rod` and its place among the rod's obstacles (the
+    /// first of equal ones), m.
+    fn min_clearance(&self, rod: usize) -> (f64, usize) {
+        let mut best = (f64::INFINITY, 0);
+        for (k, &index) in self.rod_clearances[rod].iter().enumerate() {
+            let distance = self.clearances[index].distance_m();
+            if distance < best.0 {
+                best = (distance, k);
+            }
+        }
+        best
     }
 
     /// [`LocalOutputs::read`] of `system` in `state` with every rod's boundary frames
@@ -241,6 +363,16 @@ impl LocalOutputs {
                 &frames[rod],
                 vertex,
             )
+        };
+        // A peak's value at vertex `j` (where the whole rod found it).
+        let found_value = |reading: Reading, j: usize| match reading {
+            Reading::Force { rod, .. } => norm(&at(rod, j).force),
+            Reading::Moment { rod, .. } => norm(&at(rod, j).moment),
+            Reading::BendRadius { rod, .. } => radius(&at(rod, j).curvature),
+            Reading::MinClearance { rod } => {
+                self.clearances[self.rod_clearances[rod][j]].distance_m()
+            }
+            _ => f64::NAN,
         };
         self.readings
             .iter()
@@ -273,7 +405,18 @@ impl LocalOutputs {
                         (rotation_vector(&state.bodies[body].orientation)[axis], None)
                     }
                     Reading::Energy => (f64::NAN, None),
+                    // The base's (see `reads_contacts`); a contact force from the
+                    // solution's multipliers (`read`).
+                    Reading::Clearance { index } => (self.clearances[index].distance_m(), None),
+                    Reading::MinClearance { rod } => {
+                        let (value, k) = self.min_clearance(rod);
+                        (value, Some(k))
+                    }
+                    Reading::ContactForce { .. } => (f64::NAN, None),
                 };
+                // The base's place stays the arg where the place found ties with it
+                // (`strand_report::ARG_TIE`), as in the whole table.
+                let found = found.filter(|&j| j != arg && !ties(value, found_value(*reading, j)));
                 Sample {
                     value,
                     arg: found.unwrap_or(arg),

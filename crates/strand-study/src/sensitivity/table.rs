@@ -154,9 +154,8 @@ pub fn output_table_with(
     let base_built = design.build(&vec![0.0; count])?;
     let outputs = outputs_with(&base_built, solution, None, energy)?;
     let plan = match evaluation {
-        OutputEvaluation::Local | OutputEvaluation::LocalDifferences => {
-            LocalOutputs::plan(&base_built, solution, &outputs)
-        }
+        OutputEvaluation::Local => LocalOutputs::plan_exact(&base_built, solution, &outputs),
+        OutputEvaluation::LocalDifferences => LocalOutputs::plan(&base_built, solution, &outputs),
         OutputEvaluation::WholeTable => None,
     };
     // Every rod linearised once for the exact derivatives along affine lines.
@@ -201,8 +200,9 @@ pub fn output_table_with(
         let exact = match (&mut tangents, &line) {
             (Some(tangents), Some(line)) => {
                 let p = &sensitivities.parameters[j];
+                let multipliers = (sensitivities.active.as_slice(), p.multipliers.as_slice());
                 tangents
-                    .derivatives(line, &p.state, p.output_step)
+                    .derivatives(line, &p.state, multipliers, p.output_step)
                     .map_err(|e| {
                         failed(SensitivityError::Design {
                             parameter: j,
@@ -212,7 +212,10 @@ pub fn output_table_with(
             }
             _ => None,
         };
-        let d = match (&plan, line) {
+        // A plan with contact readings reads them at the base only: without exact
+        // derivatives the whole table is differentiated along the path.
+        let along = plan.as_ref().filter(|p| !p.reads_contacts());
+        let d = match (along, line) {
             _ if exact.is_some() => {
                 let exact = exact.expect("checked");
                 outer_vertices += exact.outer_vertices;

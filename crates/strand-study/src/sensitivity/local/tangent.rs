@@ -20,10 +20,13 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::AffineLine;
+use strand_contact::Obstacle;
+use strand_report::{LeastClearance, ties};
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::VertexSectional;
 use strand_rod::sectional_tangent::{RodTangent, SectionalLinearisation};
 use strand_rod::so3;
+use strand_solve::RowKey;
 use strand_solve::sensitivity::OutputDerivative;
 use strand_system::{Model, Pose, Support, System, SystemError, SystemState};
 
@@ -110,17 +113,33 @@ impl<'a> LocalTangents<'a> {
     /// step `h` (the outermost points are `±2h`). `None` where the line moves
     /// something the tangents do not carry (a boundary frame, a body that is neither
     /// free nor fixed): the caller then differentiates along the path.
+    ///
+    /// A contact force's derivative is its row's multiplier's, `multipliers` per
+    /// `active` key (`dμ/dp`); a clearance's is that of its least gap at the base,
+    /// `n · (dP − dQ) − dr` (`P` the rod's point, `Q` the other rod's or fixed on the
+    /// mesh, which the line does not move, `r` the radii), 0 where the surfaces
+    /// overlap (the clearance is held at 0); a rod's least clearance is marked
+    /// one-sided where another obstacle's clearance comes within twice its
+    /// first-order change over `±2h` (and [`PEAK_MARGIN`]) of it.
     pub fn derivatives(
         &mut self,
         line: &AffineLine<'_>,
         tangent: &[f64],
+        multipliers: (&[RowKey], &[f64]),
         step: f64,
     ) -> Result<Option<ExactDerivatives>, SystemError> {
         let system = self.model.system();
         let Some(rod_tangents) = self.tangents(line, tangent, step)? else {
             return Ok(None);
         };
-        let (tangents, reaction_loads) = rod_tangents;
+        let (tangents, reaction_loads, radius_rates) = rod_tangents;
+        // Each clearance's derivative, where the plan reads clearances.
+        let clearance_rates: Vec<f64> = self
+            .plan
+            .clearances
+            .iter()
+            .map(|least| clearance_rate(least, &tangents, &radius_rates))
+            .collect();
         // Per rod with a peak, every vertex's value and derivative.
         let peaks_of = |rod: usize| {
             self.plan.readings.iter().any(|r| {
@@ -139,7 +158,7 @@ impl<'a> LocalTangents<'a> {
         let mut outputs = Vec::with_capacity(self.plan.readings.len());
         // Each reaction's terms once for its six components.
         let mut ends = vec![None; self.plan.reaction_ends.len()];
-        for reading in &self.plan.readings {
+        for (reading, &arg) in self.plan.readings.iter().zip(&self.plan.args) {
             let derivative = match *reading {
                 Reading::Force { rod, vertex } => {
                     let (v, d) = (&self.values[rod][vertex].force, &changes[rod][vertex].force);
@@ -192,6 +211,18 @@ impl<'a> LocalTangents<'a> {
                 },
                 // No local reading: the caller differentiates it along the path.
                 Reading::Energy => f64::NAN,
+                Reading::Clearance { index } => clearance_rates[index],
+                Reading::MinClearance { rod } => {
+                    clearance_rates[self.plan.rod_clearances[rod][arg]]
+                }
+                Reading::ContactForce { index } => {
+                    let (active, rates) = multipliers;
+                    let key = self.plan.contact_keys[index];
+                    active
+                        .iter()
+                        .position(|k| *k == key)
+                        .map_or(0.0, |i| rates[i])
+                }
             };
             outputs.push(OutputDerivative {
                 derivative,
@@ -199,6 +230,7 @@ impl<'a> LocalTangents<'a> {
             });
         }
         let outer_vertices = self.mark_one_sided(line, tangent, step, &changes, &mut outputs)?;
+        self.mark_least_clearances(step, &clearance_rates, &mut outputs);
         Ok(Some(ExactDerivatives {
             outputs,
             outer_vertices,
@@ -280,14 +312,19 @@ impl<'a> LocalTangents<'a> {
                         .expect("a candidate is wanted");
                     &side[rod][x]
                 };
-                let found = match quantity {
-                    Quantity::Force => largest(candidates.iter().map(|&j| norm(&at(j).force))),
-                    Quantity::Moment => largest(candidates.iter().map(|&j| norm(&at(j).moment))),
-                    Quantity::BendRadius => {
-                        smallest(candidates.iter().map(|&j| super::radius(&at(j).curvature)))
-                    }
+                let value = |j: usize| match quantity {
+                    Quantity::Force => norm(&at(j).force),
+                    Quantity::Moment => norm(&at(j).moment),
+                    Quantity::BendRadius => super::radius(&at(j).curvature),
                 };
-                if candidates[found] != arg {
+                let found = match quantity {
+                    Quantity::BendRadius => smallest(candidates.iter().map(|&j| value(j))),
+                    _ => largest(candidates.iter().map(|&j| value(j))),
+                };
+                // A place that only ties with the base's (`strand_report::ARG_TIE`)
+                // does not move the arg, as in the whole table.
+                let found = candidates[found];
+                if found != arg && !ties(value(arg), value(found)) {
                     outputs[k].one_sided = true;
                 }
             }
@@ -306,7 +343,7 @@ impl<'a> LocalTangents<'a> {
         line: &AffineLine<'_>,
         tangent: &[f64],
         step: f64,
-    ) -> Result<Option<(Vec<RodTangent>, Vec<[Vector3<f64>; 2]>)>, SystemError> {
+    ) -> Result<Option<(Vec<RodTangent>, Vec<[Vector3<f64>; 2]>, Vec<f64>)>, SystemError> {
         let base_system = self.model.system();
         let dofs = self.model.dofs();
         // The model's part: the inputs at ±s, differenced (exact: they are affine, at
@@ -320,8 +357,12 @@ impl<'a> LocalTangents<'a> {
                     .all(|(x, y)| x.pose == y.pose && x.ports == y.ports && x.fixed == y.fixed)
         };
         let mut sides: Vec<Vec<Option<RodInputs>>> = Vec::with_capacity(2);
-        for t in [step, -step] {
+        let mut radius_rates = vec![0.0; base_system.rods.len()];
+        for (t, sign) in [(step, 1.0), (-step, -1.0)] {
             line.move_system(system, t)?;
+            for (rate, spec) in radius_rates.iter_mut().zip(&system.rods) {
+                *rate += sign * spec.rod.section().outer_radius / (2.0 * step);
+            }
             let everything = system.gravity != base_system.gravity || !same_bodies(system);
             let bodies = poses(system, &self.base.bodies);
             sides.push(
@@ -413,7 +454,30 @@ impl<'a> LocalTangents<'a> {
             tangents.push(rod);
             loads.push(reaction);
         }
-        Ok(Some((tangents, loads)))
+        Ok(Some((tangents, loads, radius_rates)))
+    }
+
+    /// Marks each rod's least clearance one-sided where another of its obstacles'
+    /// clearances comes within twice its first-order change over `±2·step` (and
+    /// [`PEAK_MARGIN`] of the least) of it: its arg-min may move there.
+    fn mark_least_clearances(&self, step: f64, rates: &[f64], outputs: &mut [OutputDerivative]) {
+        let outer = 2.0 * step;
+        for (k, (reading, &arg)) in self.plan.readings.iter().zip(&self.plan.args).enumerate() {
+            let Reading::MinClearance { rod } = *reading else {
+                continue;
+            };
+            let indices = &self.plan.rod_clearances[rod];
+            let least = indices[arg];
+            let value = |i: usize| self.plan.clearances[i].distance_m();
+            let margin = PEAK_MARGIN * value(least);
+            if indices.iter().any(|&i| {
+                i != least
+                    && value(i) - value(least)
+                        <= 2.0 * outer * (rates[i] - rates[least]).abs() + margin
+            }) {
+                outputs[k].one_sided = true;
+            }
+        }
     }
 }
 
@@ -454,6 +518,28 @@ impl Quantity {
             (dv.norm(), false)
         }
     }
+}
+
+/// The derivative (m per parameter unit) of the least gap `least` along the rods'
+/// tangents `tangents` and the rods' radii's rates `radius_rates`: `n · (dP − dQ)` less
+/// the radii's change (the mesh is not moved by an affine line), 0 where the surfaces
+/// overlap (the clearance is held at 0 there).
+fn clearance_rate(least: &LeastClearance, tangents: &[RodTangent], radius_rates: &[f64]) -> f64 {
+    let gap = &least.gap;
+    if gap.gap < 0.0 {
+        return 0.0;
+    }
+    let along = |rod: usize, edge: usize, s: f64| {
+        let p = &tangents[rod].positions;
+        p[edge] * (1.0 - s) + p[edge + 1] * s
+    };
+    let mut moved = along(gap.rod, gap.edge, gap.s);
+    let mut radii = radius_rates[gap.rod];
+    if let Obstacle::Rod { rod, edge, t } = gap.with {
+        moved -= along(rod, edge, t);
+        radii += radius_rates[rod];
+    }
+    gap.normal.dot(&moved) - radii
 }
 
 fn norm(v: &Vector3<f64>) -> f64 {
