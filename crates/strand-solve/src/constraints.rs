@@ -199,6 +199,21 @@ pub trait Constraints: Sync {
         out: &mut Vec<Row>,
     ) -> Result<(), ConstraintError>;
 
+    /// Appends at least the rows at `state` whose gradients touch an unknown that
+    /// `unknowns` flags (one flag per unknown), each as [`Constraints::rows`] makes
+    /// it: for a caller that reads only some rows (the active ones, whose gradients
+    /// it knows). The default appends every row; an implementation may search less.
+    fn rows_touching(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        unknowns: &[bool],
+        out: &mut Vec<Row>,
+    ) -> Result<(), ConstraintError> {
+        let _ = unknowns;
+        self.rows(model, state, out)
+    }
+
     /// Checks a starting state: `Err` names where it violates a constraint (a hose that
     /// starts inside an obstacle).
     fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError>;

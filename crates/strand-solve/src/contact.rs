@@ -180,7 +180,7 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, ConstraintError> {
-        untagged(self.gaps_of(model, state, margin_m, RodPairs::Least))
+        untagged(self.gaps_of(model, state, margin_m, RodPairs::Least, None))
     }
 
     /// [`Contact::gaps`] with the [`Tag`] that tells the gaps of one feature apart
@@ -191,20 +191,23 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
-        self.gaps_of(model, state, margin_m, RodPairs::LocalMinima)
+        self.gaps_of(model, state, margin_m, RodPairs::LocalMinima, None)
     }
 
-    /// The gaps to the meshes and the rod–rod gaps of `pairs` within `margin_m` (m).
+    /// The gaps to the meshes and the rod–rod gaps of `pairs` within `margin_m` (m);
+    /// with `edges` (per rod, per edge), the gaps to the meshes of only the edges it
+    /// marks and their vertices.
     fn gaps_of(
         &self,
         model: &Model,
         state: &SystemState,
         margin_m: f64,
         pairs: RodPairs,
+        edges: Option<&[Vec<bool>]>,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
-        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs)?;
+        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs, edges)?;
         // Arc lengths once per evaluation, not per candidate pair.
         let exclusion = Exclusion::new(model, state);
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
@@ -228,13 +231,15 @@ impl Contact {
 
     /// The gaps of every rod to the meshes within `margin_m` (m): with
     /// [`RodPairs::Least`], only those of the edges that may hold the rod's least gap
-    /// to each mesh ([`Contact::least_gap_edges`]).
+    /// to each mesh ([`Contact::least_gap_edges`]); else those of the edges `edges`
+    /// marks where given.
     fn mesh_part(
         &self,
         model: &Model,
         rods: &[RodGeometry<'_>],
         margin_m: f64,
         pairs: RodPairs,
+        edges: Option<&[Vec<bool>]>,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
@@ -254,7 +259,7 @@ impl Contact {
             for index in self.meshes_near(geometry.vertices, reach) {
                 let mesh = &self.meshes[index];
                 let only = match pairs {
-                    RodPairs::LocalMinima => None,
+                    RodPairs::LocalMinima => edges.map(|edges| edges[rod].clone()),
                     RodPairs::Least => match Self::least_gap_edges(mesh, geometry, reach) {
                         Some(edges) => Some(edges),
                         None => continue,
@@ -384,42 +389,34 @@ impl Constraints for Contact {
         state: &SystemState,
         out: &mut Vec<Row>,
     ) -> Result<(), ConstraintError> {
-        for (gap, tag) in self.tagged_gaps(model, state, self.margin_m)? {
-            let normal: Vector3<f64> = gap.normal.into_inner();
-            let mut gradient = Vec::new();
-            let mut add = |rod: usize, vertex: usize, weight: f64| {
-                if weight != 0.0 {
-                    let direction = weight * normal;
-                    gradient
-                        .extend(model.vertex_direction_gradient(state, rod, vertex, &direction));
-                }
-            };
-            add(gap.rod, gap.edge, 1.0 - gap.s);
-            add(gap.rod, gap.edge + 1, gap.s);
-            if let Obstacle::Rod { rod, edge, t } = gap.with {
-                add(rod, edge, -(1.0 - t));
-                add(rod, edge + 1, -t);
-            }
-            gradient.sort_by_key(|&(k, _)| k);
-            gradient.dedup_by(|next, kept| {
-                if next.0 == kept.0 {
-                    kept.1 += next.1;
-                    true
-                } else {
-                    false
-                }
-            });
-            // A point held fixed in space cannot open or close its gap: no row.
-            if gradient.is_empty() {
-                continue;
-            }
-            out.push(Row {
-                key: key_of(&gap, tag),
-                value: gap.gap,
-                gradient,
-                curvature: curvature::row_curvature(model, state, &gap, tag.feature),
-            });
-        }
+        let gaps = self.tagged_gaps(model, state, self.margin_m)?;
+        push_rows(model, state, gaps, out);
+        Ok(())
+    }
+
+    /// The rows of the mesh gaps of the edges next to the rod vertices whose unknowns
+    /// `unknowns` flags (the same rows, with the same numbers, as [`Contact::rows`]
+    /// makes for them: `Contact::mesh_gaps` lists only those edges) and of every
+    /// rod–rod gap; every row where a flagged unknown is not a rod vertex's (a body's,
+    /// which carries vertices).
+    fn rows_touching(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        unknowns: &[bool],
+        out: &mut Vec<Row>,
+    ) -> Result<(), ConstraintError> {
+        let Some(edges) = edges_touching(model, unknowns) else {
+            return self.rows(model, state, out);
+        };
+        let gaps = self.gaps_of(
+            model,
+            state,
+            self.margin_m,
+            RodPairs::LocalMinima,
+            Some(&edges),
+        )?;
+        push_rows(model, state, gaps, out);
         Ok(())
     }
 
@@ -440,6 +437,71 @@ impl Constraints for Contact {
     ) -> Result<f64, ConstraintError> {
         Contact::advancement(self, model, state, target)
     }
+}
+
+/// Appends the row of every gap of `gaps` whose point is not held fixed in space.
+fn push_rows(model: &Model, state: &SystemState, gaps: Vec<(Gap, Tag)>, out: &mut Vec<Row>) {
+    for (gap, tag) in gaps {
+        let normal: Vector3<f64> = gap.normal.into_inner();
+        let mut gradient = Vec::new();
+        let mut add = |rod: usize, vertex: usize, weight: f64| {
+            if weight != 0.0 {
+                let direction = weight * normal;
+                gradient.extend(model.vertex_direction_gradient(state, rod, vertex, &direction));
+            }
+        };
+        add(gap.rod, gap.edge, 1.0 - gap.s);
+        add(gap.rod, gap.edge + 1, gap.s);
+        if let Obstacle::Rod { rod, edge, t } = gap.with {
+            add(rod, edge, -(1.0 - t));
+            add(rod, edge + 1, -t);
+        }
+        gradient.sort_by_key(|&(k, _)| k);
+        gradient.dedup_by(|next, kept| {
+            if next.0 == kept.0 {
+                kept.1 += next.1;
+                true
+            } else {
+                false
+            }
+        });
+        // A point held fixed in space cannot open or close its gap: no row.
+        if gradient.is_empty() {
+            continue;
+        }
+        out.push(Row {
+            key: key_of(&gap, tag),
+            value: gap.gap,
+            gradient,
+            curvature: curvature::row_curvature(model, state, &gap, tag.feature),
+        });
+    }
+}
+
+/// Per rod, per edge: whether it is next to a vertex whose unknowns `unknowns` flags;
+/// `None` where a flagged unknown is not a rod vertex's.
+fn edges_touching(model: &Model, unknowns: &[bool]) -> Option<Vec<Vec<bool>>> {
+    let dofs = model.dofs();
+    let mut claimed = vec![false; unknowns.len()];
+    let mut edges: Vec<Vec<bool>> = Vec::with_capacity(model.system().rods.len());
+    for (r, spec) in model.system().rods.iter().enumerate() {
+        let n = spec.rod.segments();
+        let mut marked = vec![false; n];
+        for j in 0..=n {
+            let Some(block) = dofs.vertex(r, j) else {
+                continue;
+            };
+            let range = 3 * block..3 * block + 3;
+            claimed[range.clone()].iter_mut().for_each(|c| *c = true);
+            if unknowns[range].iter().any(|&u| u) {
+                marked[j.saturating_sub(1)] = true;
+                marked[j.min(n - 1)] = true;
+            }
+        }
+        edges.push(marked);
+    }
+    let all_claimed = unknowns.iter().zip(&claimed).all(|(&u, &c)| !u || c);
+    all_claimed.then_some(edges)
 }
 
 /// The gaps without their tags.

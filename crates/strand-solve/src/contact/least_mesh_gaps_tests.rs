@@ -1,6 +1,8 @@
-//! The clearances' least gap to each mesh ([`Contact::clearances`], which lists only
-//! the edges that may hold it) against the least of the whole listing
-//! ([`Contact::gaps`]): the same gap bit for bit at the same place, for much less work.
+//! Listings restricted to some edges against the whole listing: the clearances'
+//! least gap to each mesh ([`Contact::clearances`], which lists only the edges that
+//! may hold it) against the least of [`Contact::gaps`], and the rows touching some
+//! unknowns ([`Constraints::rows_touching`]) against those of [`Constraints::rows`]:
+//! the same numbers bit for bit, for much less work.
 
 use std::sync::Arc;
 
@@ -11,6 +13,7 @@ use strand_system::{Model, SystemState, initial_state};
 
 use super::Contact;
 use super::tests::straight_rod;
+use crate::constraints::{Constraints, Row};
 
 /// A report's clearance search (m).
 const SEARCH_M: f64 = 0.1;
@@ -118,4 +121,45 @@ fn the_least_gaps_cost_a_fraction_of_the_whole_listing_and_grow_linearly() {
         least_fine < 6 * least,
         "{least} → {least_fine} for 4× the segments"
     );
+}
+
+#[test]
+fn the_rows_touching_a_few_unknowns_are_those_of_the_whole_listing() {
+    let meshes = meshes(20_000);
+    let contact = Contact::new(meshes, 0.02);
+    let total = |w: QueryWork| w.bvh_nodes + w.box_tests + w.exact_tests;
+    let model = straight_rod(300, 0.0);
+    let state = bent(&model, 0.002, 0.5);
+    let start = query_work();
+    let mut all: Vec<Row> = Vec::new();
+    contact.rows(&model, &state, &mut all).unwrap();
+    let whole_work = total(query_work().since(&start));
+    assert!(all.len() > 40, "{} rows", all.len());
+    // Every tenth row's unknowns, as the active rows' would be.
+    let wanted: Vec<&Row> = all.iter().step_by(10).collect();
+    let mut unknowns = vec![false; model.dofs().len()];
+    for row in &wanted {
+        row.gradient.iter().for_each(|&(k, _)| unknowns[k] = true);
+    }
+    let start = query_work();
+    let mut near: Vec<Row> = Vec::new();
+    contact
+        .rows_touching(&model, &state, &unknowns, &mut near)
+        .unwrap();
+    let near_work = total(query_work().since(&start));
+    for row in wanted {
+        let found = near
+            .iter()
+            .find(|r| r.key == row.key)
+            .expect("a wanted row");
+        assert_eq!(found, row);
+    }
+    println!(
+        "{} rows, {} near the wanted unknowns; work {whole_work} whole, {near_work} near",
+        all.len(),
+        near.len()
+    );
+    // The rod–rod rows are all listed; the mesh's only near the wanted unknowns.
+    assert!(near.len() <= all.len());
+    assert!(near_work * 10 < whole_work, "{near_work} vs {whole_work}");
 }

@@ -58,11 +58,14 @@ pub(crate) struct Point<B> {
     pub rows: Vec<Row>,
 }
 
-/// Whether a [`Point`] evaluates the rows at its state.
+/// Which rows a [`Point`] evaluates at its state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum RowsAt {
-    /// The joint-limit and contact rows at the point (a residual `Φ` reads them).
+pub(crate) enum RowsAt<'a> {
+    /// Every joint-limit and contact row at the point.
     Evaluated,
+    /// At least those whose gradients touch a flagged unknown (the active rows', for
+    /// a residual `Φ`, which reads only them: [`Constraints::rows_touching`]).
+    Touching(&'a [bool]),
     /// None (the outputs at a point read only its state).
     Skipped,
 }
@@ -74,7 +77,7 @@ pub(crate) fn point<D: Design>(
     offsets: &[f64],
     base: &SystemState,
     delta: &[f64],
-    rows: RowsAt,
+    rows: RowsAt<'_>,
 ) -> Result<Point<D::Built>, SensitivityError> {
     let built = design
         .build(offsets)
@@ -101,24 +104,36 @@ pub(crate) fn point<D: Design>(
         model.retract(&start, delta)
     };
     let rows = match rows {
-        RowsAt::Evaluated => rows_at(model, built.constraints(), &state, parameter)?,
+        RowsAt::Evaluated => rows_at(model, built.constraints(), &state, parameter, None)?,
+        RowsAt::Touching(unknowns) => rows_at(
+            model,
+            built.constraints(),
+            &state,
+            parameter,
+            Some(unknowns),
+        )?,
         RowsAt::Skipped => Vec::new(),
     };
     Ok(Point { built, state, rows })
 }
 
-/// Joint-limit and contact rows of `state`.
+/// Joint-limit and contact rows of `state`: every one, or at least those whose
+/// gradients touch an unknown `touching` flags.
 pub(crate) fn rows_at(
     model: &Model,
     constraints: Option<&dyn crate::Constraints>,
     state: &SystemState,
     parameter: usize,
+    touching: Option<&[bool]>,
 ) -> Result<Vec<Row>, SensitivityError> {
     let mut rows = Vec::new();
     limit_rows(model, state, &mut rows);
     if let Some(c) = constraints {
-        c.rows(model, state, &mut rows)
-            .map_err(|source| SensitivityError::Constraint { parameter, source })?;
+        match touching {
+            Some(unknowns) => c.rows_touching(model, state, unknowns, &mut rows),
+            None => c.rows(model, state, &mut rows),
+        }
+        .map_err(|source| SensitivityError::Constraint { parameter, source })?;
     }
     Ok(rows)
 }

@@ -104,6 +104,9 @@ pub struct Sensitivities {
     /// One entry per parameter.
     pub parameters: Vec<ParameterSensitivity>,
     gauge: Gauge,
+    /// Per unknown, whether an active row's gradient touches it: the rows a residual
+    /// reads are found by searching near them ([`crate::Constraints::rows_touching`]).
+    active_unknowns: Vec<bool>,
 }
 
 impl Sensitivities {
@@ -187,6 +190,12 @@ impl Sensitivities {
                 &evaluated[..]
             }
         };
+        let mut active_unknowns = vec![false; model.dofs().len()];
+        for row in &active_rows {
+            for &(k, _) in &row.gradient {
+                active_unknowns[k] = true;
+            }
+        }
         let mut factor = KktFactor::new(
             model,
             hessian,
@@ -203,6 +212,7 @@ impl Sensitivities {
             reused_hessian: kept.is_some(),
             parameters: Vec::with_capacity(count),
             gauge,
+            active_unknowns,
         };
         // Every right-hand side, then every first solve in one pass through the factor,
         // then their refinement checks' `H v` in one pass over the Hessian for eight
@@ -458,7 +468,13 @@ impl Sensitivities {
                 for sign in [1.0, -1.0] {
                     let delta: Vec<f64> = v.iter().map(|x| sign * t * x).collect();
                     let state = model.retract(base, &delta);
-                    let rows = kkt::rows_at(model, built.constraints(), &state, j)?;
+                    let rows = kkt::rows_at(
+                        model,
+                        built.constraints(),
+                        &state,
+                        j,
+                        Some(&self.active_unknowns),
+                    )?;
                     let mut force = vec![0.0; v.len()];
                     for (&key, &m) in self.active.iter().zip(&self.multipliers) {
                         let row = rows
@@ -505,9 +521,9 @@ impl Sensitivities {
         let mut differences = Vec::with_capacity(2);
         let mut elements = 0;
         for &step in steps {
-            let evaluated = RowsAt::Evaluated;
-            let (plus, _, mu) = self.path(design, base, j, step, &zero_v, &zero_w, evaluated)?;
-            let (minus, _, _) = self.path(design, base, j, -step, &zero_v, &zero_w, evaluated)?;
+            let rows = RowsAt::Touching(&self.active_unknowns);
+            let (plus, _, mu) = self.path(design, base, j, step, &zero_v, &zero_w, rows)?;
+            let (minus, _, _) = self.path(design, base, j, -step, &zero_v, &zero_w, rows)?;
             let difference = if element_differences {
                 let (d, count) =
                     kkt::residual_difference(&plus, &minus, &self.active, &mu, &self.gauge, j)?;
@@ -542,7 +558,7 @@ impl Sensitivities {
         t: f64,
         v: &[f64],
         w: &[f64],
-        rows: RowsAt,
+        rows: RowsAt<'_>,
     ) -> Result<(Point<D::Built>, Vec<f64>, Vec<f64>), SensitivityError> {
         let mut offsets = vec![0.0; design.parameter_count()];
         offsets[j] = t;
