@@ -199,10 +199,11 @@ pub trait Constraints: Sync {
         out: &mut Vec<Row>,
     ) -> Result<(), ConstraintError>;
 
-    /// Appends at least the rows at `state` whose gradients touch an unknown that
+    /// Appends at least the rows at `state` whose gradients touch only unknowns that
     /// `unknowns` flags (one flag per unknown), each as [`Constraints::rows`] makes
-    /// it: for a caller that reads only some rows (the active ones, whose gradients
-    /// it knows). The default appends every row; an implementation may search less.
+    /// it: for a caller that reads only some rows (the active ones, whose gradients'
+    /// unknowns it flags). The default appends every row; an implementation may
+    /// search less.
     fn rows_touching(
         &self,
         model: &Model,

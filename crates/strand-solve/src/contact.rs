@@ -195,8 +195,10 @@ impl Contact {
     }
 
     /// The gaps to the meshes and the rod–rod gaps of `pairs` within `margin_m` (m);
-    /// with `edges` (per rod, per edge), the gaps to the meshes of only the edges it
-    /// marks and their vertices.
+    /// with `edges` (per rod, per edge), only the gaps to the meshes of the edges it
+    /// marks and their vertices, and the rod–rod gaps whose own (lower) edge it marks
+    /// (each kept or dropped as a local minimum among all of that edge's partners:
+    /// as without `edges`).
     fn gaps_of(
         &self,
         model: &Model,
@@ -215,7 +217,8 @@ impl Contact {
         };
         let between_rods = match pairs {
             RodPairs::LocalMinima => {
-                strand_contact::rod_rod_gaps(&rods, margin_m, exclude).map(rod_minima::local_minima)
+                strand_contact::rod_rod_gaps_of(&rods, margin_m, exclude, edges)
+                    .map(rod_minima::local_minima)
             }
             RodPairs::Least => strand_contact::rod_rod_clearances(&rods, margin_m, exclude),
         }
@@ -394,11 +397,13 @@ impl Constraints for Contact {
         Ok(())
     }
 
-    /// The rows of the mesh gaps of the edges next to the rod vertices whose unknowns
-    /// `unknowns` flags (the same rows, with the same numbers, as [`Contact::rows`]
-    /// makes for them: `Contact::mesh_gaps` lists only those edges) and of every
-    /// rod–rod gap; every row where a flagged unknown is not a rod vertex's (a body's,
-    /// which carries vertices).
+    /// The rows of the gaps of the edges next to the rod vertices whose unknowns
+    /// `unknowns` flags or which have none (held in space): the same rows, with the
+    /// same numbers, as [`Contact::rows`] makes for them (`Contact::mesh_gaps` lists
+    /// only those edges, and the rod–rod gaps are searched from those edges, which
+    /// hold the lower edge of every pair whose row touches only flagged unknowns);
+    /// every row where a flagged unknown is not a rod vertex's (a body's, which
+    /// carries vertices).
     fn rows_touching(
         &self,
         model: &Model,
@@ -478,8 +483,10 @@ fn push_rows(model: &Model, state: &SystemState, gaps: Vec<(Gap, Tag)>, out: &mu
     }
 }
 
-/// Per rod, per edge: whether it is next to a vertex whose unknowns `unknowns` flags;
-/// `None` where a flagged unknown is not a rod vertex's.
+/// Per rod, per edge: whether it is next to a vertex whose unknowns `unknowns` flags
+/// or which has none (held in space: a row's gradient has no part there, so a row of
+/// such an edge touches only its other vertices' unknowns); `None` where a flagged
+/// unknown is not a rod vertex's.
 fn edges_touching(model: &Model, unknowns: &[bool]) -> Option<Vec<Vec<bool>>> {
     let dofs = model.dofs();
     let mut claimed = vec![false; unknowns.len()];
@@ -488,12 +495,15 @@ fn edges_touching(model: &Model, unknowns: &[bool]) -> Option<Vec<Vec<bool>>> {
         let n = spec.rod.segments();
         let mut marked = vec![false; n];
         for j in 0..=n {
-            let Some(block) = dofs.vertex(r, j) else {
-                continue;
+            let touched = match dofs.vertex(r, j) {
+                Some(block) => {
+                    let range = 3 * block..3 * block + 3;
+                    claimed[range.clone()].iter_mut().for_each(|c| *c = true);
+                    unknowns[range].iter().any(|&u| u)
+                }
+                None => true,
             };
-            let range = 3 * block..3 * block + 3;
-            claimed[range.clone()].iter_mut().for_each(|c| *c = true);
-            if unknowns[range].iter().any(|&u| u) {
+            if touched {
                 marked[j.saturating_sub(1)] = true;
                 marked[j.min(n - 1)] = true;
             }

@@ -31,7 +31,7 @@ pub use broad_phase::{Aabb, overlapping_pairs};
 pub use mesh_gaps::mesh_gaps;
 pub use mesh_index::MeshIndex;
 pub use rod_rod_clearances::rod_rod_clearances;
-pub use rod_rod_gaps::rod_rod_gaps;
+pub use rod_rod_gaps::{rod_rod_gaps, rod_rod_gaps_of};
 
 /// The centreline and outer radius of one rod.
 #[derive(Clone, Copy, Debug)]

@@ -29,7 +29,20 @@ use nalgebra::Unit;
 pub fn rod_rod_gaps(
     rods: &[RodGeometry],
     margin: f64,
+    exclude: impl FnMut(usize, usize, usize, usize) -> bool,
+) -> Result<Vec<Gap>, GapError> {
+    rod_rod_gaps_of(rods, margin, exclude, None)
+}
+
+/// [`rod_rod_gaps`] of only the pairs whose lower edge (in rod, then edge order: the
+/// gap's own edge) `owners` marks (per rod, per edge), where given: the same gaps,
+/// with the same numbers, as those of [`rod_rod_gaps`] with such an edge, in the
+/// same order. A centreline touching in a pair not searched is not reported.
+pub fn rod_rod_gaps_of(
+    rods: &[RodGeometry],
+    margin: f64,
     mut exclude: impl FnMut(usize, usize, usize, usize) -> bool,
+    owners: Option<&[Vec<bool>]>,
 ) -> Result<Vec<Gap>, GapError> {
     validate(rods)?;
     check_margin(margin)?;
@@ -46,6 +59,9 @@ pub fn rod_rod_gaps(
     let mut gaps = Vec::new();
     let mut candidates = Vec::new();
     for (first, &(rod_a, edge_a)) in edges.iter().enumerate() {
+        if owners.is_some_and(|owners| !owners[rod_a][edge_a]) {
+            continue;
+        }
         // The first partner along the own rod that is not excluded; past the rod's end
         // (`segments`), the next rod's first edge.
         let segments = rods[rod_a].vertices.len() - 1;

@@ -63,7 +63,7 @@ pub(crate) struct Point<B> {
 pub(crate) enum RowsAt<'a> {
     /// Every joint-limit and contact row at the point.
     Evaluated,
-    /// At least those whose gradients touch a flagged unknown (the active rows', for
+    /// At least those whose gradients touch only flagged unknowns (the active rows', for
     /// a residual `Φ`, which reads only them: [`Constraints::rows_touching`]).
     Touching(&'a [bool]),
     /// None (the outputs at a point read only its state).
@@ -118,7 +118,7 @@ pub(crate) fn point<D: Design>(
 }
 
 /// Joint-limit and contact rows of `state`: every one, or at least those whose
-/// gradients touch an unknown `touching` flags.
+/// gradients touch only unknowns that `touching` flags.
 pub(crate) fn rows_at(
     model: &Model,
     constraints: Option<&dyn crate::Constraints>,
