@@ -186,6 +186,10 @@ pub struct LeastClearance {
     pub gap: Gap,
     /// Whether `rod` is the gap's partner rod (`gap.with`) rather than `gap.rod`.
     pub partner: bool,
+    /// Whether the gap is set by the contact search's exclusion of near pairs
+    /// ([`Contact::at_exclusion`]: a rod's clearance to itself along a stretch): its
+    /// derivative holds on one side only.
+    pub at_exclusion: bool,
 }
 
 impl LeastClearance {
@@ -222,6 +226,7 @@ pub fn least_clearances(
                 with,
                 gap: *gap,
                 partner,
+                at_exclusion: false,
             }),
         }
     };
@@ -232,6 +237,9 @@ pub fn least_clearances(
         }
     }
     least.sort_by(|a, b| (&rods[a.rod].name, &a.with).cmp(&(&rods[b.rod].name, &b.with)));
+    for entry in &mut least {
+        entry.at_exclusion = contact.at_exclusion(model, state, &entry.gap);
+    }
     Ok(least)
 }
 

@@ -311,6 +311,31 @@ impl Contact {
             .collect())
     }
 
+    /// Whether rod–rod gap `gap` is at the edge of the pairs the contact search
+    /// excludes (near neighbours along one rod, rod ends a junction holds together):
+    /// a pair one edge nearer along either rod is excluded. The least gap of such a
+    /// pair is set by the exclusion: as the rods move (or their reference arc lengths
+    /// change) the next pair enters, so its derivative holds on one side only. `false`
+    /// for a mesh gap.
+    pub fn at_exclusion(&self, model: &Model, state: &SystemState, gap: &Gap) -> bool {
+        let Obstacle::Rod { rod, edge, .. } = gap.with else {
+            return false;
+        };
+        let exclusion = Exclusion::new(model, state);
+        let edges = |r: usize| model.system().rods[r].rod.segments();
+        let excluded = |(ra, ea): (usize, isize), (rb, eb): (usize, isize)| {
+            let inside = |r: usize, e: isize| e >= 0 && (e as usize) < edges(r);
+            inside(ra, ea)
+                && inside(rb, eb)
+                && (ra, ea) != (rb, eb)
+                && exclusion.excluded(ra, ea as usize, rb, eb as usize)
+        };
+        let (a, b) = ((gap.rod, gap.edge as isize), (rod, edge as isize));
+        [-1, 1]
+            .into_iter()
+            .any(|step| excluded((a.0, a.1 + step), b) || excluded(a, (b.0, b.1 + step)))
+    }
+
     /// A readable name of what a gap touches: the mesh's name or `rod '<name>'`.
     pub fn obstacle_name(&self, model: &Model, with: &Obstacle) -> String {
         match with {

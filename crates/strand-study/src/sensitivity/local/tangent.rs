@@ -120,7 +120,9 @@ impl<'a> LocalTangents<'a> {
     /// mesh, which the line does not move, `r` the radii), 0 where the surfaces
     /// overlap (the clearance is held at 0); a rod's least clearance is marked
     /// one-sided where another obstacle's clearance comes within twice its
-    /// first-order change over `±2h` (and [`PEAK_MARGIN`]) of it.
+    /// first-order change over `±2h` (and [`PEAK_MARGIN`]) of it, and a clearance
+    /// set by the exclusion of near pairs (a rod's to itself along a stretch,
+    /// [`strand_report::LeastClearance::at_exclusion`]) is one-sided.
     pub fn derivatives(
         &mut self,
         line: &AffineLine<'_>,
@@ -231,6 +233,23 @@ impl<'a> LocalTangents<'a> {
         }
         let outer_vertices = self.mark_one_sided(line, tangent, step, &changes, &mut outputs)?;
         self.mark_least_clearances(step, &clearance_rates, &mut outputs);
+        // A clearance set by the exclusion of near pairs holds on one side only.
+        for ((reading, &arg), output) in self
+            .plan
+            .readings
+            .iter()
+            .zip(&self.plan.args)
+            .zip(&mut outputs)
+        {
+            let index = match *reading {
+                Reading::Clearance { index } => index,
+                Reading::MinClearance { rod } => self.plan.rod_clearances[rod][arg],
+                _ => continue,
+            };
+            if self.plan.clearances[index].at_exclusion {
+                output.one_sided = true;
+            }
+        }
         Ok(Some(ExactDerivatives {
             outputs,
             outer_vertices,
