@@ -77,6 +77,13 @@ fn table(
     .unwrap()
 }
 
+/// The error of `a` against `b`, relative to the larger or absolute per 1e-9
+/// (whichever is smaller).
+fn score(a: f64, b: f64) -> f64 {
+    let error = (a - b).abs();
+    (error / a.abs().max(b.abs())).min(error / 1e-9)
+}
+
 /// Largest error of `exact` against `reference` per output and parameter, relative
 /// to the larger derivative or absolute per 1e-9 (whichever is smaller), and the
 /// one-sided flags equal.
@@ -90,8 +97,7 @@ fn compare(exact: &OutputTable, reference: &OutputTable, skip: Option<&str>) -> 
         }
         for (j, p) in params.iter().enumerate() {
             let (a, b) = (exact.derivatives[k][j], reference.derivatives[k][j]);
-            let error = (a - b).abs();
-            let score = (error / a.abs().max(b.abs())).min(error / 1e-9);
+            let score = score(a, b);
             assert!(
                 score <= 1e-6,
                 "d {} / d {}: exact {a} vs differences {b}",
@@ -300,11 +306,10 @@ fn contact_cases_exact_derivatives_equal_the_whole_tables() {
             for (j, p) in params.iter().enumerate() {
                 let (a, b) = (exact.derivatives[k][j], whole.derivatives[k][j]);
                 let error = (a - b).abs();
-                // Relative, or absolute per 1e-9; a derivative that vanishes (a
-                // connector's pull across the groove's axis) is round-off in both.
+                // A derivative that vanishes (a connector's pull across the groove's
+                // axis) is round-off in both.
                 let vanishes = a.abs().max(b.abs()) <= 1e-12;
-                let score = (error / a.abs().max(b.abs())).min(error / 1e-9);
-                let score = if vanishes { 0.0 } else { score };
+                let score = if vanishes { 0.0 } else { score(a, b) };
                 // A rod's clearance to itself along a straight stretch is attained by
                 // every pair of edges at the exclusion distance (a cable's edge length
                 // less its diameter), tied to rounding: its derivative is one of

@@ -36,8 +36,9 @@ pub fn collect_contacts(
     solution: &Solution,
     contact: &Contact,
 ) -> Result<(), strand_solve::ConstraintError> {
-    collect_contact_list(doc, model, solution, contact)?;
-    collect_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
+    collect_contact_outputs(doc, model, solution, contact)?;
+    vertex_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M);
+    Ok(())
 }
 
 /// Fills `doc.contacts` (see [`collect_contacts`]).
