@@ -852,3 +852,100 @@ fn a_thin_cable_in_a_90_degree_groove_converges() {
     let case = with_solver_settings(case, "release_open_rows: true");
     assert_converges_clear(tmp.path(), &case);
 }
+
+/// `case` written into `dir` with connector `a`'s z coordinate moved by `dz_mm`, solved:
+/// its clearance to `with` (m) and where along the cable it is (m).
+fn clearance_with_a_moved(dir: &Path, case: &Case, dz_mm: f64, with: &str) -> (f64, f64) {
+    let stem = "\"a\": (position: (";
+    let start = case.ron.find(stem).expect("connector a") + stem.len();
+    let end = start + case.ron[start..].find(')').unwrap();
+    let mut xyz: Vec<f64> = case.ron[start..end]
+        .split(',')
+        .map(|v| v.trim().parse().unwrap())
+        .collect();
+    xyz[2] += dz_mm;
+    let mut moved = Case {
+        name: format!("{}_dz{}", case.name, dz_mm.to_bits()),
+        ron: case.ron.clone(),
+        triangles: case.triangles.clone(),
+        ..*case
+    };
+    moved.ron.replace_range(
+        start..end,
+        &format!("{:.9}, {:.9}, {:.9}", xyz[0], xyz[1], xyz[2]),
+    );
+    moved.ron = moved.ron.replace(
+        &format!("obj: \"{}.obj\"", case.name),
+        &format!("obj: \"{}.obj\"", moved.name),
+    );
+    let ron_path = write_case(dir, &moved);
+    let out = dir.join(format!("out_{}", moved.name));
+    let (exit, ..) = run(&binary(), &ron_path, &out, Duration::from_secs(120));
+    assert_eq!(exit, Some(0));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let entry = doc["clearance"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["with"] == with)
+        .expect("a clearance to the mesh");
+    (
+        entry["distance_m"].as_f64().unwrap(),
+        entry["s_m"].as_f64().unwrap(),
+    )
+}
+
+/// Sensitivities on an everyday case (`everyday_s32_035`: a cable 29 mm above a 90°
+/// groove): the exact derivative of its clearance to the groove with respect to a
+/// connector's height equals central differences of full solves at 0.01 mm, and since
+/// the nearest place moves along the cable within the difference steps (the full solve
+/// at +0.02 mm finds it 2.4 mm further along), it is marked one-sided. The whole table
+/// before had extrapolated across that move (1.8093e-4 against 1.8072e-4 m/mm) and
+/// marked nothing.
+#[test]
+fn a_clearance_whose_place_moves_within_the_steps_is_one_sided() {
+    let tmp = tempfile::tempdir().unwrap();
+    let case = replay(32, 35, (418, "groove90"));
+    let ron_path = write_case(tmp.path(), &case);
+    let out = tmp.path().join("sensitivity");
+    let status = Command::new(binary())
+        .arg("sensitivity")
+        .arg(&ron_path)
+        .args(["--param", "a.position.z", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sensitivity.json")).unwrap())
+            .unwrap();
+    let output = doc["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == "cable.clearance_m.groove90")
+        .expect("the clearance to the groove");
+    let exact = output["d"]["a.position.z"].as_f64().unwrap();
+    let one_sided = output["one_sided"]
+        .as_array()
+        .is_some_and(|p| p.iter().any(|p| p == "a.position.z"));
+    let h = 0.01;
+    let at = |k: f64| clearance_with_a_moved(tmp.path(), &case, k * h, "groove90");
+    let (base, up, down, up2) = (at(0.0), at(1.0), at(-1.0), at(2.0));
+    let central = (up.0 - down.0) / (2.0 * h);
+    println!(
+        "d clearance / d a.z: exact {exact:.12e}, full solves {central:.12e}; place {} m, at +2h {} m; one-sided {one_sided}",
+        base.1, up2.1
+    );
+    assert!(
+        (exact - central).abs() <= 1e-6 * central.abs(),
+        "{exact} vs {central}"
+    );
+    assert!(
+        (up2.1 - base.1).abs() > 1e-3,
+        "the place moves within the steps"
+    );
+    assert!(one_sided, "{output}");
+}

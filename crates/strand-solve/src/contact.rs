@@ -311,6 +311,44 @@ impl Contact {
             .collect())
     }
 
+    /// The gaps of rod `rod` to mesh `mesh` within `band` (m) of the rod's least gap
+    /// to it, among those within `margin_m` (m): the listing of [`Contact::gaps`] on
+    /// the edges that may hold them (the same gaps, with the same numbers), e.g. the
+    /// rivals of a least gap that may take its place when the rod moves.
+    pub fn mesh_gaps_near_least(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        rod: usize,
+        mesh: usize,
+        margin_m: f64,
+        band: f64,
+    ) -> Result<Vec<Gap>, ConstraintError> {
+        let centrelines = centrelines(state);
+        let rods = rod_geometries(model, &centrelines);
+        let geometry = &rods[rod];
+        let reach = geometry.radius + margin_m;
+        let Some(edges) = Self::edges_within(&self.meshes[mesh], geometry, reach, band) else {
+            return Ok(Vec::new());
+        };
+        let one_off = ProximityCache::default();
+        let mut lists = self.proximity.incremental.then(|| one_off.begin(0.0));
+        let mut gaps = Vec::new();
+        self.mesh_gaps(
+            model,
+            rod,
+            geometry,
+            mesh,
+            &self.meshes[mesh],
+            margin_m,
+            lists.as_mut(),
+            Some(&edges),
+            &mut gaps,
+        )?;
+        add_low_order(state, &mut gaps);
+        Ok(gaps.into_iter().map(|(gap, _)| gap).collect())
+    }
+
     /// Whether rod–rod gap `gap` is at the edge of the pairs the contact search
     /// excludes (near neighbours along one rod, rod ends a junction holds together):
     /// a pair one edge nearer along either rod is excluded. The least gap of such a

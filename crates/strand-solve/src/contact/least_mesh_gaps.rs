@@ -38,6 +38,19 @@ impl Contact {
         geometry: &RodGeometry,
         reach: f64,
     ) -> Option<Vec<bool>> {
+        Self::edges_within(mesh, geometry, reach, 0.0)
+    }
+
+    /// Per edge of `geometry`, whether it may hold a gap to `mesh` within `band` (m)
+    /// of the rod's least (and [`LEAST_GAP_GUARD`]), within `reach` (m, centreline to
+    /// surface); `None` where no edge is within reach.
+    pub(super) fn edges_within(
+        mesh: &ObstacleMesh,
+        geometry: &RodGeometry,
+        reach: f64,
+        band: f64,
+    ) -> Option<Vec<bool>> {
+        let guard = LEAST_GAP_GUARD + band;
         let vertices = geometry.vertices;
         let edges = vertices.len().saturating_sub(1);
         // Each edge's lower bound, with the least upper bound of the least distance.
@@ -45,7 +58,7 @@ impl Contact {
         let mut least = f64::INFINITY;
         for (edge, bound) in bounds.iter_mut().enumerate() {
             let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-            let limit = reach.min(least + LEAST_GAP_GUARD);
+            let limit = reach.min(least + guard);
             if !Self::in_reach(mesh, a, b, limit) {
                 continue;
             }
@@ -58,11 +71,11 @@ impl Contact {
         let mut distances = vec![f64::INFINITY; edges];
         let mut nearest = f64::INFINITY;
         for (edge, distance) in distances.iter_mut().enumerate() {
-            if bounds[edge] > least + LEAST_GAP_GUARD {
+            if bounds[edge] > least + guard {
                 continue;
             }
             let (a, b) = (&vertices[edge], &vertices[edge + 1]);
-            let limit = reach.min(least + LEAST_GAP_GUARD);
+            let limit = reach.min(least + guard);
             if let Some(found) = mesh.segment_distance(a, b, limit) {
                 *distance = found;
                 nearest = nearest.min(found);
@@ -71,7 +84,7 @@ impl Contact {
         nearest.is_finite().then(|| {
             distances
                 .iter()
-                .map(|&distance| distance <= nearest + LEAST_GAP_GUARD)
+                .map(|&distance| distance <= nearest + guard)
                 .collect()
         })
     }

@@ -83,6 +83,18 @@ pub struct LocalOutputs {
     rod_clearances: Vec<Vec<usize>>,
     /// The row keys of the contacts whose forces are read.
     contact_keys: Vec<RowKey>,
+    /// The case's contact, for the rivals of a clearance's least gap.
+    contact: Option<PlanContact>,
+}
+
+/// A plan's contact (shown by name only).
+#[derive(Clone)]
+struct PlanContact(strand_solve::contact::Contact);
+
+impl std::fmt::Debug for PlanContact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Contact")
+    }
 }
 
 /// Largest relative difference between a local reading and the whole table at the
@@ -278,6 +290,7 @@ impl LocalOutputs {
             clearances,
             rod_clearances,
             contact_keys: contacts.into_iter().map(|(_, key)| key).collect(),
+            contact: built.contact.clone().map(PlanContact),
         };
         let local = plan.read(model, solution, PathPlace::Base);
         let agrees = local.iter().zip(outputs).all(|(l, o)| {

@@ -20,7 +20,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::AffineLine;
-use strand_contact::Obstacle;
+use strand_contact::{Gap, Obstacle};
 use strand_report::{LeastClearance, ties};
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::VertexSectional;
@@ -120,8 +120,10 @@ impl<'a> LocalTangents<'a> {
     /// mesh, which the line does not move, `r` the radii), 0 where the surfaces
     /// overlap (the clearance is held at 0); a rod's least clearance is marked
     /// one-sided where another obstacle's clearance comes within twice its
-    /// first-order change over `±2h` (and [`PEAK_MARGIN`]) of it, and a clearance
-    /// set by the exclusion of near pairs (a rod's to itself along a stretch,
+    /// first-order change over `±2h` (and [`PEAK_MARGIN`]) of it; a clearance to a
+    /// mesh is one-sided where another gap of the rod to it may take its place within
+    /// `±2h` to first order, and a clearance set by the exclusion of near pairs (a
+    /// rod's to itself along a stretch,
     /// [`strand_report::LeastClearance::at_exclusion`]) is one-sided.
     pub fn derivatives(
         &mut self,
@@ -233,6 +235,7 @@ impl<'a> LocalTangents<'a> {
         }
         let outer_vertices = self.mark_one_sided(line, tangent, step, &changes, &mut outputs)?;
         self.mark_least_clearances(step, &clearance_rates, &mut outputs);
+        let moving = self.clearance_rivals(step, &tangents, &radius_rates, &clearance_rates);
         // A clearance set by the exclusion of near pairs holds on one side only.
         for ((reading, &arg), output) in self
             .plan
@@ -246,7 +249,7 @@ impl<'a> LocalTangents<'a> {
                 Reading::MinClearance { rod } => self.plan.rod_clearances[rod][arg],
                 _ => continue,
             };
-            if self.plan.clearances[index].at_exclusion {
+            if self.plan.clearances[index].at_exclusion || moving[index] {
                 output.one_sided = true;
             }
         }
@@ -476,6 +479,65 @@ impl<'a> LocalTangents<'a> {
         Ok(Some((tangents, loads, radius_rates)))
     }
 
+    /// Per clearance of the plan, whether its least gap to a mesh may move to another
+    /// feature within `±2·step`: a rival gap of the same rod and mesh (the listing's,
+    /// [`strand_solve::contact::Contact::mesh_gaps_near_least`], within the band any
+    /// feature's first-order change allows) comes within twice the first-order change
+    /// of their difference (and [`PEAK_MARGIN`]) of it. Where the rivals cannot be
+    /// listed (a centreline touching the mesh), the place may move.
+    fn clearance_rivals(
+        &self,
+        step: f64,
+        tangents: &[RodTangent],
+        radius_rates: &[f64],
+        rates: &[f64],
+    ) -> Vec<bool> {
+        let outer = 2.0 * step;
+        let mut moving = vec![false; self.plan.clearances.len()];
+        let Some(super::PlanContact(contact)) = &self.plan.contact else {
+            return moving;
+        };
+        for (index, least) in self.plan.clearances.iter().enumerate() {
+            let gap = &least.gap;
+            let Obstacle::Mesh(mesh) = gap.with else {
+                continue;
+            };
+            if gap.gap < 0.0 {
+                continue;
+            }
+            let fastest = tangents[gap.rod]
+                .positions
+                .iter()
+                .fold(0.0f64, |m, p| m.max(p.norm()))
+                + radius_rates[gap.rod].abs();
+            let margin = PEAK_MARGIN * gap.gap;
+            let band = 2.0 * outer * (fastest + rates[index].abs()) * (1.0 + 1e-9) + margin;
+            let Ok(rivals) = contact.mesh_gaps_near_least(
+                self.model,
+                self.base,
+                gap.rod,
+                mesh,
+                strand_report::CLEARANCE_SEARCH_M,
+                band,
+            ) else {
+                moving[index] = true;
+                continue;
+            };
+            moving[index] = rivals.iter().any(|rival| {
+                let same = rival.edge == gap.edge
+                    && rival.s.to_bits() == gap.s.to_bits()
+                    && rival.gap.to_bits() == gap.gap.to_bits();
+                !same
+                    && rival.gap - gap.gap
+                        <= 2.0
+                            * outer
+                            * (gap_rate(rival, tangents, radius_rates) - rates[index]).abs()
+                            + margin
+            });
+        }
+        moving
+    }
+
     /// Marks each rod's least clearance one-sided where another of its obstacles'
     /// clearances comes within twice its first-order change over `±2·step` (and
     /// [`PEAK_MARGIN`] of the least) of it: its arg-min may move there.
@@ -544,10 +606,15 @@ impl Quantity {
 /// the radii's change (the mesh is not moved by an affine line), 0 where the surfaces
 /// overlap (the clearance is held at 0 there).
 fn clearance_rate(least: &LeastClearance, tangents: &[RodTangent], radius_rates: &[f64]) -> f64 {
-    let gap = &least.gap;
-    if gap.gap < 0.0 {
+    if least.gap.gap < 0.0 {
         return 0.0;
     }
+    gap_rate(&least.gap, tangents, radius_rates)
+}
+
+/// The derivative (m per parameter unit) of gap `gap` at its points: `n · (dP − dQ)`
+/// less the radii's change.
+fn gap_rate(gap: &Gap, tangents: &[RodTangent], radius_rates: &[f64]) -> f64 {
     let along = |rod: usize, edge: usize, s: f64| {
         let p = &tangents[rod].positions;
         p[edge] * (1.0 - s) + p[edge + 1] * s
