@@ -171,9 +171,10 @@ impl Contact {
     /// The clearances at `state` within `margin_m` (m): the gaps to the meshes as
     /// [`Contact::gaps`] lists them, but only on the edges that may hold a rod's least
     /// gap to each mesh (the least is the same, at the same place), and of every pair
-    /// of rods (a rod with itself too) only the least ([`strand_contact::rod_rod_clearances`]: a search whose reach
-    /// shrinks to the least gap found, linear in the edges where listing every pair
-    /// within a report's reach is quadratic).
+    /// of rods (a rod with itself too) only the least
+    /// ([`strand_contact::rod_rod_clearances`]: a search whose reach shrinks to the
+    /// least gap found, linear in the edges where listing every pair within a
+    /// report's reach is quadratic).
     pub fn clearances(
         &self,
         model: &Model,
