@@ -52,7 +52,21 @@ impl Sensitivities {
             &p.multipliers,
             evaluated,
         )?;
-        let force = |key: &RowKey| self.active.iter().position(|k| k == key).map(|i| mu[i]);
+        // The moved multipliers by key, looked up by bisection (not a scan of the
+        // active rows per row: thousands of each on a long cable lying on a floor).
+        let mut by_key: Vec<(RowKey, f64)> = self
+            .active
+            .iter()
+            .copied()
+            .zip(mu.iter().copied())
+            .collect();
+        by_key.sort_by_key(|(k, _)| *k);
+        let force = |key: &RowKey| {
+            by_key
+                .binary_search_by_key(key, |(k, _)| *k)
+                .ok()
+                .map(|i| by_key[i].1)
+        };
         let constraints = match rows {
             PathRows::All => point
                 .rows

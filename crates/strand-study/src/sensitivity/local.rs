@@ -312,14 +312,21 @@ impl LocalOutputs {
         if let Some(k) = self.readings.iter().position(|r| *r == Reading::Energy) {
             samples[k].value = model.energy(state);
         }
-        for (sample, reading) in samples.iter_mut().zip(&self.readings) {
-            if let Reading::ContactForce { index } = *reading {
-                let key = self.contact_keys[index];
-                sample.value = solution
-                    .constraints
-                    .iter()
-                    .find(|(row, _)| row.key == key)
-                    .map_or(0.0, |(_, force)| *force);
+        if !self.contact_keys.is_empty() {
+            // The multipliers by key, looked up by bisection (not a scan per contact).
+            let mut by_key: Vec<(RowKey, f64)> = solution
+                .constraints
+                .iter()
+                .map(|(row, force)| (row.key, *force))
+                .collect();
+            by_key.sort_by_key(|(k, _)| *k);
+            for (sample, reading) in samples.iter_mut().zip(&self.readings) {
+                if let Reading::ContactForce { index } = *reading {
+                    let key = self.contact_keys[index];
+                    sample.value = by_key
+                        .binary_search_by_key(&key, |(k, _)| *k)
+                        .map_or(0.0, |i| by_key[i].1);
+                }
             }
         }
         samples

@@ -137,6 +137,14 @@ impl<'a> LocalTangents<'a> {
             return Ok(None);
         };
         let (tangents, reaction_loads, radius_rates) = rod_tangents;
+        // The multipliers' rates by key, looked up by bisection.
+        let mut multiplier_rates: Vec<(RowKey, f64)> = multipliers
+            .0
+            .iter()
+            .copied()
+            .zip(multipliers.1.iter().copied())
+            .collect();
+        multiplier_rates.sort_by_key(|(k, _)| *k);
         // Each clearance's derivative, where the plan reads clearances.
         let clearance_rates: Vec<f64> = self
             .plan
@@ -220,12 +228,10 @@ impl<'a> LocalTangents<'a> {
                     clearance_rates[self.plan.rod_clearances[rod][arg]]
                 }
                 Reading::ContactForce { index } => {
-                    let (active, rates) = multipliers;
                     let key = self.plan.contact_keys[index];
-                    active
-                        .iter()
-                        .position(|k| *k == key)
-                        .map_or(0.0, |i| rates[i])
+                    multiplier_rates
+                        .binary_search_by_key(&key, |(k, _)| *k)
+                        .map_or(0.0, |i| multiplier_rates[i].1)
                 }
             };
             outputs.push(OutputDerivative {
