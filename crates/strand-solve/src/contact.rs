@@ -247,12 +247,13 @@ impl Contact {
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
-        // A search beyond the solver's margin (a report's clearances) is a one-off: its
-        // features are searched afresh with no slack (the least list, the same gaps)
-        // and neither use nor replace the solve's kept lists.
+        // A search beyond the solver's margin (a report's clearances) or of some edges
+        // only (the rows near a sensitivity's active rows, at designs built once) is a
+        // one-off: its features are searched afresh with no slack (the least list, the
+        // same gaps) and neither use nor replace the solve's kept lists.
         let one_off = ProximityCache::default();
         let mut lists = self.proximity.incremental.then(|| {
-            if margin_m > self.margin_m {
+            if margin_m > self.margin_m || edges.is_some() {
                 one_off.begin(0.0)
             } else {
                 self.kept.begin(slack_m)

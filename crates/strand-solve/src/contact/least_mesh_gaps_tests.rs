@@ -159,7 +159,9 @@ fn the_rows_touching_a_few_unknowns_are_those_of_the_whole_listing() {
         all.len(),
         near.len()
     );
-    // The rod–rod rows are all listed; the mesh's only near the wanted unknowns.
+    // The rod–rod rows are all listed; the mesh's only near the wanted unknowns, each
+    // searched afresh (a one-off: no kept lists of earlier evaluations, as at the
+    // designs a sensitivity builds once) where the whole listing was the first too.
     assert!(near.len() <= all.len());
-    assert!(near_work * 10 < whole_work, "{near_work} vs {whole_work}");
+    assert!(near_work * 4 < whole_work, "{near_work} vs {whole_work}");
 }

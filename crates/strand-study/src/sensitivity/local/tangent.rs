@@ -57,6 +57,9 @@ pub struct LocalTangents<'a> {
     frames: Vec<[Option<UnitQuaternion<f64>>; 2]>,
     /// The base system, moved along a parameter's line and back for its model's part.
     system: System,
+    /// Per clearance of the plan, its rivals listed so far and the band (m) they were
+    /// listed within: a later parameter whose band is no wider reuses them.
+    rivals: Vec<Option<(f64, Vec<Gap>)>>,
 }
 
 /// The derivatives of a plan's readings with respect to one parameter.
@@ -105,6 +108,7 @@ impl<'a> LocalTangents<'a> {
             values,
             frames,
             system: system.clone(),
+            rivals: vec![None; plan.clearances.len()],
         })
     }
 
@@ -490,9 +494,10 @@ impl<'a> LocalTangents<'a> {
     /// [`strand_solve::contact::Contact::mesh_gaps_near_least`], within the band any
     /// feature's first-order change allows) comes within twice the first-order change
     /// of their difference (and [`PEAK_MARGIN`]) of it. Where the rivals cannot be
-    /// listed (a centreline touching the mesh), the place may move.
+    /// listed (a centreline touching the mesh), the place may move. The rivals are
+    /// listed again only for a band wider than any listed before (then twice as wide).
     fn clearance_rivals(
-        &self,
+        &mut self,
         step: f64,
         tangents: &[RodTangent],
         radius_rates: &[f64],
@@ -500,10 +505,11 @@ impl<'a> LocalTangents<'a> {
     ) -> Vec<bool> {
         let outer = 2.0 * step;
         let mut moving = vec![false; self.plan.clearances.len()];
-        let Some(super::PlanContact(contact)) = &self.plan.contact else {
+        let plan = self.plan;
+        let Some(super::PlanContact(contact)) = &plan.contact else {
             return moving;
         };
-        for (index, least) in self.plan.clearances.iter().enumerate() {
+        for (index, least) in plan.clearances.iter().enumerate() {
             let gap = &least.gap;
             let Obstacle::Mesh(mesh) = gap.with else {
                 continue;
@@ -518,17 +524,25 @@ impl<'a> LocalTangents<'a> {
                 + radius_rates[gap.rod].abs();
             let margin = PEAK_MARGIN * gap.gap;
             let band = 2.0 * outer * (fastest + rates[index].abs()) * (1.0 + 1e-9) + margin;
-            let Ok(rivals) = contact.mesh_gaps_near_least(
-                self.model,
-                self.base,
-                gap.rod,
-                mesh,
-                strand_report::CLEARANCE_SEARCH_M,
-                band,
-            ) else {
-                moving[index] = true;
-                continue;
-            };
+            let listed = self.rivals[index]
+                .as_ref()
+                .is_some_and(|(within, _)| *within >= band);
+            if !listed {
+                let within = 2.0 * band;
+                let Ok(found) = contact.mesh_gaps_near_least(
+                    self.model,
+                    self.base,
+                    gap.rod,
+                    mesh,
+                    strand_report::CLEARANCE_SEARCH_M,
+                    within,
+                ) else {
+                    moving[index] = true;
+                    continue;
+                };
+                self.rivals[index] = Some((within, found));
+            }
+            let (_, rivals) = self.rivals[index].as_ref().expect("listed");
             moving[index] = rivals.iter().any(|rival| {
                 let same = rival.edge == gap.edge
                     && rival.s.to_bits() == gap.s.to_bits()
