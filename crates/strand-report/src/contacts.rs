@@ -41,18 +41,40 @@ pub fn collect_contacts(
     Ok(())
 }
 
-/// Fills `doc.contacts` (see [`collect_contacts`]).
-fn collect_contact_list(
-    doc: &mut ResultDoc,
-    model: &Model,
-    solution: &Solution,
-    contact: &Contact,
-) -> Result<(), strand_solve::ConstraintError> {
-    doc.contacts = pressing_contacts(model, solution, contact)?
-        .into_iter()
-        .map(|(result, _)| result)
-        .collect();
-    Ok(())
+/// The contacts and the least clearances of a solution as `result.json` lists them
+/// (`doc.contacts`, `doc.clearance`), computed once: filled into a document
+/// ([`ContactOutputs::fill`]) and read by a sensitivity's local plan.
+#[derive(Clone, Debug)]
+pub struct ContactOutputs {
+    /// Every pair that carries a force, with its row key ([`pressing_contacts`]).
+    pub pressing: Vec<(ContactResult, RowKey)>,
+    /// The least gap of every rod and obstacle within [`CLEARANCE_SEARCH_M`]
+    /// ([`least_clearances`]).
+    pub clearances: Vec<LeastClearance>,
+}
+
+impl ContactOutputs {
+    /// The contacts and least clearances of `solution` of `model`.
+    pub fn of(
+        model: &Model,
+        solution: &Solution,
+        contact: &Contact,
+    ) -> Result<Self, strand_solve::ConstraintError> {
+        Ok(Self {
+            pressing: pressing_contacts(model, solution, contact)?,
+            clearances: least_clearances(model, &solution.state, contact, CLEARANCE_SEARCH_M)?,
+        })
+    }
+
+    /// Fills `doc.contacts` and `doc.clearance` (rods of `model`).
+    pub fn fill(&self, doc: &mut ResultDoc, model: &Model) {
+        doc.contacts = self
+            .pressing
+            .iter()
+            .map(|(result, _)| result.clone())
+            .collect();
+        doc.clearance = clearance_results(model, &self.clearances);
+    }
 }
 
 /// The contacts of `doc.contacts` ([`collect_contacts`]: every pair that carries a
@@ -115,8 +137,8 @@ pub fn collect_contact_outputs(
     solution: &Solution,
     contact: &Contact,
 ) -> Result<(), strand_solve::ConstraintError> {
-    collect_contact_list(doc, model, solution, contact)?;
-    pair_clearances(doc, model, solution, contact, CLEARANCE_SEARCH_M)
+    ContactOutputs::of(model, solution, contact)?.fill(doc, model);
+    Ok(())
 }
 
 /// Fills `doc.clearance`: per rod and obstacle (mesh or other rod), the smallest
@@ -149,14 +171,21 @@ fn pair_clearances(
     contact: &Contact,
     search_m: f64,
 ) -> Result<(), strand_solve::ConstraintError> {
+    let least = least_clearances(model, &solution.state, contact, search_m)?;
+    doc.clearance = clearance_results(model, &least);
+    Ok(())
+}
+
+/// `doc.clearance` of the least gaps `least` (rods of `model`).
+fn clearance_results(model: &Model, least: &[LeastClearance]) -> Vec<ClearanceResult> {
     let rods = &model.system().rods;
     let lengths: Vec<Vec<f64>> = rods.iter().map(|r| r.rod.arc_lengths()).collect();
     let arc = |rod: usize, edge: usize, s: f64| {
         let a = &lengths[rod];
         a[edge] + s * (a[edge + 1] - a[edge])
     };
-    doc.clearance = least_clearances(model, &solution.state, contact, search_m)?
-        .into_iter()
+    least
+        .iter()
         .map(|least| {
             let gap = &least.gap;
             let s_m = match gap.with {
@@ -166,12 +195,11 @@ fn pair_clearances(
             ClearanceResult {
                 rod: rods[least.rod].name.clone(),
                 distance_m: least.distance_m(),
-                with: least.with,
+                with: least.with.clone(),
                 s_m,
             }
         })
-        .collect();
-    Ok(())
+        .collect()
 }
 
 /// The least gap of one rod to one obstacle ([`least_clearances`]).

@@ -83,7 +83,7 @@ mod tests;
 pub use cad::{ExportUnit, tube_triangles, tubes_stl, tubes_stl_of};
 pub use clips::{AT_LIMIT_TOLERANCE, ClipResult, collect_clips};
 pub use contacts::{
-    CLEARANCE_SEARCH_M, LeastClearance, clearance_search_m, collect_clearances,
+    CLEARANCE_SEARCH_M, ContactOutputs, LeastClearance, clearance_search_m, collect_clearances,
     collect_contact_outputs, collect_contacts, least_clearances, pressing_contacts,
 };
 pub use csv::{CSV_HEADER, rod_csv};
@@ -121,7 +121,7 @@ pub use result::{
 };
 pub use sensitivity::{
     ARG_TIE, OutputValue, SensitivityDoc, SensitivityOutput, SensitivityParameter, design_outputs,
-    sensitivity_doc, ties,
+    sensitivity_doc, sensitivity_doc_from, ties,
 };
 pub use study::{
     ArcOrigin, STUDY_CSV_HEADER, StudyPeak, StudyRun, arc_origin, magnitude, study_csv, study_peaks,

@@ -19,7 +19,7 @@ use strand_solve::contact::Contact;
 use strand_system::Model;
 
 use crate::study::peak;
-use crate::{ResultDoc, Timing, bend_radii, collect, collect_contact_outputs, name_connectors};
+use crate::{ContactOutputs, ResultDoc, Timing, bend_radii, collect, name_connectors};
 
 /// One named output value of a result, with where a peak or minimum is attained.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,12 +42,32 @@ pub fn sensitivity_doc(
     contact: Option<&Contact>,
     connector_names: &[[Option<String>; 2]],
 ) -> Result<ResultDoc, strand_solve::ConstraintError> {
+    let contacts = contact
+        .map(|c| ContactOutputs::of(model, solution, c))
+        .transpose()?;
+    Ok(sensitivity_doc_from(
+        case,
+        model,
+        solution,
+        contacts.as_ref(),
+        connector_names,
+    ))
+}
+
+/// [`sensitivity_doc`] with its contacts and clearances already found (`contacts`).
+pub fn sensitivity_doc_from(
+    case: &str,
+    model: &Model,
+    solution: &Solution,
+    contacts: Option<&ContactOutputs>,
+    connector_names: &[[Option<String>; 2]],
+) -> ResultDoc {
     let mut doc = collect(case, model, solution, Timing::default());
-    if let Some(contact) = contact {
-        collect_contact_outputs(&mut doc, model, solution, contact)?;
+    if let Some(contacts) = contacts {
+        contacts.fill(&mut doc, model);
     }
     name_connectors(&mut doc, connector_names);
-    Ok(doc)
+    doc
 }
 
 /// Relative difference within which a peak's or minimum's value at another place

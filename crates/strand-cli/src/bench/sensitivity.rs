@@ -126,7 +126,7 @@ pub fn run(case: &Path, repeats: usize) -> Result<SensitivityBench, Box<dyn std:
         let base = design.build(&vec![0.0; params.len()])?;
         // As `output_table` plans them (clearances and contact forces read exactly).
         let local =
-            LocalOutputs::plan_exact(&base, &solution, &outputs_at(&base, &solution, None)?);
+            LocalOutputs::plan_exact(&base, &solution, &outputs_at(&base, &solution, None)?, None);
         last = Some((
             solution.report.iterations,
             table.outputs.len(),

@@ -19,10 +19,7 @@ mod tangent;
 
 use nalgebra::{UnitQuaternion, Vector3};
 use strand_case::DesignedCase;
-use strand_report::{
-    CLEARANCE_SEARCH_M, LeastClearance, OutputValue, least_clearances, magnitude,
-    pressing_contacts, ties,
-};
+use strand_report::{ContactOutputs, LeastClearance, OutputValue, magnitude, ties};
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::sectional_at;
 use strand_solve::RowKey;
@@ -115,30 +112,36 @@ impl LocalOutputs {
         if built.contact.is_some() {
             return None;
         }
-        Self::plan_exact(built, solution, outputs)
+        Self::plan_exact(built, solution, outputs, None)
     }
 
     /// [`LocalOutputs::plan`], also of a case with contact: its clearances and contact
     /// forces are read at the base only (each clearance from its least gap, each
-    /// contact force from its row's multiplier), so that the plan serves the exact
+    /// contact force from its row's multiplier: `contacts`, those the base's outputs
+    /// were read from, found here where not given), so that the plan serves the exact
     /// derivatives ([`LocalTangents`]) and nothing read along a path
     /// ([`LocalOutputs::reads_contacts`]).
     pub fn plan_exact(
         built: &DesignedCase,
         solution: &Solution,
         outputs: &[OutputValue],
+        contacts: Option<ContactOutputs>,
     ) -> Option<Self> {
         let model = &built.built.model;
         let system = model.system();
         if !system.clips.is_empty() {
             return None;
         }
-        let (clearances, contacts) = match &built.contact {
-            Some(contact) => (
-                least_clearances(model, &solution.state, contact, CLEARANCE_SEARCH_M).ok()?,
-                pressing_contacts(model, solution, contact).ok()?,
-            ),
-            None => (Vec::new(), Vec::new()),
+        let ContactOutputs {
+            pressing: contacts,
+            clearances,
+        } = match (contacts, &built.contact) {
+            (Some(found), _) => found,
+            (None, Some(contact)) => ContactOutputs::of(model, solution, contact).ok()?,
+            (None, None) => ContactOutputs {
+                pressing: Vec::new(),
+                clearances: Vec::new(),
+            },
         };
         let rod_clearances: Vec<Vec<usize>> = (0..system.rods.len())
             .map(|rod| {

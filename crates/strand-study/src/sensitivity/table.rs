@@ -4,7 +4,7 @@
 //! and what the optimiser's gradients are ([`crate::optimize`]).
 
 use strand_case::{CaseDesign, DesignedCase};
-use strand_report::{OutputValue, design_outputs, sensitivity_doc};
+use strand_report::{ContactOutputs, OutputValue, design_outputs, sensitivity_doc_from};
 use strand_solve::Solution;
 use strand_solve::sensitivity::{
     Design, PathRows, Sample, Sensitivities, SensitivityError, SensitivitySettings,
@@ -48,25 +48,39 @@ pub fn outputs_at(
     solution: &Solution,
     pins: Option<&[OutputValue]>,
 ) -> Result<Vec<OutputValue>> {
-    outputs_with(built, solution, pins, EnergyOutput::Included)
+    let contacts = contact_outputs(built, solution)?;
+    outputs_with(
+        built,
+        solution,
+        pins,
+        EnergyOutput::Included,
+        contacts.as_ref(),
+    )
 }
 
-/// [`outputs_at`] with the energy only where `energy` includes it.
+/// The contacts and least clearances of `built` at `solution` (`None` without
+/// contact).
+fn contact_outputs(built: &DesignedCase, solution: &Solution) -> Result<Option<ContactOutputs>> {
+    let b = &built.built;
+    built
+        .contact
+        .as_ref()
+        .map(|c| ContactOutputs::of(&b.model, solution, c))
+        .transpose()
+        .map_err(|e| StudyError::Io(format!("{}: contacts: {e}", b.origin)))
+}
+
+/// [`outputs_at`] with the energy only where `energy` includes it, and the contacts
+/// and least clearances `contacts` (those of `built` at `solution`).
 fn outputs_with(
     built: &DesignedCase,
     solution: &Solution,
     pins: Option<&[OutputValue]>,
     energy: EnergyOutput,
+    contacts: Option<&ContactOutputs>,
 ) -> Result<Vec<OutputValue>> {
     let b = &built.built;
-    let doc = sensitivity_doc(
-        &b.name,
-        &b.model,
-        solution,
-        built.contact.as_ref(),
-        &b.connector_names,
-    )
-    .map_err(|e| StudyError::Io(format!("{}: contacts: {e}", b.origin)))?;
+    let doc = sensitivity_doc_from(&b.name, &b.model, solution, contacts, &b.connector_names);
     let mut outputs = design_outputs(&doc, pins);
     if energy == EnergyOutput::Omitted {
         return Ok(outputs);
@@ -152,9 +166,13 @@ pub fn output_table_with(
     let count = design.parameter_count();
     let failed = |e: SensitivityError| StudyError::sensitivity(&design.case().origin, e);
     let base_built = design.build(&vec![0.0; count])?;
-    let outputs = outputs_with(&base_built, solution, None, energy)?;
+    // The base's contacts and least clearances, found once for its outputs and plan.
+    let base_contacts = contact_outputs(&base_built, solution)?;
+    let outputs = outputs_with(&base_built, solution, None, energy, base_contacts.as_ref())?;
     let plan = match evaluation {
-        OutputEvaluation::Local => LocalOutputs::plan_exact(&base_built, solution, &outputs),
+        OutputEvaluation::Local => {
+            LocalOutputs::plan_exact(&base_built, solution, &outputs, base_contacts)
+        }
         OutputEvaluation::LocalDifferences => LocalOutputs::plan(&base_built, solution, &outputs),
         OutputEvaluation::WholeTable => None,
     };
@@ -287,10 +305,12 @@ fn whole_table_samples(
     energy: EnergyOutput,
     failure: &mut Option<StudyError>,
 ) -> Vec<Sample> {
-    let here = outputs_with(built, at, Some(outputs), energy).unwrap_or_else(|e| {
-        *failure = Some(e);
-        Vec::new()
-    });
+    let here = contact_outputs(built, at)
+        .and_then(|contacts| outputs_with(built, at, Some(outputs), energy, contacts.as_ref()))
+        .unwrap_or_else(|e| {
+            *failure = Some(e);
+            Vec::new()
+        });
     outputs
         .iter()
         .enumerate()
