@@ -246,3 +246,51 @@ fn closed_form_right_hand_sides_evaluate_each_changed_element_once() {
         );
     }
 }
+
+/// With active contact rows the closed form takes the rows' part from the rows near
+/// the active ones at the model moved along the line, and none at all where the line
+/// moves nothing they read: it agrees with the differences of built designs on the
+/// contact cases and builds no design; it evaluates rows only for a connector whose
+/// held end is next to a contact (the groove's hose laid straight along the crease,
+/// touching both flanks from its first free vertex on), at `±h` and `±2h`.
+#[test]
+fn closed_form_right_hand_sides_match_the_differences_with_active_contact_rows() {
+    let evaluations = |case: &Case, parameters: Vec<DesignParameter>| {
+        let (exact, _) = exact_against_differences(case, parameters);
+        assert!(!exact.active.is_empty(), "{}: no contact", case.origin);
+        let designs: Vec<usize> = exact.parameters.iter().map(|p| p.rhs_designs).collect();
+        assert!(designs.iter().all(|&d| d == 0), "{designs:?}");
+        exact
+            .parameters
+            .iter()
+            .map(|p| p.rhs_row_evaluations)
+            .collect::<Vec<_>>()
+    };
+    // Hose 3 rests on its support far from its ends: no parameter moves its rows.
+    let contact = shipped("cooler_hose_contact.ron");
+    let parameters = vec![
+        param("rods.hose3.length", None, 1000.0),
+        param("connectors.engine_stub.position", Some(2), 1000.0),
+        param("junctions.tee.mass", None, 100.0),
+        param("gravity", Some(2), 10.0),
+    ];
+    assert_eq!(evaluations(&contact, parameters), vec![0; 4]);
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases/hose_in_groove.ron");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut straight = text.clone();
+    for (from, to) in [
+        ("(0, 0, 150)", "(0, 0, 14.1425)"),
+        ("(1000, 0, 150)", "(1000, 0, 14.1425)"),
+        ("length: 1060", "length: 1000.2"),
+    ] {
+        assert!(straight.contains(from), "{from}");
+        straight = straight.replace(from, to);
+    }
+    let straight = Case::from_str(&straight, &path.to_string_lossy()).unwrap();
+    let parameters = vec![
+        param("connectors.a.position", Some(2), 1000.0),
+        param("rods.hose.length", None, 1000.0),
+    ];
+    assert_eq!(evaluations(&straight, parameters), vec![4, 0]);
+}

@@ -215,6 +215,23 @@ pub trait Constraints: Sync {
         self.rows(model, state, out)
     }
 
+    /// Whether a row whose gradient touches only unknowns that `unknowns` flags may
+    /// differ at `(moved, moved_state)` from the same row at `(model, state)`, in value
+    /// or gradient, the unknowns being the same: `false` promises that such rows read
+    /// nothing the two differ in (a sensitivity's right-hand side then takes the
+    /// active rows' part along a parameter as zero without evaluating them). The
+    /// default, `true`, promises nothing.
+    fn rows_may_differ(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        moved: (&Model, &SystemState),
+        unknowns: &[bool],
+    ) -> bool {
+        let _ = (model, state, moved, unknowns);
+        true
+    }
+
     /// Checks a starting state: `Err` names where it violates a constraint (a hose that
     /// starts inside an obstacle).
     fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError>;

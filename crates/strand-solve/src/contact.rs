@@ -206,21 +206,25 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
         pairs: RodPairs,
-        edges: Option<&[Vec<bool>]>,
+        edges: Option<&EdgesTouching>,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
-        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs, edges)?;
+        let mesh_edges = edges.map(|e| &e.mesh[..]);
+        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs, mesh_edges)?;
         // Arc lengths once per evaluation, not per candidate pair.
         let exclusion = Exclusion::new(model, state);
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
             exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
         };
         let between_rods = match pairs {
-            RodPairs::LocalMinima => {
-                strand_contact::rod_rod_gaps_of(&rods, margin_m, exclude, edges)
-                    .map(rod_minima::local_minima)
-            }
+            RodPairs::LocalMinima => strand_contact::rod_rod_gaps_of(
+                &rods,
+                margin_m,
+                exclude,
+                edges.map(|e| &e.pairs[..]),
+            )
+            .map(rod_minima::local_minima),
             RodPairs::Least => strand_contact::rod_rod_clearances(&rods, margin_m, exclude),
         }
         .map_err(|e| describe_error(model, e))?;
@@ -247,13 +251,14 @@ impl Contact {
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
-        // A search beyond the solver's margin (a report's clearances) or of some edges
-        // only (the rows near a sensitivity's active rows, at designs built once) is a
-        // one-off: its features are searched afresh with no slack (the least list, the
-        // same gaps) and neither use nor replace the solve's kept lists.
+        // A search beyond the solver's margin (a report's clearances) is a one-off: its
+        // features are searched afresh with no slack (the least list, the same gaps)
+        // and neither use nor replace the solve's kept lists. A search of some edges
+        // only (the rows near a sensitivity's active rows, at states near the base)
+        // keeps and reuses lists like a solve's iterates: the same gaps either way.
         let one_off = ProximityCache::default();
         let mut lists = self.proximity.incremental.then(|| {
-            if margin_m > self.margin_m || edges.is_some() {
+            if margin_m > self.margin_m {
                 one_off.begin(0.0)
             } else {
                 self.kept.begin(slack_m)
@@ -490,6 +495,75 @@ impl Constraints for Contact {
         Ok(())
     }
 
+    /// A contact row reads the positions of the vertices of its edges (held ones
+    /// included) and the rods' outer radii, and the geometry that carries a held or
+    /// clipped vertex (the bodies' poses and ports, the clips); the meshes are the
+    /// contact's own. So only a moved vertex next to a flagged one (a row of an edge
+    /// with a held end touches only its other end's unknowns) or next to another
+    /// vertex without unknowns (an edge whose row touches only its partner's) can
+    /// move a flagged row; anything else moved may move any. (The exclusion of near
+    /// rod–rod pairs reads the reference lengths too, but only to list a pair, not
+    /// for its row.)
+    fn rows_may_differ(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        (moved, moved_state): (&Model, &SystemState),
+        unknowns: &[bool],
+    ) -> bool {
+        let (a, b) = (model.system(), moved.system());
+        let radii = |s: &strand_system::System| {
+            s.rods
+                .iter()
+                .map(|r| r.rod.section().outer_radius)
+                .collect::<Vec<_>>()
+        };
+        let same_bodies = a.bodies.len() == b.bodies.len()
+            && a.bodies
+                .iter()
+                .zip(&b.bodies)
+                .all(|(x, y)| x.pose == y.pose && x.ports == y.ports && x.fixed == y.fixed);
+        if !(same_bodies
+            && a.clips == b.clips
+            && radii(a) == radii(b)
+            && state.bodies == moved_state.bodies
+            && state.clips == moved_state.clips
+            && state.rods.len() == moved_state.rods.len())
+        {
+            return true;
+        }
+        let dofs = model.dofs();
+        let flagged = |block: usize| unknowns[3 * block..3 * block + 3].iter().any(|&u| u);
+        for (r, (x, y)) in state.rods.iter().zip(&moved_state.rods).enumerate() {
+            if x.positions.len() != y.positions.len() {
+                return true;
+            }
+            for (j, _) in x
+                .positions
+                .iter()
+                .zip(&y.positions)
+                .enumerate()
+                .filter(|(_, (p, q))| p != q)
+            {
+                if dofs.vertex(r, j).is_some() {
+                    return true; // a vertex with unknowns of its own moved
+                }
+                let neighbours = [
+                    j.checked_sub(1),
+                    Some(j + 1).filter(|&k| k < x.positions.len()),
+                ];
+                for k in neighbours.into_iter().flatten() {
+                    match dofs.vertex(r, k) {
+                        Some(block) if flagged(block) => return true,
+                        Some(_) => {}
+                        None => return true, // an edge without unknowns of its own
+                    }
+                }
+            }
+        }
+        false
+    }
+
     fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError> {
         self.check_overlap(model, state)?;
         self.check_enclosed(model, state)
@@ -548,35 +622,49 @@ fn push_rows(model: &Model, state: &SystemState, gaps: Vec<(Gap, Tag)>, out: &mu
     }
 }
 
-/// Per rod, per edge: whether it is next to a vertex whose unknowns `unknowns` flags
-/// or which has none (held in space: a row's gradient has no part there, so a row of
-/// such an edge touches only its other vertices' unknowns); `None` where a flagged
-/// unknown is not a rod vertex's.
-fn edges_touching(model: &Model, unknowns: &[bool]) -> Option<Vec<Vec<bool>>> {
+/// The edges whose gaps may give rows touching only flagged unknowns
+/// ([`edges_touching`]), per rod, per edge.
+struct EdgesTouching {
+    /// Edges next to a vertex whose unknowns are flagged: a mesh row touches the
+    /// unknowns of every vertex of its edge with a weight (a held vertex has none, and
+    /// a row with no unknowns at all is not made), so only these can give one.
+    mesh: Vec<Vec<bool>>,
+    /// Those and the edges next to a vertex with no unknowns of its own (held in
+    /// space, or carried by a body or a clip): a rod–rod pair is searched from its
+    /// lower edge, whose point may sit on such a vertex with the row touching only the
+    /// partner's unknowns.
+    pairs: Vec<Vec<bool>>,
+}
+
+/// The edges next to the rod vertices whose unknowns `unknowns` flags or which have
+/// none; `None` where a flagged unknown is not a rod vertex's.
+fn edges_touching(model: &Model, unknowns: &[bool]) -> Option<EdgesTouching> {
     let dofs = model.dofs();
     let mut claimed = vec![false; unknowns.len()];
-    let mut edges: Vec<Vec<bool>> = Vec::with_capacity(model.system().rods.len());
+    let rods = model.system().rods.len();
+    let (mut mesh, mut pairs) = (Vec::with_capacity(rods), Vec::with_capacity(rods));
     for (r, spec) in model.system().rods.iter().enumerate() {
         let n = spec.rod.segments();
-        let mut marked = vec![false; n];
+        let (mut by_mesh, mut by_pair) = (vec![false; n], vec![false; n]);
         for j in 0..=n {
-            let touched = match dofs.vertex(r, j) {
+            let (flagged, held) = match dofs.vertex(r, j) {
                 Some(block) => {
                     let range = 3 * block..3 * block + 3;
                     claimed[range.clone()].iter_mut().for_each(|c| *c = true);
-                    unknowns[range].iter().any(|&u| u)
+                    (unknowns[range].iter().any(|&u| u), false)
                 }
-                None => true,
+                None => (false, true),
             };
-            if touched {
-                marked[j.saturating_sub(1)] = true;
-                marked[j.min(n - 1)] = true;
+            for e in [j.saturating_sub(1), j.min(n - 1)] {
+                by_mesh[e] |= flagged;
+                by_pair[e] |= flagged || held;
             }
         }
-        edges.push(marked);
+        mesh.push(by_mesh);
+        pairs.push(by_pair);
     }
     let all_claimed = unknowns.iter().zip(&claimed).all(|(&u, &c)| !u || c);
-    all_claimed.then_some(edges)
+    all_claimed.then_some(EdgesTouching { mesh, pairs })
 }
 
 /// The gaps without their tags.

@@ -189,21 +189,35 @@ pub(crate) fn residual_difference<B: Designed>(
         plus.built
             .model()
             .gradient_difference(&plus.state, minus.built.model(), &minus.state);
-    let mut gradient = difference.gradient;
+    let mut kkt = rows_difference(
+        (&plus.rows, &minus.rows),
+        active,
+        mu,
+        difference.gradient,
+        parameter,
+    )?;
+    gauge.fix_vector(&mut kkt.gradient);
+    Ok((kkt, difference.elements))
+}
+
+/// The active rows' part of `Φ(plus) − Φ(minus)` added to `gradient` (the energy
+/// gradients' difference, or zeros): `−Σ μ_i (a_i⁺ − a_i⁻)` and `c_i⁺ − c_i⁻` of the
+/// `active` keys with multipliers `mu`, from the rows at the two points.
+pub(crate) fn rows_difference(
+    (plus, minus): (&[Row], &[Row]),
+    active: &[RowKey],
+    mu: &[f64],
+    mut gradient: Vec<f64>,
+    parameter: usize,
+) -> Result<Kkt, SensitivityError> {
+    fn find(rows: &[Row], key: RowKey, parameter: usize) -> Result<&Row, SensitivityError> {
+        rows.iter()
+            .find(|r| r.key == key)
+            .ok_or(SensitivityError::RowLost { parameter, key })
+    }
     let mut gaps = Vec::with_capacity(active.len());
     for (&key, &m) in active.iter().zip(mu) {
-        fn row<B>(
-            point: &Point<B>,
-            key: RowKey,
-            parameter: usize,
-        ) -> Result<&Row, SensitivityError> {
-            point
-                .rows
-                .iter()
-                .find(|r| r.key == key)
-                .ok_or(SensitivityError::RowLost { parameter, key })
-        }
-        let (a, b) = (row(plus, key, parameter)?, row(minus, key, parameter)?);
+        let (a, b) = (find(plus, key, parameter)?, find(minus, key, parameter)?);
         for &(k, g) in &a.gradient {
             gradient[k] -= m * g;
         }
@@ -212,8 +226,7 @@ pub(crate) fn residual_difference<B: Designed>(
         }
         gaps.push(a.value - b.value);
     }
-    gauge.fix_vector(&mut gradient);
-    Ok((Kkt { gradient, gaps }, difference.elements))
+    Ok(Kkt { gradient, gaps })
 }
 
 /// An [`Evaluation`] for the gradient alone: no storage for the Hessian's values

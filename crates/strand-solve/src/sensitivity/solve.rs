@@ -6,7 +6,7 @@ use super::kkt::{self, Kkt, Point, RowsAt};
 use super::schur::KktFactor;
 use super::{Design, Designed, ModelLine, SensitivityError, SensitivitySettings};
 use crate::Solution;
-use crate::constraints::RowKey;
+use crate::constraints::{Constraints, RowKey};
 use crate::gauge::Gauge;
 
 /// The derivative of the equilibrium with respect to one parameter.
@@ -38,6 +38,10 @@ pub struct ParameterSensitivity {
     /// the closed-form derivative along the model's line
     /// ([`SensitivitySettings::exact_right_hand_sides`]), else two per difference.
     pub rhs_designs: usize,
+    /// Evaluations of the constraint rows near the active ones for the closed-form
+    /// right-hand side's rows part: none where the line moves nothing the active rows
+    /// read ([`crate::Constraints::rows_may_differ`]), else two per difference.
+    pub rhs_row_evaluations: usize,
 }
 
 /// One parameter's right-hand side and its work.
@@ -47,6 +51,8 @@ struct RightHandSide {
     elements: usize,
     /// [`ParameterSensitivity::rhs_designs`].
     designs: usize,
+    /// [`ParameterSensitivity::rhs_row_evaluations`].
+    row_evaluations: usize,
 }
 
 /// Two copies of the base model and state, moved in place to `±h` along one
@@ -56,6 +62,29 @@ struct Scratch {
     minus: Model,
     plus_state: SystemState,
     minus_state: SystemState,
+}
+
+impl Scratch {
+    /// Moves the copies to `±t` along `line` (the models' real numbers, and `base`
+    /// with the supports of each placed); `t = 0` moves them back.
+    fn move_to(
+        &mut self,
+        line: &ModelLine<'_>,
+        base: &SystemState,
+        t: f64,
+    ) -> Result<(), strand_system::SystemError> {
+        let moved = &line.moved;
+        let at = |t: f64| move |k: usize| line.reals[k] + t * line.direction[k];
+        self.plus.set_reals_changed(moved, &at(t))?;
+        self.minus.set_reals_changed(moved, &at(-t))?;
+        if t != 0.0 {
+            self.plus_state.clone_from(base);
+            self.minus_state.clone_from(base);
+            self.plus.enforce_supports(&mut self.plus_state);
+            self.minus.enforce_supports(&mut self.minus_state);
+        }
+        Ok(())
+    }
 }
 
 /// Why a row is flagged: the active set is about to change there, so derivatives
@@ -222,7 +251,7 @@ impl Sensitivities {
         for j in 0..count {
             sides.push(this.right_hand_side_of(
                 design,
-                model,
+                (model, base.constraints()),
                 &solution.state,
                 j,
                 &mut scratch,
@@ -251,51 +280,57 @@ impl Sensitivities {
     }
 
     /// The right-hand side `∂Φ/∂p_j`: in closed form along the model's line
-    /// ([`SensitivitySettings::exact_right_hand_sides`], no active rows), else by
-    /// differences of designs built at `±h` (and `±2h`).
+    /// ([`SensitivitySettings::exact_right_hand_sides`]; the active rows' part by their
+    /// differences at the model moved along it, zero where it moves nothing they
+    /// read), else by differences of designs built at `±h` (and `±2h`). `base` is the
+    /// base design's model and constraints.
     fn right_hand_side_of<D: Design>(
         &self,
         design: &D,
-        model: &Model,
-        base: &SystemState,
+        base: (&Model, Option<&dyn Constraints>),
+        state: &SystemState,
         j: usize,
         scratch: &mut Option<Scratch>,
         settings: &SensitivitySettings,
     ) -> Result<RightHandSide, SensitivityError> {
+        let model = base.0;
         let h = settings.relative_step * design.step(j);
         let n = model.dofs().len();
         let richardson = settings.richardson && !design.enters_linearly(j);
-        let exact = if settings.exact_right_hand_sides && self.active.is_empty() {
+        let exact = if settings.exact_right_hand_sides {
             let line = design.model_line(j).map_err(|e| SensitivityError::Design {
                 parameter: j,
                 source: Box::new(e),
             })?;
             match line {
-                Some(line) => self.exact_right_hand_side(model, base, &line, j, h, scratch)?,
+                Some(line) => {
+                    let steps: &[f64] = if richardson { &[h, 2.0 * h] } else { &[h] };
+                    self.exact_right_hand_side(base, state, &line, j, steps, scratch)?
+                }
                 None => None,
             }
         } else {
             None
         };
-        let (rhs, elements, designs) = match exact {
-            Some((rhs, elements)) => (rhs, elements, 0),
+        Ok(match exact {
+            Some(side) => side,
             None => {
                 let (rhs, elements) = self.right_hand_side(
                     design,
-                    base,
+                    state,
                     j,
                     h,
                     n,
                     richardson,
                     settings.element_differences,
                 )?;
-                (rhs, elements, if richardson { 4 } else { 2 })
+                RightHandSide {
+                    rhs,
+                    elements,
+                    designs: if richardson { 4 } else { 2 },
+                    row_evaluations: 0,
+                }
             }
-        };
-        Ok(RightHandSide {
-            rhs,
-            elements,
-            designs,
         })
     }
 
@@ -320,6 +355,7 @@ impl Sensitivities {
             rhs,
             elements: rhs_elements,
             designs: rhs_designs,
+            row_evaluations: rhs_row_evaluations,
         } = side;
         let (mut v, mut w, first_hv) = first;
         let mut first_hv = Some(first_hv);
@@ -354,76 +390,156 @@ impl Sensitivities {
             refinements,
             rhs_elements,
             rhs_designs,
+            rhs_row_evaluations,
         })
     }
 
-    /// `∂Φ/∂p_j` in closed form along the model's line (no active rows: `Φ` is the
-    /// energy gradient): the base model and state moved in place to `±h` along it
-    /// (the scratch copies, moved back afterwards) give each changed element's change
-    /// of reference data and held vertices, [`Model::gradient_derivative`] the rest.
-    /// Also returns the elements evaluated; `None` where the line moves what the closed
-    /// forms do not carry (the caller then takes the differences).
+    /// `∂Φ/∂p_j` in closed form along the model's line: the base model and state
+    /// moved in place to `±h` along it (the scratch copies, moved back afterwards)
+    /// give each changed element's change of reference data and held vertices,
+    /// [`Model::gradient_derivative`] the rest; the active rows' part
+    /// ([`Sensitivities::rows_part`]) by the differences of steps `steps`. Also returns
+    /// the elements evaluated; `None` where the line moves what the closed forms do
+    /// not carry (the caller then takes the differences of built designs).
     fn exact_right_hand_side(
         &self,
-        model: &Model,
-        base: &SystemState,
+        base: (&Model, Option<&dyn Constraints>),
+        state: &SystemState,
         line: &ModelLine<'_>,
         j: usize,
-        h: f64,
+        steps: &[f64],
         scratch: &mut Option<Scratch>,
-    ) -> Result<Option<(Kkt, usize)>, SensitivityError> {
+    ) -> Result<Option<RightHandSide>, SensitivityError> {
+        let model = base.0;
         if line.reals.len() != line.direction.len() {
             return Ok(None);
         }
         let scratch = scratch.get_or_insert_with(|| Scratch {
             plus: model.clone(),
             minus: model.clone(),
-            plus_state: base.clone(),
-            minus_state: base.clone(),
+            plus_state: state.clone(),
+            minus_state: state.clone(),
         });
         let failed = |e: strand_system::SystemError| SensitivityError::Design {
             parameter: j,
             source: Box::new(e),
         };
-        let moved = &line.moved;
-        let at = |t: f64| move |k: usize| line.reals[k] + t * line.direction[k];
-        scratch
-            .plus
-            .set_reals_changed(moved, &at(h))
-            .map_err(failed)?;
-        scratch
-            .minus
-            .set_reals_changed(moved, &at(-h))
-            .map_err(failed)?;
-        scratch.plus_state.clone_from(base);
-        scratch.minus_state.clone_from(base);
-        scratch.plus.enforce_supports(&mut scratch.plus_state);
-        scratch.minus.enforce_supports(&mut scratch.minus_state);
+        let h = steps[0];
+        scratch.move_to(line, state, h).map_err(failed)?;
         let derivative = model.gradient_derivative(
-            base,
+            state,
             (&scratch.plus, &scratch.plus_state),
             (&scratch.minus, &scratch.minus_state),
             h,
         );
-        scratch
-            .plus
-            .set_reals_changed(moved, &at(0.0))
-            .map_err(failed)?;
-        scratch
-            .minus
-            .set_reals_changed(moved, &at(0.0))
-            .map_err(failed)?;
-        Ok(derivative.map(|d| {
-            let mut gradient = d.gradient;
-            self.gauge.fix_vector(&mut gradient);
-            (
-                Kkt {
-                    gradient,
-                    gaps: Vec::new(),
-                },
-                d.elements,
-            )
+        let rows = match &derivative {
+            Some(_) if !self.active.is_empty() => {
+                Some(self.rows_part(base, state, line, j, steps, scratch))
+            }
+            _ => None,
+        };
+        scratch.move_to(line, state, 0.0).map_err(failed)?;
+        let Some(d) = derivative else {
+            return Ok(None);
+        };
+        let mut gradient = d.gradient;
+        let (gaps, row_evaluations) = match rows.transpose()? {
+            Some((part, evaluations)) => {
+                gradient
+                    .iter_mut()
+                    .zip(&part.gradient)
+                    .for_each(|(g, r)| *g += r);
+                (part.gaps, evaluations)
+            }
+            None => (vec![0.0; self.active.len()], 0),
+        };
+        self.gauge.fix_vector(&mut gradient);
+        Ok(Some(RightHandSide {
+            rhs: Kkt { gradient, gaps },
+            elements: d.elements,
+            designs: 0,
+            row_evaluations,
         }))
+    }
+
+    /// The active rows' part of `∂Φ/∂p_j` along the model's line, `scratch` moved to
+    /// `±steps[0]`: `−Σ μ_i ∂a_i/∂p` and `∂c_i/∂p` at the base's unknowns. Zero where
+    /// neither side moves anything the rows read (joint stops, and
+    /// [`Constraints::rows_may_differ`]); else the rows near the active ones of the
+    /// base's constraints (the line's contract: the constraints do not move) at each
+    /// side, differenced at every step of `steps` (extrapolated where two). Also
+    /// returns the evaluations of rows it took.
+    fn rows_part(
+        &self,
+        base: (&Model, Option<&dyn Constraints>),
+        state: &SystemState,
+        line: &ModelLine<'_>,
+        j: usize,
+        steps: &[f64],
+        scratch: &mut Scratch,
+    ) -> Result<(Kkt, usize), SensitivityError> {
+        let (model, constraints) = base;
+        let n = model.dofs().len();
+        let moves = |moved: &Model, moved_state: &SystemState| {
+            let stops = |m: &Model| {
+                m.system()
+                    .clips
+                    .iter()
+                    .map(|c| c.limits)
+                    .collect::<Vec<_>>()
+            };
+            stops(model) != stops(moved)
+                || constraints.is_some_and(|c| {
+                    c.rows_may_differ(model, state, (moved, moved_state), &self.active_unknowns)
+                })
+        };
+        if !moves(&scratch.plus, &scratch.plus_state)
+            && !moves(&scratch.minus, &scratch.minus_state)
+        {
+            return Ok((
+                Kkt {
+                    gradient: vec![0.0; n],
+                    gaps: vec![0.0; self.active.len()],
+                },
+                0,
+            ));
+        }
+        let mut differences = Vec::with_capacity(steps.len());
+        for (k, &step) in steps.iter().enumerate() {
+            if k > 0 {
+                scratch
+                    .move_to(line, state, step)
+                    .map_err(|e| SensitivityError::Design {
+                        parameter: j,
+                        source: Box::new(e),
+                    })?;
+            }
+            let touching = Some(&self.active_unknowns[..]);
+            let plus = kkt::rows_at(&scratch.plus, constraints, &scratch.plus_state, j, touching)?;
+            let minus = kkt::rows_at(
+                &scratch.minus,
+                constraints,
+                &scratch.minus_state,
+                j,
+                touching,
+            )?;
+            let difference = kkt::rows_difference(
+                (&plus, &minus),
+                &self.active,
+                &self.multipliers,
+                vec![0.0; n],
+                j,
+            )?;
+            differences.push(difference.divided(2.0 * step));
+        }
+        let evaluations = 2 * steps.len();
+        Ok((
+            match differences.as_slice() {
+                [fine, coarse] => Kkt::richardson(fine, coarse),
+                _ => differences.swap_remove(0),
+            },
+            evaluations,
+        ))
     }
 
     /// The residual `J·(v, w) + rhs` of the linearised KKT system with the exact

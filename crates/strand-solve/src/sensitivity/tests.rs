@@ -6,14 +6,17 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::{Rod, Section};
 use strand_system::{End, Model, RodSpec, System, SystemState, initial_state};
 
-use super::{Design, Designed, PathRows, Sample, Sensitivities, SensitivitySettings};
+use super::{Design, Designed, ModelLine, PathRows, Sample, Sensitivities, SensitivitySettings};
 use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
 use crate::{Solution, SolverSettings, solve, solve_constrained};
 
-/// A floor `z ≥ height + radius` under every vertex, one row per vertex.
+/// A floor `z ≥ height + radius` under every vertex, one row per vertex; or, with
+/// `midpoints`, one row per edge at its midpoint (a row of the first edge reads the
+/// held start vertex).
 struct Floor {
     height_m: f64,
     radius_m: f64,
+    midpoints: bool,
 }
 
 impl Constraints for Floor {
@@ -24,6 +27,22 @@ impl Constraints for Floor {
         out: &mut Vec<Row>,
     ) -> Result<(), ConstraintError> {
         for (r, rod) in state.rods.iter().enumerate() {
+            if self.midpoints {
+                for (j, pair) in rod.positions.windows(2).enumerate() {
+                    let half = 0.5 * Vector3::z();
+                    let mut gradient = model.vertex_direction_gradient(state, r, j, &half);
+                    gradient.extend(model.vertex_direction_gradient(state, r, j + 1, &half));
+                    if !gradient.is_empty() {
+                        out.push(Row {
+                            key: RowKey::Contact((r * 10_000 + j) as u64),
+                            value: 0.5 * (pair[0].z + pair[1].z) - self.height_m - self.radius_m,
+                            gradient,
+                            curvature: None,
+                        });
+                    }
+                }
+                continue;
+            }
             for (j, p) in rod.positions.iter().enumerate() {
                 let gradient = model.vertex_direction_gradient(state, r, j, &Vector3::z());
                 if !gradient.is_empty() {
@@ -54,13 +73,56 @@ impl Constraints for Floor {
     }
 }
 
-/// A rod clamped at the origin along x; parameters: tip force z (N), length (m),
-/// gravity z (m/s²), floor height (m; a floor only when `floor` is set), the far end
-/// clamped at (0.8 + Δ, 0, 0) when `far_clamp`.
+/// A rod clamped at `(0, 0, h)` along x; parameters: tip force z (N), length (m),
+/// gravity z (m/s²), floor height (m; a floor only when `floor` is set), the start
+/// clamp's height `h` (m); the far end clamped at (0.8, 0, 0) when `far_clamp`.
 struct Bench {
-    base: [f64; 4],
+    base: [f64; 5],
     floor: bool,
     far_clamp: bool,
+    /// The floor's rows at the edges' midpoints ([`Floor`]).
+    midpoints: bool,
+    /// Per parameter, the line of the model's real numbers it moves along (the
+    /// base's and their change per unit, [`Design::model_line`]), where given.
+    lines: Vec<Option<(Vec<f64>, Vec<f64>)>>,
+}
+
+impl Bench {
+    fn new(base: [f64; 5], floor: bool, far_clamp: bool) -> Self {
+        Self {
+            base,
+            floor,
+            far_clamp,
+            midpoints: false,
+            lines: Vec::new(),
+        }
+    }
+
+    /// The same design with the lines of its parameters that move the model alone
+    /// (every one but the floor's height, which moves the constraints): their
+    /// right-hand sides take the closed form.
+    fn with_lines(mut self) -> Self {
+        let reals = |offsets: &[f64; 5]| self.build(offsets).unwrap().model.system().reals();
+        let base = reals(&[0.0; 5]);
+        let lines = (0..5)
+            .map(|j| {
+                (j != 3).then(|| {
+                    // A small offset (a rod's ends must stay reachable); the reals are
+                    // affine in every parameter but the floor's.
+                    let mut offsets = [0.0; 5];
+                    offsets[j] = 1e-3;
+                    let direction = reals(&offsets)
+                        .iter()
+                        .zip(&base)
+                        .map(|(a, b)| (a - b) / 1e-3)
+                        .collect();
+                    (base.clone(), direction)
+                })
+            })
+            .collect();
+        self.lines = lines;
+        self
+    }
 }
 
 struct Built {
@@ -81,10 +143,23 @@ impl Design for Bench {
     type Built = Built;
     type Error = strand_system::SystemError;
     fn parameter_count(&self) -> usize {
-        4
+        5
     }
     fn step(&self, parameter: usize) -> f64 {
-        [1.0, 1.0, 10.0, 0.1][parameter]
+        [1.0, 1.0, 10.0, 0.1, 0.1][parameter]
+    }
+    fn model_line(&self, parameter: usize) -> Result<Option<ModelLine<'_>>, Self::Error> {
+        Ok(self
+            .lines
+            .get(parameter)
+            .and_then(Option::as_ref)
+            .map(|(reals, direction)| ModelLine {
+                reals,
+                direction,
+                moved: (0..direction.len())
+                    .filter(|&k| direction[k] != 0.0)
+                    .collect(),
+            }))
     }
     fn build(&self, offsets: &[f64]) -> Result<Built, Self::Error> {
         let p: Vec<f64> = self.base.iter().zip(offsets).map(|(a, b)| a + b).collect();
@@ -101,7 +176,7 @@ impl Design for Bench {
             rods: vec![RodSpec {
                 name: "r".into(),
                 rod: Rod::try_straight(section, p[1], 12).unwrap(),
-                start: End::clamped(Vector3::zeros(), along_x),
+                start: End::clamped(Vector3::new(0.0, 0.0, p[4]), along_x),
                 end,
                 route: None,
             }],
@@ -112,6 +187,7 @@ impl Design for Bench {
         let floor = self.floor.then(|| Floor {
             height_m: p[3],
             radius_m: 0.0,
+            midpoints: self.midpoints,
         });
         Ok(Built { model, floor })
     }
@@ -153,7 +229,7 @@ fn outputs(_: &Built, solution: &Solution) -> Vec<Sample> {
 /// Compares the sensitivities of every output with central differences of full solves
 /// (step `fd` per parameter).
 fn check(design: &Bench, parameters: &[usize], fd: f64) {
-    let (_, base) = solve_at(design, &[0.0; 4], None);
+    let (_, base) = solve_at(design, &[0.0; 5], None);
     let s = Sensitivities::compute(design, &base, &SensitivitySettings::default()).unwrap();
     for &j in parameters {
         assert!(
@@ -166,7 +242,7 @@ fn check(design: &Bench, parameters: &[usize], fd: f64) {
             .unwrap();
         // Central differences of full solves at steps fd and 2 fd, extrapolated.
         let at = |t: f64| {
-            let mut offsets = [0.0; 4];
+            let mut offsets = [0.0; 5];
             offsets[j] = t;
             let (built, solution) = solve_at(design, &offsets, Some(base.state.clone()));
             outputs(&built, &solution)
@@ -189,11 +265,7 @@ fn check(design: &Bench, parameters: &[usize], fd: f64) {
 
 #[test]
 fn a_cantilever_s_shape_follows_its_tip_load_length_and_gravity_exactly() {
-    let design = Bench {
-        base: [-0.5, 0.8, -9.81, 0.0],
-        floor: false,
-        far_clamp: false,
-    };
+    let design = Bench::new([-0.5, 0.8, -9.81, 0.0, 0.0], false, false);
     check(&design, &[0, 1, 2], 1e-3);
 }
 
@@ -201,15 +273,48 @@ fn a_cantilever_s_shape_follows_its_tip_load_length_and_gravity_exactly() {
 fn a_rod_resting_on_a_floor_follows_the_floor_with_its_contact_forces() {
     // Clamped at both ends at z = 0, sagging under its weight and a load onto a floor
     // 5 mm below the clamps: the middle rests on the floor.
-    let design = Bench {
-        base: [-1.0, 0.8, -9.81, -0.005],
-        floor: true,
-        far_clamp: true,
-    };
-    let (_, base) = solve_at(&design, &[0.0; 4], None);
+    let design = Bench::new([-1.0, 0.8, -9.81, -0.005, -0.0049995], true, true);
+    let (_, base) = solve_at(&design, &[0.0; 5], None);
     let pressing = base.constraints.iter().filter(|(_, l)| *l > 0.0).count();
     assert!(pressing >= 1, "the rod must rest on the floor");
     check(&design, &[1, 2, 3], 1e-6);
+}
+
+/// The closed-form right-hand sides with active rows that read a held vertex: a rod
+/// clamped 0.5 µm above a floor whose rows sit at the edges' midpoints rests on it
+/// from its first edge on, so raising the clamp moves that row at the base's
+/// unknowns; its rows' part, from the rows at the model moved along the line (the
+/// floor promises nothing, so they are evaluated at `±h` and `±2h`), gives the
+/// derivatives of full solves with no design built. Likewise with the floor's rows
+/// at the vertices, where the first edge has none.
+#[test]
+fn closed_form_right_hand_sides_carry_active_rows_that_read_a_held_vertex() {
+    for midpoints in [true, false] {
+        let design = Bench {
+            midpoints,
+            ..Bench::new([-1.0, 0.8, -9.81, -0.005, -0.0049995], true, true)
+        }
+        .with_lines();
+        let (_, base) = solve_at(&design, &[0.0; 5], None);
+        let on_first_edge = base
+            .constraints
+            .iter()
+            .any(|(r, l)| r.key == RowKey::Contact(0) && *l > 0.0);
+        assert_eq!(
+            on_first_edge, midpoints,
+            "the first edge rests on the floor"
+        );
+        let s = Sensitivities::compute(&design, &base, &SensitivitySettings::default()).unwrap();
+        let designs: Vec<usize> = s.parameters.iter().map(|p| p.rhs_designs).collect();
+        let rows: Vec<usize> = s.parameters.iter().map(|p| p.rhs_row_evaluations).collect();
+        assert_eq!(
+            designs,
+            vec![0, 0, 0, 4, 0],
+            "only the floor's height builds designs"
+        );
+        assert_eq!(rows, vec![4, 4, 4, 0, 4]);
+        check(&design, &[1, 2, 4], 1e-6);
+    }
 }
 
 /// The KKT system's right-hand sides solved together ([`KktFactor::solve_all`], the
@@ -222,12 +327,8 @@ fn right_hand_sides_solved_together_equal_each_ones_own_solve_bit_for_bit() {
     use super::kkt::Kkt;
     use super::schur::KktFactor;
     use crate::gauge::Gauge;
-    let design = Bench {
-        base: [-1.0, 0.8, -9.81, -0.005],
-        floor: true,
-        far_clamp: true,
-    };
-    let (built, base) = solve_at(&design, &[0.0; 4], None);
+    let design = Bench::new([-1.0, 0.8, -9.81, -0.005, -0.0049995], true, true);
+    let (built, base) = solve_at(&design, &[0.0; 5], None);
     let model = &built.model;
     let active: Vec<&Row> = base
         .constraints
@@ -288,7 +389,7 @@ fn right_hand_sides_solved_together_equal_each_ones_own_solve_bit_for_bit() {
 #[test]
 fn the_solver_s_hessian_at_the_equilibrium_serves_the_sensitivities() {
     let keeping = |design: &Bench| {
-        let built = design.build(&[0.0; 4]).unwrap();
+        let built = design.build(&[0.0; 5]).unwrap();
         let settings = SolverSettings {
             tolerance_n: 1e-11,
             keep_hessian: true,
@@ -304,24 +405,13 @@ fn the_solver_s_hessian_at_the_equilibrium_serves_the_sensitivities() {
     };
     let settings = SensitivitySettings::default();
     for (design, parameters) in [
+        (Bench::new([-0.5, 0.8, -9.81, 0.0, 0.0], false, false), 0..3),
         (
-            Bench {
-                base: [-0.5, 0.8, -9.81, 0.0],
-                floor: false,
-                far_clamp: false,
-            },
-            0..3,
-        ),
-        (
-            Bench {
-                base: [-1.0, 0.8, -9.81, -0.005],
-                floor: true,
-                far_clamp: true,
-            },
+            Bench::new([-1.0, 0.8, -9.81, -0.005, -0.0049995], true, true),
             1..4,
         ),
     ] {
-        let (_, fresh) = solve_at(&design, &[0.0; 4], None);
+        let (_, fresh) = solve_at(&design, &[0.0; 5], None);
         assert!(fresh.hessian.is_none(), "kept only when asked for");
         let kept = keeping(&design);
         assert!(kept.hessian.is_some());
