@@ -93,10 +93,7 @@ pub fn pressing_contacts(
         a[edge] + s * (a[edge + 1] - a[edge])
     };
     let mut contacts = Vec::new();
-    for force in contact.forces(model, &solution.state, &solution.constraints)? {
-        if force.force_n <= 0.0 {
-            continue;
-        }
+    for force in contact.pressing_forces(model, &solution.state, &solution.constraints)? {
         let gap = &force.gap;
         let normal = gap.normal.into_inner();
         contacts.push((

@@ -268,10 +268,12 @@ impl Contact {
             let reach = geometry.radius + margin_m;
             for index in self.meshes_near(geometry.vertices, reach) {
                 let mesh = &self.meshes[index];
-                let only = match pairs {
-                    RodPairs::LocalMinima => edges.map(|edges| edges[rod].clone()),
+                // The least gaps: only the edges that may hold them, searched only as
+                // far as them.
+                let (only, margin_m) = match pairs {
+                    RodPairs::LocalMinima => (edges.map(|edges| edges[rod].clone()), margin_m),
                     RodPairs::Least => match Self::least_gap_edges(mesh, geometry, reach) {
-                        Some(edges) => Some(edges),
+                        Some((edges, within)) => (Some(edges), within - geometry.radius),
                         None => continue,
                     },
                 };
@@ -301,27 +303,51 @@ impl Contact {
         constraints: &[(Row, f64)],
     ) -> Result<Vec<ContactForce>, ConstraintError> {
         let gaps = self.tagged_gaps(model, state, self.margin_m)?;
-        // Multipliers by key, looked up by bisection (not a scan per gap: thousands of
-        // rod–rod pairs at fine discretisations).
-        let mut by_key: Vec<(RowKey, f64)> =
-            constraints.iter().map(|(row, l)| (row.key, *l)).collect();
-        by_key.sort_by_key(|(k, _)| *k);
-        Ok(gaps
-            .into_iter()
-            .map(|(gap, tag)| {
-                let key = key_of(&gap, tag);
-                let force_n = by_key
-                    .binary_search_by_key(&key, |(k, _)| *k)
-                    .map_or(0.0, |i| by_key[i].1);
-                ContactForce { gap, force_n, key }
-            })
-            .collect())
+        Ok(with_forces(gaps, constraints))
+    }
+
+    /// The pairs of [`Contact::forces`] that carry a force (a positive multiplier in
+    /// `constraints`), in its order, with the same numbers: only the edges whose rows
+    /// may be those with a force are searched (next to the vertices those rows move,
+    /// as [`Constraints::rows_touching`] finds them), not every feature within the
+    /// margin.
+    pub fn pressing_forces(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        constraints: &[(Row, f64)],
+    ) -> Result<Vec<ContactForce>, ConstraintError> {
+        let mut unknowns = vec![false; model.dofs().len()];
+        let mut pressing = false;
+        for (row, _) in constraints.iter().filter(|(_, l)| *l > 0.0) {
+            pressing = true;
+            for &(k, _) in &row.gradient {
+                unknowns[k] = true;
+            }
+        }
+        if !pressing {
+            return Ok(Vec::new());
+        }
+        let gaps = match edges_touching(model, &unknowns) {
+            Some(edges) => self.gaps_of(
+                model,
+                state,
+                self.margin_m,
+                RodPairs::LocalMinima,
+                Some(&edges),
+            )?,
+            None => self.tagged_gaps(model, state, self.margin_m)?,
+        };
+        let mut forces = with_forces(gaps, constraints);
+        forces.retain(|f| f.force_n > 0.0);
+        Ok(forces)
     }
 
     /// The gaps of rod `rod` to mesh `mesh` within `band` (m) of the rod's least gap
     /// to it, among those within `margin_m` (m): the listing of [`Contact::gaps`] on
-    /// the edges that may hold them (the same gaps, with the same numbers), e.g. the
-    /// rivals of a least gap that may take its place when the rod moves.
+    /// the edges that may hold them (the same gaps, with the same numbers; farther
+    /// gaps of those edges may be left out), e.g. the rivals of a least gap that may
+    /// take its place when the rod moves.
     pub fn mesh_gaps_near_least(
         &self,
         model: &Model,
@@ -335,9 +361,11 @@ impl Contact {
         let rods = rod_geometries(model, &centrelines);
         let geometry = &rods[rod];
         let reach = geometry.radius + margin_m;
-        let Some(edges) = Self::edges_within(&self.meshes[mesh], geometry, reach, band) else {
+        let Some((edges, within)) = Self::edges_within(&self.meshes[mesh], geometry, reach, band)
+        else {
             return Ok(Vec::new());
         };
+        let margin_m = within - geometry.radius;
         let one_off = ProximityCache::default();
         let mut lists = self.proximity.incremental.then(|| one_off.begin(0.0));
         let mut gaps = Vec::new();
@@ -581,6 +609,24 @@ impl Constraints for Contact {
     ) -> Result<f64, ConstraintError> {
         Contact::advancement(self, model, state, target)
     }
+}
+
+/// Every gap of `gaps` with its force: the multiplier of its row's key in
+/// `constraints`, 0 for a pair without one.
+fn with_forces(gaps: Vec<(Gap, Tag)>, constraints: &[(Row, f64)]) -> Vec<ContactForce> {
+    // Multipliers by key, looked up by bisection (not a scan per gap: thousands of
+    // rod–rod pairs at fine discretisations).
+    let mut by_key: Vec<(RowKey, f64)> = constraints.iter().map(|(row, l)| (row.key, *l)).collect();
+    by_key.sort_by_key(|(k, _)| *k);
+    gaps.into_iter()
+        .map(|(gap, tag)| {
+            let key = key_of(&gap, tag);
+            let force_n = by_key
+                .binary_search_by_key(&key, |(k, _)| *k)
+                .map_or(0.0, |i| by_key[i].1);
+            ContactForce { gap, force_n, key }
+        })
+        .collect()
 }
 
 /// Appends the row of every gap of `gaps` whose point is not held fixed in space.

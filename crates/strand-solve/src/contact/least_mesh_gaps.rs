@@ -31,25 +31,30 @@ const BOUND_TO_DISTANCE: f64 = (16.0 / 15.0) * (1.0 + 1e-12);
 
 impl Contact {
     /// Per edge of `geometry`, whether it may hold the rod's least gap to `mesh`
-    /// within `reach` (m, centreline to surface); `None` where no edge is within
-    /// reach.
+    /// within `reach` (m, centreline to surface), and the reach that holds every gap
+    /// of those edges within [`LEAST_GAP_GUARD`] of the least ([`Contact::edges_within`]);
+    /// `None` where no edge is within reach.
     pub(super) fn least_gap_edges(
         mesh: &ObstacleMesh,
         geometry: &RodGeometry,
         reach: f64,
-    ) -> Option<Vec<bool>> {
+    ) -> Option<(Vec<bool>, f64)> {
         Self::edges_within(mesh, geometry, reach, 0.0)
     }
 
     /// Per edge of `geometry`, whether it may hold a gap to `mesh` within `band` (m)
     /// of the rod's least (and [`LEAST_GAP_GUARD`]), within `reach` (m, centreline to
-    /// surface); `None` where no edge is within reach.
+    /// surface); `None` where no edge is within reach. Also returns the reach (m,
+    /// centreline to surface, at most `reach`) within which those gaps lie: the
+    /// least distance, the band and twice the guard (a listing within it finds them
+    /// with the same numbers and leaves out the farther local contacts, whose
+    /// candidate triangles would cost a search of the whole reach).
     pub(super) fn edges_within(
         mesh: &ObstacleMesh,
         geometry: &RodGeometry,
         reach: f64,
         band: f64,
-    ) -> Option<Vec<bool>> {
+    ) -> Option<(Vec<bool>, f64)> {
         let guard = LEAST_GAP_GUARD + band;
         let vertices = geometry.vertices;
         let edges = vertices.len().saturating_sub(1);
@@ -82,10 +87,11 @@ impl Contact {
             }
         }
         nearest.is_finite().then(|| {
-            distances
+            let marks = distances
                 .iter()
                 .map(|&distance| distance <= nearest + guard)
-                .collect()
+                .collect();
+            (marks, reach.min(nearest + guard + LEAST_GAP_GUARD))
         })
     }
 }

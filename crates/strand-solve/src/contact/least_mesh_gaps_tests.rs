@@ -135,15 +135,18 @@ fn the_rows_touching_a_few_unknowns_are_those_of_the_whole_listing() {
     contact.rows(&model, &state, &mut all).unwrap();
     let whole_work = total(query_work().since(&start));
     assert!(all.len() > 40, "{} rows", all.len());
-    // Every tenth row's unknowns, as the active rows' would be.
-    let wanted: Vec<&Row> = all.iter().step_by(10).collect();
+    // Every 25th row's unknowns, as the active rows' would be.
+    let wanted: Vec<&Row> = all.iter().step_by(25).collect();
     let mut unknowns = vec![false; model.dofs().len()];
     for row in &wanted {
         row.gradient.iter().for_each(|&(k, _)| unknowns[k] = true);
     }
+    // A contact of its own, so that the near rows are searched afresh (as the whole
+    // listing was), not from the kept lists the whole listing left.
+    let fresh = Contact::new(self::meshes(20_000), 0.02);
     let start = query_work();
     let mut near: Vec<Row> = Vec::new();
-    contact
+    fresh
         .rows_touching(&model, &state, &unknowns, &mut near)
         .unwrap();
     let near_work = total(query_work().since(&start));
@@ -159,9 +162,55 @@ fn the_rows_touching_a_few_unknowns_are_those_of_the_whole_listing() {
         all.len(),
         near.len()
     );
-    // The rod–rod rows are all listed; the mesh's only near the wanted unknowns, each
-    // searched afresh (a one-off: no kept lists of earlier evaluations, as at the
-    // designs a sensitivity builds once) where the whole listing was the first too.
+    // The mesh's rows only near the wanted unknowns, each searched afresh where the
+    // whole listing was the first too.
     assert!(near.len() <= all.len());
     assert!(near_work * 4 < whole_work, "{near_work} vs {whole_work}");
+}
+
+/// The pairs that carry a force ([`Contact::pressing_forces`]: only the edges next to
+/// the vertices their rows move are searched) are those of the whole listing
+/// ([`Contact::forces`]) with a force, in its order, bit for bit, for a fraction of
+/// its work; with no force, none (and no search).
+#[test]
+fn the_pressing_pairs_are_the_whole_listing_s_pairs_with_a_force() {
+    let contact = Contact::new(meshes(20_000), 0.02);
+    let total = |w: QueryWork| w.bvh_nodes + w.box_tests + w.exact_tests;
+    let model = straight_rod(300, 0.0);
+    let state = bent(&model, 0.002, 0.5);
+    let mut rows: Vec<Row> = Vec::new();
+    contact.rows(&model, &state, &mut rows).unwrap();
+    // Every 25th row presses, with a force of its own.
+    let constraints: Vec<(Row, f64)> = rows
+        .into_iter()
+        .enumerate()
+        .map(|(i, row)| (row, if i % 25 == 0 { 1.0 + i as f64 } else { 0.0 }))
+        .collect();
+    let measured = |contact: &Contact, pressing: bool| {
+        let start = query_work();
+        let forces = if pressing {
+            contact.pressing_forces(&model, &state, &constraints)
+        } else {
+            contact.forces(&model, &state, &constraints)
+        };
+        (forces.unwrap(), total(query_work().since(&start)))
+    };
+    let (mut whole, whole_work) = measured(&Contact::new(meshes(20_000), 0.02), false);
+    whole.retain(|f| f.force_n > 0.0);
+    let (pressing, pressing_work) = measured(&Contact::new(meshes(20_000), 0.02), true);
+    assert!(whole.len() > 8, "{} pressing pairs", whole.len());
+    assert_eq!(pressing, whole);
+    println!(
+        "{} pressing pairs; work {whole_work} whole, {pressing_work} pressing",
+        whole.len()
+    );
+    assert!(
+        pressing_work * 4 < whole_work,
+        "{pressing_work} vs {whole_work}"
+    );
+    let open: Vec<(Row, f64)> = constraints.iter().map(|(r, _)| (r.clone(), 0.0)).collect();
+    let start = query_work();
+    let none = contact.pressing_forces(&model, &state, &open).unwrap();
+    assert!(none.is_empty());
+    assert_eq!(total(query_work().since(&start)), 0);
 }
