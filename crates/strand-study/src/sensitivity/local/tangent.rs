@@ -495,7 +495,11 @@ impl<'a> LocalTangents<'a> {
     /// feature's first-order change allows) comes within twice the first-order change
     /// of their difference (and [`PEAK_MARGIN`]) of it. Where the rivals cannot be
     /// listed (a centreline touching the mesh), the place may move. The rivals are
-    /// listed again only for a band wider than any listed before (then twice as wide).
+    /// listed again only for a band wider than any listed before, and then within eight
+    /// times the band asked for: a wider listing costs little more (the grid bounds of
+    /// every edge are the same work; only the edges within the band add), so most
+    /// clearances are listed once for all the parameters (cooler_hose_contact's ten:
+    /// 6 listings instead of 11 with twice the band).
     fn clearance_rivals(
         &mut self,
         step: f64,
@@ -528,7 +532,7 @@ impl<'a> LocalTangents<'a> {
                 .as_ref()
                 .is_some_and(|(within, _)| *within >= band);
             if !listed {
-                let within = 2.0 * band;
+                let within = 8.0 * band;
                 let Ok(found) = contact.mesh_gaps_near_least(
                     self.model,
                     self.base,
