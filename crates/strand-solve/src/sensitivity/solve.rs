@@ -136,6 +136,9 @@ pub struct Sensitivities {
     /// Per unknown, whether an active row's gradient touches it: the rows a residual
     /// reads are found by searching near them ([`crate::Constraints::rows_touching`]).
     active_unknowns: Vec<bool>,
+    /// Whether an active row is curved ([`crate::constraints::Row::curvature`]): the
+    /// first solves then leave out a term of the Jacobian.
+    curved_rows: bool,
 }
 
 impl Sensitivities {
@@ -242,6 +245,7 @@ impl Sensitivities {
             parameters: Vec::with_capacity(count),
             gauge,
             active_unknowns,
+            curved_rows: active_rows.iter().any(|row| row.curvature.is_some()),
         };
         // Every right-hand side, then every first solve in one pass through the factor,
         // then their refinement checks' `H v` in one pass over the Hessian for eight
@@ -373,7 +377,15 @@ impl Sensitivities {
             } else {
                 break; // round-off reached
             }
-            if relative <= settings.refinement_tolerance || step == settings.max_refinements {
+            // The first solve is of the exact Jacobian unless an active row is curved
+            // (its curvature left out): then refine down to round-off (the
+            // tolerance's documentation).
+            let tolerance = if self.curved_rows {
+                0.0
+            } else {
+                settings.refinement_tolerance
+            };
+            if relative <= tolerance || step == settings.max_refinements {
                 break;
             }
             let (dv, dw) = factor.solve(&res);
@@ -543,7 +555,7 @@ impl Sensitivities {
     }
 
     /// The residual `J·(v, w) + rhs` of the linearised KKT system with the exact
-    /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`, and `H v`
+    /// Jacobian: `H v − Aᵀ w − Σ μ_i ∇²c_i v + rhs_g` and `A v + rhs_c`, `H v`
     /// (the size of the force terms, [`relative_size`]; given as `hv`). Only the
     /// curvature of the active rows (zero for a flat contact or a joint stop) is taken
     /// by a difference, of the rows' gradients alone along `v` (no energy gradient, so
