@@ -527,11 +527,12 @@ impl Constraints for Contact {
     /// included) and the rods' outer radii, and the geometry that carries a held or
     /// clipped vertex (the bodies' poses and ports, the clips); the meshes are the
     /// contact's own. So only a moved vertex next to a flagged one (a row of an edge
-    /// with a held end touches only its other end's unknowns) or next to another
-    /// vertex without unknowns (an edge whose row touches only its partner's) can
-    /// move a flagged row; anything else moved may move any. (The exclusion of near
-    /// rod–rod pairs reads the reference lengths too, but only to list a pair, not
-    /// for its row.)
+    /// with a held end touches only its other end's unknowns), next to another
+    /// vertex without unknowns (an edge whose row touches only its partner's), or
+    /// within a rod–rod row's reach of a flagged vertex (a pair whose point sits on
+    /// the moved vertex touches only its partner's unknowns) can move a flagged row;
+    /// anything else moved may move any. (The exclusion of near rod–rod pairs reads
+    /// the reference lengths too, but only to list a pair, not for its row.)
     fn rows_may_differ(
         &self,
         model: &Model,
@@ -562,6 +563,22 @@ impl Constraints for Contact {
         }
         let dofs = model.dofs();
         let flagged = |block: usize| unknowns[3 * block..3 * block + 3].iter().any(|&u| u);
+        // The flagged vertices' positions and how far a rod–rod row reaches from a
+        // point to its partner edge's vertices (margin, both radii, an edge).
+        let mut flagged_points = Vec::new();
+        let mut longest_edge: f64 = 0.0;
+        for (r, rod) in state.rods.iter().enumerate() {
+            for (j, p) in rod.positions.iter().enumerate() {
+                if dofs.vertex(r, j).is_some_and(flagged) {
+                    flagged_points.push(*p);
+                }
+            }
+            for pair in rod.positions.windows(2) {
+                longest_edge = longest_edge.max((pair[1] - pair[0]).norm());
+            }
+        }
+        let largest_radius = radii(a).into_iter().fold(0.0, f64::max);
+        let pair_reach = self.margin_m + 2.0 * largest_radius + longest_edge;
         for (r, (x, y)) in state.rods.iter().zip(&moved_state.rods).enumerate() {
             if x.positions.len() != y.positions.len() {
                 return true;
@@ -586,6 +603,13 @@ impl Constraints for Contact {
                         Some(_) => {}
                         None => return true, // an edge without unknowns of its own
                     }
+                }
+                let near = |p: &Vector3<f64>| {
+                    (p - x.positions[j]).norm() <= pair_reach
+                        || (p - y.positions[j]).norm() <= pair_reach
+                };
+                if flagged_points.iter().any(near) {
+                    return true;
                 }
             }
         }
