@@ -869,6 +869,32 @@ fn clearance_with_a_moved(dir: &Path, case: &Case, dz_mm: f64, with: &str) -> (f
     )
 }
 
+/// Output `name` of `strand sensitivity` of `case` (written into `dir`) with respect to
+/// connector `a`'s height: its entry of `sensitivity.json`.
+fn sensitivity_to_a_z(dir: &Path, case: &Case, name: &str) -> serde_json::Value {
+    let ron_path = write_case(dir, case);
+    let out = dir.join("sensitivity");
+    let status = Command::new(binary())
+        .arg("sensitivity")
+        .arg(&ron_path)
+        .args(["--param", "a.position.z", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sensitivity.json")).unwrap())
+            .unwrap();
+    doc["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == name)
+        .unwrap_or_else(|| panic!("no output {name}"))
+        .clone()
+}
+
 /// `result.json` of `case` solved (in `dir`) with connector `a` raised by `dz_mm`.
 fn result_with_a_moved(dir: &Path, case: &Case, dz_mm: f64) -> serde_json::Value {
     let stem = "\"a\": (position: (";
@@ -911,26 +937,7 @@ fn result_with_a_moved(dir: &Path, case: &Case, dz_mm: f64) -> serde_json::Value
 fn a_clearance_whose_place_moves_within_the_steps_is_one_sided() {
     let tmp = tempfile::tempdir().unwrap();
     let case = replay(32, 35, (418, "groove90"));
-    let ron_path = write_case(tmp.path(), &case);
-    let out = tmp.path().join("sensitivity");
-    let status = Command::new(binary())
-        .arg("sensitivity")
-        .arg(&ron_path)
-        .args(["--param", "a.position.z", "--out"])
-        .arg(&out)
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("sensitivity.json")).unwrap())
-            .unwrap();
-    let output = doc["outputs"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|o| o["name"] == "cable.clearance_m.groove90")
-        .expect("the clearance to the groove");
+    let output = sensitivity_to_a_z(tmp.path(), &case, "cable.clearance_m.groove90");
     let exact = output["d"]["a.position.z"].as_f64().unwrap();
     let one_sided = output["one_sided"]
         .as_array()
@@ -963,26 +970,7 @@ fn a_clearance_whose_place_moves_within_the_steps_is_one_sided() {
 fn a_reaction_of_a_cable_pressed_into_a_groove_crease_matches_full_solves() {
     let tmp = tempfile::tempdir().unwrap();
     let case = replay(35, 8, (68, "groove60"));
-    let ron_path = write_case(tmp.path(), &case);
-    let out = tmp.path().join("sensitivity");
-    let status = Command::new(binary())
-        .arg("sensitivity")
-        .arg(&ron_path)
-        .args(["--param", "a.position.z", "--out"])
-        .arg(&out)
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("sensitivity.json")).unwrap())
-            .unwrap();
-    let exact = doc["outputs"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|o| o["name"] == "a.force_N.z")
-        .expect("connector a's reaction")["d"]["a.position.z"]
+    let exact = sensitivity_to_a_z(tmp.path(), &case, "a.force_N.z")["d"]["a.position.z"]
         .as_f64()
         .unwrap();
     let reaction = |dz: f64| {
