@@ -27,15 +27,19 @@
 //! pressed into a groove under axial compression), the factor of `H + ρ AᵀA`, the
 //! same system since `A dδ/dp` is prescribed — then refined
 //! against the exact directional derivative of `Φ` (the curvature of active contacts,
-//! `Σ μ_i ∇² c_i`, is the only difference between `K` and `H`): the result satisfies
-//! the linearised KKT system to the accuracy of that directional derivative.
+//! `Σ μ_i ∇² c_i`, is the only difference between `K` and `H`; with a curved active
+//! row down to round-off): the result satisfies the linearised KKT system to the
+//! accuracy of that directional derivative.
 //!
 //! **How `∂/∂p` is computed:** along a parameter that moves the model's real numbers
 //! affinely ([`Design::model_line`]: lengths, support positions, masses, loads,
-//! gravity, stiffnesses) and without active rows, in closed form: the derivative of
-//! each changed element's gradient with respect to its reference data and held
-//! vertices ([`Model::gradient_derivative`]), no design built
-//! ([`SensitivitySettings::exact_right_hand_sides`]). Otherwise by central differences of `Φ` in `p` at a fixed state
+//! gravity, stiffnesses), in closed form: the derivative of each changed element's
+//! gradient with respect to its reference data and held vertices
+//! ([`Model::gradient_derivative`]), no design built
+//! ([`SensitivitySettings::exact_right_hand_sides`]); the active rows' part is zero
+//! where the line moves nothing they read ([`crate::Constraints::rows_may_differ`]),
+//! else the differences of the base constraints' rows at the model moved along the
+//! line. Otherwise by central differences of `Φ` in `p` at a fixed state
 //! (a [`Design`] builds the model at `p ± h` and `p ± 2h` — a case design by moving its
 //! base model along the parameter where the model's numbers are affine in it, see
 //! `strand_case::CaseDesign`; the state keeps its unknowns, and the held vertices

@@ -57,8 +57,9 @@ pub struct SensitivitySettings {
     /// elements' gradients along it ([`strand_system::Model::gradient_derivative`]:
     /// no design built, one evaluation per element the parameter changes; default),
     /// or the differences of designs built at `±h`, `±2h` (the reference path). Active
-    /// contact or stop rows, and lines that move a body's geometry, a clip or a frame,
-    /// take the differences either way.
+    /// contact or stop rows add their part, zero where the line moves nothing they
+    /// read, else from the rows at the model moved along the line; lines that move a
+    /// body's geometry, a clip or a frame take the differences of designs either way.
     pub exact_right_hand_sides: bool,
 }
 
