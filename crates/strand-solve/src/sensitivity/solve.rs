@@ -139,6 +139,10 @@ pub struct Sensitivities {
     /// Whether an active row is curved ([`crate::constraints::Row::curvature`]): the
     /// first solves then leave out a term of the Jacobian.
     curved_rows: bool,
+    /// Whether every active row is flat in the unknowns (no curvature, and a gradient
+    /// on free vertices' positions only, whose chart is linear): its second
+    /// derivative is zero, and the refinement checks need not difference the rows.
+    flat_rows: bool,
 }
 
 impl Sensitivities {
@@ -246,6 +250,7 @@ impl Sensitivities {
             gauge,
             active_unknowns,
             curved_rows: active_rows.iter().any(|row| row.curvature.is_some()),
+            flat_rows: flat_rows(model, &active_rows),
         };
         // Every right-hand side, then every first solve in one pass through the factor,
         // then their refinement checks' `H v` in one pass over the Hessian for eight
@@ -586,7 +591,7 @@ impl Sensitivities {
             .zip(&rhs.gaps)
             .map(|(a, c)| a + c)
             .collect();
-        if !self.active.is_empty() {
+        if !self.active.is_empty() && !self.flat_rows {
             let model = built.model();
             let size = model.step_size(v);
             let largest = size.0.max(size.1);
@@ -700,6 +705,25 @@ impl Sensitivities {
         let point = kkt::point(design, j, &offsets, base, &delta, rows)?;
         Ok((point, delta, mu))
     }
+}
+
+/// Whether every row of `rows` has no curvature and a gradient on the positions of
+/// free vertices only (whose unknowns are the positions themselves): a row linear in
+/// the unknowns, as a contact on a face's inside (`Row::curvature` is `None` only
+/// where the solver takes the gap as flat).
+fn flat_rows(model: &Model, rows: &[&crate::constraints::Row]) -> bool {
+    let dofs = model.dofs();
+    let mut position = vec![false; dofs.len()];
+    for (r, spec) in model.system().rods.iter().enumerate() {
+        for j in 0..=spec.rod.segments() {
+            if let Some(block) = dofs.vertex(r, j) {
+                position[3 * block..3 * block + 3].fill(true);
+            }
+        }
+    }
+    rows.iter().all(|row| {
+        row.curvature.is_none() && row.gradient.iter().all(|&(k, _)| position[k])
+    })
 }
 
 /// Largest translation (m) or rotation (rad) of the difference step of the rows'
