@@ -721,9 +721,8 @@ fn flat_rows(model: &Model, rows: &[&crate::constraints::Row]) -> bool {
             }
         }
     }
-    rows.iter().all(|row| {
-        row.curvature.is_none() && row.gradient.iter().all(|&(k, _)| position[k])
-    })
+    rows.iter()
+        .all(|row| row.curvature.is_none() && row.gradient.iter().all(|&(k, _)| position[k]))
 }
 
 /// Largest translation (m) or rotation (rad) of the difference step of the rows'
