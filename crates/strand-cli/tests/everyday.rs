@@ -836,6 +836,23 @@ fn cables_creeping_along_a_groove_converge_with_open_rows_released() {
     }
 }
 
+/// Regression: `everyday_s39_013` (seed 39, a 6.9 mm cable, 136 segments, in a 60°
+/// groove) creeps along the groove under the held rows' pull: its fine level ran out of
+/// its 200 iterations, and the load continuation after it ended at 3.2 N (exit 3, 439
+/// iterations). The solver now goes on from where the direct attempt stopped with open
+/// rows released (setting `release_retry`): it converges (265 iterations). Without the
+/// retry it still ends exit 3, so the retry is what solves it.
+#[test]
+fn a_cable_creeping_along_a_groove_converges_on_a_retry_with_open_rows_released() {
+    let tmp = tempfile::tempdir().unwrap();
+    let case = replay(39, 13, (136, "groove60"));
+    assert_converges_clear(tmp.path(), &case);
+    let without = with_solver_settings(replay(39, 13, (136, "groove60")), "release_retry: false");
+    let outcome = solve_and_check(&binary(), tmp.path(), &without, Duration::from_secs(120));
+    println!("{}", outcome.row);
+    assert_eq!(outcome.exit, Some(3), "{}", outcome.row);
+}
+
 /// Regression: `everyday_s6_002` (seed 6, a thin 3.5 mm cable, 1817 segments, in a 90°
 /// groove). A coarse step limited by the advancement may stop with an edge's
 /// centreline on the groove's flank (its tube sunk by its whole radius), and from

@@ -271,6 +271,28 @@ impl<'m> Solver<'m> {
         let mut replaced_iterations = 0;
         let mut continuation_iterations = 0;
         let mut continuation_steps = 0;
+        if settings.release_retry
+            && self.constraints.is_some()
+            && settings.active_row_penalty
+            && !settings.release_open_rows
+            && !solution.report.converged
+            && !at_floor
+        {
+            // A cable creeping along a groove under the held rows' pull: go on from
+            // where the direct attempt stopped with the open rows released.
+            let released = SolverSettings {
+                release_open_rows: true,
+                ..settings.clone()
+            };
+            let retry = self.iterate(solution.state.clone(), &released);
+            continuation_steps += 1;
+            if retry.report.converged {
+                replaced_iterations += solution.report.fine_iterations;
+                solution = retry;
+            } else {
+                continuation_iterations += retry.report.iterations;
+            }
+        }
         if settings.load_continuation && !solution.report.converged && !at_floor {
             let ramped =
                 continuation::ramp(self.model, self.constraints, initial.clone(), settings)?;

@@ -56,9 +56,11 @@ pub struct SolveReport {
     pub coarse_iterations: usize,
     /// Steps of the continuation that produced this result (0: direct solve): load
     /// steps, or the softened and stiffening steps of the stiffness continuation
-    /// ([`crate::stiffness`]).
+    /// ([`crate::stiffness`]); a release retry
+    /// ([`crate::SolverSettings::release_retry`]) counts as one.
     pub continuation_steps: usize,
-    /// Newton iterations spent in the continuation's steps (load or stiffness).
+    /// Newton iterations spent in the continuation's steps (load or stiffness) and in
+    /// a release retry that did not converge (a converged one is the final solve).
     pub continuation_iterations: usize,
     /// Newton iterations spent leaving unstable equilibria (part of `iterations`; see
     /// [`crate::SolverSettings::escape_saddles`]).
