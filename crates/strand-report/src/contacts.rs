@@ -239,10 +239,21 @@ pub fn least_clearances(
     // The least gap of every pair of rods, not every pair of edges within the reach.
     let gaps = contact.clearances(model, state, search_m.max(CLEARANCE_SEARCH_M))?;
     let mut least: Vec<LeastClearance> = Vec::new();
+    // Where along `rod` a gap is (edge index plus the fraction along it).
+    let place = |gap: &Gap, partner: bool| match (partner, gap.with) {
+        (true, Obstacle::Rod { edge, t, .. }) => edge as f64 + t,
+        _ => gap.edge as f64 + gap.s,
+    };
     let mut record = |rod: usize, with: String, gap: &Gap, partner: bool| {
         let distance = gap.gap.max(0.0);
+        // Ties (several touching points, all at 0) go to the first along the rod, so
+        // that the rounding of their gaps does not choose.
+        let first = |entry: &LeastClearance| {
+            (entry.distance_m(), place(&entry.gap, entry.partner))
+                <= (distance, place(gap, partner))
+        };
         match least.iter_mut().find(|c| c.rod == rod && c.with == with) {
-            Some(entry) if entry.distance_m() <= distance => {}
+            Some(entry) if first(entry) => {}
             Some(entry) => {
                 entry.gap = *gap;
                 entry.partner = partner;

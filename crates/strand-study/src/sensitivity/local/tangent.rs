@@ -547,16 +547,16 @@ impl<'a> LocalTangents<'a> {
                 self.rivals[index] = Some((within, found));
             }
             let (_, rivals) = self.rivals[index].as_ref().expect("listed");
+            // Rates that differ by their rounding only (a rival and the least both
+            // held at contact, both rates zero but for rounding) cannot change places.
+            let rounding = RATE_ROUNDING * fastest;
             moving[index] = rivals.iter().any(|rival| {
                 let same = rival.edge == gap.edge
                     && rival.s.to_bits() == gap.s.to_bits()
                     && rival.gap.to_bits() == gap.gap.to_bits();
-                !same
-                    && rival.gap - gap.gap
-                        <= 2.0
-                            * outer
-                            * (gap_rate(rival, tangents, radius_rates) - rates[index]).abs()
-                            + margin
+                let apart = (gap_rate(rival, tangents, radius_rates) - rates[index]).abs();
+                let reach = 2.0 * outer * (apart - rounding).max(0.0) + margin;
+                !same && reach > 0.0 && rival.gap - gap.gap <= reach
             });
         }
         moving
@@ -585,6 +585,13 @@ impl<'a> LocalTangents<'a> {
         }
     }
 }
+
+/// The rounding of a gap's rate (m per unit of the parameter) relative to the fastest
+/// vertex's rate of its rod: rates within this of each other are equal for
+/// [`LocalTangents::clearance_rivals`] (a hose held at contact on
+/// `cooler_hose_contact`'s bracket: its gap's rate along hose 3's length came out
+/// 1.8e-18, where it is 0, once the solve's rows were made in another order).
+const RATE_ROUNDING: f64 = 1e-12;
 
 /// Which sectional quantity a peak reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
