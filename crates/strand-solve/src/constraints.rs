@@ -187,6 +187,19 @@ impl Row {
     }
 }
 
+/// A rod vertex of a feature whose rows [`Constraints::rows_leaving_far`] left out: the
+/// feature's gaps are all above `clearance_m`, so its rows cannot be active in a step
+/// that moves the vertex (to first order) by less than that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FarVertex {
+    /// Rod index.
+    pub rod: usize,
+    /// Vertex index along the rod.
+    pub vertex: usize,
+    /// A lower bound of the left-out rows' gaps, m.
+    pub clearance_m: f64,
+}
+
 /// Inequality constraints beyond joint limits (contact), evaluated at every iterate.
 pub trait Constraints: Sync {
     /// Appends the rows at `state`: the constraints that can become active within one
@@ -230,6 +243,23 @@ pub trait Constraints: Sync {
     ) -> bool {
         let _ = (model, state, moved, unknowns);
         true
+    }
+
+    /// [`Constraints::rows`] less the rows of features far from every obstacle: each
+    /// left-out feature's vertices are listed in `far` with a lower bound of its gaps.
+    /// A step that moves every listed vertex by less than its clearance satisfies the
+    /// left-out rows strictly (their linearisation changes by at most the move), so a
+    /// QP without them has the same solution; a caller checks that and asks for every
+    /// row otherwise. The default leaves nothing out.
+    fn rows_leaving_far(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        out: &mut Vec<Row>,
+        far: &mut Vec<FarVertex>,
+    ) -> Result<(), ConstraintError> {
+        let _ = far;
+        self.rows(model, state, out)
     }
 
     /// Checks a starting state: `Err` names where it violates a constraint (a hose that

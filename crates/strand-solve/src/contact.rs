@@ -12,7 +12,7 @@ use nalgebra::{Point3, Vector3};
 use strand_contact::{Gap, MeshIndex, Obstacle, ObstacleMesh, RodGeometry};
 use strand_system::{Model, SystemState};
 
-use crate::constraints::{ConstraintError, Constraints, Row, RowKey};
+use crate::constraints::{ConstraintError, Constraints, FarVertex, Row, RowKey};
 
 mod advance;
 mod curvature;
@@ -38,6 +38,13 @@ mod tests;
 use curvature::Feature;
 use exclusion::Exclusion;
 use proximity_cache::ProximityCache;
+
+/// A feature whose gaps to a mesh are all above this many search margins is left out
+/// of the rows of [`Constraints::rows_leaving_far`]: the solver checks that its step
+/// keeps the feature's vertices within that of where they are, so the rows would hold
+/// anyway. Measured on `cooler_hose_contact` (instructions of the solve, the same 12
+/// iterations): 0.1 / 0.25 / 0.5 margins.
+pub const FAR_MARGINS: f64 = 0.25;
 pub use proximity_cache::ProximitySettings;
 
 /// What tells the gaps of one rod feature (vertex or edge) against one obstacle
@@ -181,7 +188,7 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<Gap>, ConstraintError> {
-        untagged(self.gaps_of(model, state, margin_m, RodPairs::Least, None))
+        untagged(self.gaps_of(model, state, margin_m, RodPairs::Least, None, None))
     }
 
     /// [`Contact::gaps`] with the [`Tag`] that tells the gaps of one feature apart
@@ -192,14 +199,15 @@ impl Contact {
         state: &SystemState,
         margin_m: f64,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
-        self.gaps_of(model, state, margin_m, RodPairs::LocalMinima, None)
+        self.gaps_of(model, state, margin_m, RodPairs::LocalMinima, None, None)
     }
 
     /// The gaps to the meshes and the rod–rod gaps of `pairs` within `margin_m` (m);
     /// with `edges` (per rod, per edge), only the gaps to the meshes of the edges it
     /// marks and their vertices, and the rod–rod gaps whose own (lower) edge it marks
     /// (each kept or dropped as a local minimum among all of that edge's partners:
-    /// as without `edges`).
+    /// as without `edges`). With `far`, the mesh gaps of features far from the meshes
+    /// are left out and their vertices listed there ([`Constraints::rows_leaving_far`]).
     fn gaps_of(
         &self,
         model: &Model,
@@ -207,11 +215,12 @@ impl Contact {
         margin_m: f64,
         pairs: RodPairs,
         edges: Option<&EdgesTouching>,
+        far: Option<&mut Vec<FarVertex>>,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let centrelines = centrelines(state);
         let rods = rod_geometries(model, &centrelines);
         let mesh_edges = edges.map(|e| &e.mesh[..]);
-        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs, mesh_edges)?;
+        let mut gaps = self.mesh_part(model, &rods, margin_m, pairs, mesh_edges, far)?;
         // Arc lengths once per evaluation, not per candidate pair.
         let exclusion = Exclusion::new(model, state);
         let exclude = |rod_a: usize, edge_a: usize, rod_b: usize, edge_b: usize| {
@@ -248,6 +257,7 @@ impl Contact {
         margin_m: f64,
         pairs: RodPairs,
         edges: Option<&[Vec<bool>]>,
+        far: Option<&mut Vec<FarVertex>>,
     ) -> Result<Vec<(Gap, Tag)>, ConstraintError> {
         let mut gaps = Vec::new();
         let slack_m = self.proximity.slack_margins.max(0.0) * self.margin_m;
@@ -264,6 +274,10 @@ impl Contact {
                 self.kept.begin(slack_m)
             }
         });
+        // Far features are told apart by their kept lists, so only with those.
+        if let (Some(lists), Some(_)) = (lists.as_mut(), &far) {
+            lists.leave_far(FAR_MARGINS * self.margin_m);
+        }
         for (rod, geometry) in rods.iter().enumerate() {
             let reach = geometry.radius + margin_m;
             for index in self.meshes_near(geometry.vertices, reach) {
@@ -290,6 +304,9 @@ impl Contact {
                     &mut gaps,
                 )?;
             }
+        }
+        if let (Some(lists), Some(far)) = (lists.as_mut(), far) {
+            far.append(&mut lists.far_vertices());
         }
         Ok(gaps)
     }
@@ -335,6 +352,7 @@ impl Contact {
                 self.margin_m,
                 RodPairs::LocalMinima,
                 Some(&edges),
+                None,
             )?,
             None => self.tagged_gaps(model, state, self.margin_m)?,
         };
@@ -495,6 +513,32 @@ impl Constraints for Contact {
         Ok(())
     }
 
+    /// The rows of [`Contact::rows`] less those of the vertex spheres and edge capsules
+    /// whose kept candidate lists put them farther than [`FAR_MARGINS`] search margins
+    /// from a mesh beyond their radius (a lower bound from where they were last
+    /// searched and how far they moved since: no search), unless they are the
+    /// vertices of an edge whose rows are made (an edge's rows depend on its
+    /// vertices' contacts). Their vertices go to `far` with that bound where it is
+    /// within the margin (farther features make no rows at all).
+    fn rows_leaving_far(
+        &self,
+        model: &Model,
+        state: &SystemState,
+        out: &mut Vec<Row>,
+        far: &mut Vec<FarVertex>,
+    ) -> Result<(), ConstraintError> {
+        let gaps = self.gaps_of(
+            model,
+            state,
+            self.margin_m,
+            RodPairs::LocalMinima,
+            None,
+            Some(far),
+        )?;
+        push_rows(model, state, gaps, out);
+        Ok(())
+    }
+
     /// The rows of the gaps of the edges next to the rod vertices whose unknowns
     /// `unknowns` flags or which have none (held in space): the same rows, with the
     /// same numbers, as [`Contact::rows`] makes for them (`Contact::mesh_gaps` lists
@@ -518,6 +562,7 @@ impl Constraints for Contact {
             self.margin_m,
             RodPairs::LocalMinima,
             Some(&edges),
+            None,
         )?;
         push_rows(model, state, gaps, out);
         Ok(())

@@ -30,7 +30,9 @@ pub mod stability;
 pub mod stiffness;
 
 pub use activity::{Activity, activity};
-pub use constraints::{ConstraintError, Constraints, Row, RowKey, StartHint, limit_rows};
+pub use constraints::{
+    ConstraintError, Constraints, FarVertex, Row, RowKey, StartHint, limit_rows,
+};
 pub use iteration::ROUND_OFF_STALL;
 pub use linear::{PatternAnalysis, SparseCholesky};
 pub use newton::{Solver, solve, solve_constrained};

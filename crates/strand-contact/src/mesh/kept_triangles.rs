@@ -147,6 +147,21 @@ impl KeptTriangles {
         (p0 - self.from[0]).norm().max((p1 - self.from[1]).norm())
     }
 
+    /// A lower bound (m) of the distance from segment `[p0, p1]` (world) to the mesh,
+    /// however far it moved from where it was searched: at the search no triangle was
+    /// nearer than the nearest of the patches kept, nor than the reach plus the slack
+    /// (a patch farther than that was not kept), and no point of the segment moved by
+    /// more than [`KeptTriangles::moved_by`] since (distances are 1-Lipschitz).
+    pub fn distance_lower_bound(&self, p0: &Point3<f64>, p1: &Point3<f64>) -> f64 {
+        let searched = self
+            .patches
+            .iter()
+            .map(|p| p.distance)
+            .fold(self.reach + self.slack, f64::min);
+        // The exact distances' rounding (1e-16 of the coordinates) is far below this.
+        searched * (1.0 - 1e-12) - 1e-12 - self.moved_by(p0, p1)
+    }
+
     /// Whether the list serves segment `[p0, p1]` (world, m) for `reach` (m): neither
     /// end moved by more than the slack and the reach is not longer than searched.
     pub fn covers(&self, p0: &Point3<f64>, p1: &Point3<f64>, reach: f64) -> bool {

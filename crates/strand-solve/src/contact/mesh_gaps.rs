@@ -31,7 +31,9 @@ impl Contact {
     /// (incremental proximity, [`super::proximity_cache`]; the same gaps as a full
     /// search), else every search goes through the mesh's BVH. With `only`, just the
     /// edges it marks and their vertices are listed (in the same order, with the
-    /// same numbers).
+    /// same numbers). Where the lists leave far features out
+    /// ([`super::proximity_cache::Candidates::leave_far`]), those are skipped and their
+    /// vertices listed far.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn mesh_gaps(
         &self,
@@ -48,10 +50,20 @@ impl Contact {
         let reach = geometry.radius + margin_m;
         let vertices = geometry.vertices;
         let mut lists = lists.map(|l| l.of(rod, index, vertices.len()));
+        // Features far from the mesh, left out where the evaluation asks for that.
+        let far = lists
+            .as_mut()
+            .and_then(|l| l.far_features(vertices, geometry.radius, margin_m));
         let last_edge = vertices.len() - 2;
-        let edge_listed = |edge: usize| only.is_none_or(|only| only[edge]);
-        let vertex_listed =
-            |j: usize| (j > 0 && edge_listed(j - 1)) || (j <= last_edge && edge_listed(j));
+        let edge_listed = |edge: usize| {
+            only.is_none_or(|only| only[edge])
+                && far.as_ref().is_none_or(|f| f.edges[edge].is_none())
+        };
+        let vertex_listed = |j: usize| {
+            ((j > 0 && only.is_none_or(|only| only[j - 1]))
+                || (j <= last_edge && only.is_none_or(|only| only[j])))
+                && far.as_ref().is_none_or(|f| f.vertices[j].is_none())
+        };
         let touches = |point: &Point3<f64>| ConstraintError::CentrelineTouches {
             rod: model.system().rods[rod].name.clone(),
             what: format!("touches mesh '{}'", mesh.name()),

@@ -15,12 +15,20 @@
 //! or asks a longer reach, is searched again and keeps the new list. The mesh is
 //! rigid and fixed within one [`super::Contact`], and distances are measured in world
 //! coordinates, which a rigid placement preserves.
+//!
+//! **Far features.** A kept list also bounds its feature's distance from below however
+//! far it moved ([`KeptTriangles::distance_lower_bound`]): the solver's rows leave out
+//! the features more than [`super::FAR_MARGINS`] search margins clear of a mesh by that
+//! bound, without a search or a closest point ([`Candidates::leave_far`],
+//! `Constraints::rows_leaving_far`), and check each step against their clearances.
 
 use std::collections::HashMap;
 use std::sync::Mutex;
 
 use nalgebra::Point3;
 use strand_contact::{KeptTriangles, LocalContact, ObstacleMesh};
+
+use crate::constraints::FarVertex;
 
 /// How contact asks the meshes for the triangles near each rod feature.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,12 +93,34 @@ pub(super) struct Candidates<'a> {
     cache: &'a ProximityCache,
     kept: HashMap<(usize, usize), RodMeshLists>,
     slack_m: f64,
+    /// Leaving out the features farther than this (m) beyond their radius, with the
+    /// vertices of those left out ([`Candidates::leave_far`]).
+    far: Option<FarFeatures>,
+}
+
+/// The features an evaluation leaves out for being far from the meshes.
+struct FarFeatures {
+    /// Least clearance (m, beyond the rod's radius) of a feature left out.
+    beyond_m: f64,
+    /// The vertices of the features left out, with their clearances.
+    vertices: Vec<FarVertex>,
 }
 
 /// The lists of one rod near one mesh, for one evaluation.
 pub(super) struct FeatureLists<'a> {
     lists: &'a mut RodMeshLists,
     slack_m: f64,
+    rod: usize,
+    far: Option<&'a mut FarFeatures>,
+}
+
+/// Per vertex and per edge of a rod, the clearance (m) of those left out for being far
+/// from a mesh ([`FeatureLists::far_features`]).
+pub(super) struct FarMarks {
+    /// Per vertex: its clearance (m) where its sphere is left out.
+    pub(super) vertices: Vec<Option<f64>>,
+    /// Per edge: its clearance (m) where its capsule is left out.
+    pub(super) edges: Vec<Option<f64>>,
 }
 
 impl ProximityCache {
@@ -102,6 +132,7 @@ impl ProximityCache {
             cache: self,
             kept,
             slack_m,
+            far: None,
         }
     }
 }
@@ -115,7 +146,26 @@ impl Candidates<'_> {
         FeatureLists {
             lists,
             slack_m: self.slack_m,
+            rod,
+            far: self.far.as_mut(),
         }
+    }
+
+    /// Leaves out the features whose kept lists put them farther than `beyond_m` (m)
+    /// beyond their radius from a mesh ([`FeatureLists::far_features`]).
+    pub(super) fn leave_far(&mut self, beyond_m: f64) {
+        self.far = Some(FarFeatures {
+            beyond_m,
+            vertices: Vec::new(),
+        });
+    }
+
+    /// The vertices of the features left out so far, taken.
+    pub(super) fn far_vertices(&mut self) -> Vec<FarVertex> {
+        self.far
+            .as_mut()
+            .map(|far| std::mem::take(&mut far.vertices))
+            .unwrap_or_default()
     }
 }
 
@@ -142,6 +192,81 @@ impl FeatureLists<'_> {
             *slot = Some(mesh.keep_triangles_near(p0, p1, reach, self.slack_m));
         }
         slot.as_ref().expect("just kept")
+    }
+
+    /// The lower bound of the distance from vertex or edge `index` (`edge`) at segment
+    /// `[p0, p1]` (world, m) to `mesh` that its kept list gives however far it moved
+    /// ([`KeptTriangles::distance_lower_bound`]), without searching; `None` when it
+    /// has no list yet.
+    pub(super) fn distance_lower_bound(
+        &self,
+        edge: bool,
+        index: usize,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+    ) -> Option<f64> {
+        self.lists[2 * index + usize::from(edge)]
+            .as_ref()
+            .map(|kept| kept.distance_lower_bound(p0, p1))
+    }
+
+    /// With far features left out ([`Candidates::leave_far`]): per vertex and edge of
+    /// the rod (centreline `vertices`, m; `radius`, m), the clearance of those whose
+    /// kept list's lower bound ([`KeptTriangles::distance_lower_bound`]) is more than
+    /// the evaluation's `beyond_m` beyond the radius, except the vertices of an edge
+    /// that is not left out (its rows depend on its vertices' contacts). Those within
+    /// `margin_m` (m) of the mesh are listed as far vertices (an edge's at both of
+    /// them); farther ones make no rows at all. `None` when nothing is left out.
+    pub(super) fn far_features(
+        &mut self,
+        vertices: &[Point3<f64>],
+        radius: f64,
+        margin_m: f64,
+    ) -> Option<FarMarks> {
+        let beyond = self.far.as_ref()?.beyond_m;
+        let clearance = |bound: Option<f64>| bound.map(|b| b - radius).filter(|&c| c > beyond);
+        let mut marks = FarMarks {
+            vertices: (0..vertices.len())
+                .map(|j| {
+                    let p = &vertices[j];
+                    clearance(self.distance_lower_bound(false, j, p, p))
+                })
+                .collect(),
+            edges: vertices
+                .windows(2)
+                .enumerate()
+                .map(|(e, ab)| clearance(self.distance_lower_bound(true, e, &ab[0], &ab[1])))
+                .collect(),
+        };
+        for (e, edge) in marks.edges.iter().enumerate() {
+            if edge.is_none() {
+                marks.vertices[e] = None;
+                marks.vertices[e + 1] = None;
+            }
+        }
+        let far = self.far.as_mut().expect("checked above");
+        let rod = self.rod;
+        let mut list = |vertex: usize, clearance_m: f64| {
+            if clearance_m <= margin_m {
+                far.vertices.push(FarVertex {
+                    rod,
+                    vertex,
+                    clearance_m,
+                });
+            }
+        };
+        for (j, c) in marks.vertices.iter().enumerate() {
+            if let Some(c) = *c {
+                list(j, c);
+            }
+        }
+        for (e, c) in marks.edges.iter().enumerate() {
+            if let Some(c) = *c {
+                list(e, c);
+                list(e + 1, c);
+            }
+        }
+        Some(marks)
     }
 
     /// Lets vertex or edge `index` (`edge`) measure its patches from the triangles of

@@ -29,16 +29,17 @@ impl Iteration<'_> {
             *evaluated = true;
         }
         let energy = self.work.trial_eval.energy;
+        // Every row: the correction's QP is not checked against left-out ones.
         let mut rows = Vec::new();
-        if !self.collect_rows(trial, &mut rows) {
+        if !self.collect_all_rows(trial, &mut rows) {
             return energy;
         }
         let merit = energy + self.merit_weight * violation_of(&rows);
         let Some(relaxed) = self.relax_positions_on_rows(trial, &rows) else {
             return energy;
         };
-        let mut relaxed_rows = Vec::new();
-        if !self.collect_rows(&relaxed, &mut relaxed_rows) {
+        let (mut relaxed_rows, mut far) = (Vec::new(), Vec::new());
+        if !self.collect_rows(&relaxed, &mut relaxed_rows, &mut far) {
             return energy;
         }
         let relaxed_energy = self.model.energy(&relaxed);

@@ -6,7 +6,7 @@
 use strand_system::SystemState;
 
 use super::{Iteration, violation_of};
-use crate::constraints::{Row, RowKey};
+use crate::constraints::{FarVertex, Row, RowKey};
 use crate::linear::symmetric_product;
 use crate::report::Termination;
 
@@ -61,7 +61,7 @@ impl Iteration<'_> {
             .zip(&self.work.eval.gradient)
             .map(|(s, g)| s * g)
             .sum();
-        let newton_step = self.rows.is_empty() && self.work.model_gradient.is_none();
+        let newton_step = self.unconstrained() && self.work.model_gradient.is_none();
         let curvature =
             self.work
                 .step_curvature(self.model.pattern(), newton_step, self.damping, slope);
@@ -78,6 +78,7 @@ impl Iteration<'_> {
 
         let mut trial = self.state.clone();
         let mut trial_rows: Vec<Row> = Vec::new();
+        let mut trial_far: Vec<FarVertex> = Vec::new();
         let mut t = fits(self.radius);
         if self.work.model_gradient.is_some()
             && -(t * slope + 0.5 * t * t * curvature) + self.merit_weight * violation * t <= 0.0
@@ -124,7 +125,7 @@ impl Iteration<'_> {
             let turned = self.stiff && t * rotation > FOLLOW_TURN * self.valley_turn;
             let mixed = settings.mixed_newton && self.stiff;
             let mut energy = if full {
-                let with_hessian = !mixed || (turned && self.rows.is_empty());
+                let with_hessian = !mixed || (turned && self.unconstrained());
                 self.model
                     .evaluate(&trial, &mut self.work.trial_eval, with_hessian);
                 self.work.trial_eval.energy
@@ -139,7 +140,7 @@ impl Iteration<'_> {
             // tenth digit and costs two Hessians and a factorisation).
             let surprising = self.work.eval.energy - energy < settings.trust_ratio * model_decrease
                 && !within_noise(self.work.eval.energy, energy, model_decrease);
-            if self.rows.is_empty() {
+            if self.unconstrained() {
                 if full && surprising {
                     // The second-order correction: the remainder of the gradient at the
                     // trial beyond the model, solved with this iteration's factor.
@@ -168,7 +169,7 @@ impl Iteration<'_> {
                 energy = self.follow_on_rows(&mut trial, &mut evaluated);
                 factor_lost = true;
             }
-            let admissible = self.collect_rows(&trial, &mut trial_rows);
+            let admissible = self.collect_rows(&trial, &mut trial_rows, &mut trial_far);
             let trial_merit = if admissible {
                 energy + self.merit_weight * violation_of(&trial_rows)
             } else {
@@ -203,7 +204,7 @@ impl Iteration<'_> {
                     if !self.work.trial_eval.has_hessian {
                         self.model.evaluate(&trial, &mut self.work.trial_eval, true);
                     }
-                    self.accept(trial, trial_rows, t, 1.0, None);
+                    self.accept(trial, trial_rows, trial_far, t, 1.0, None);
                     return Ok(());
                 }
             }
@@ -219,12 +220,12 @@ impl Iteration<'_> {
             }
             if full
                 && !accepted
-                && !self.rows.is_empty()
+                && !self.unconstrained()
                 && trial_merit.is_finite()
                 && predicted > 0.0
                 && settings.constraint_correction
                 && (!factor_lost || self.refactor())
-                && let Some((corrected, corrected_rows, corrected_energy)) =
+                && let Some((corrected, corrected_rows, corrected_far, corrected_energy)) =
                     self.constraint_correction(&trial, &trial_rows, t)
             {
                 // The rows' second-order correction: the trial projected back onto the
@@ -246,6 +247,7 @@ impl Iteration<'_> {
                     self.accept(
                         corrected,
                         corrected_rows,
+                        corrected_far,
                         t,
                         corrected_achieved / predicted,
                         None,
@@ -302,7 +304,14 @@ impl Iteration<'_> {
                         } else {
                             1.0
                         };
-                        self.accept(bent, Vec::new(), t, ratio.min(1.0), Some(&combined));
+                        self.accept(
+                            bent,
+                            Vec::new(),
+                            Vec::new(),
+                            t,
+                            ratio.min(1.0),
+                            Some(&combined),
+                        );
                         return Ok(());
                     }
                     length *= 0.25;
@@ -310,7 +319,7 @@ impl Iteration<'_> {
             }
             if accepted {
                 let short = self.damping > 0.0;
-                if full && short && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
+                if full && short && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.unconstrained() {
                     // The model is exact and the step well inside the region (a damped
                     // step along negative curvature): extend it while the energy falls.
                     // An undamped step on a positive definite Hessian already ends at
@@ -349,7 +358,7 @@ impl Iteration<'_> {
                             self.follow(&mut trial, &mut e);
                         }
                         self.model.evaluate(&trial, &mut self.work.trial_eval, true);
-                        self.collect_rows(&trial, &mut trial_rows);
+                        self.collect_rows(&trial, &mut trial_rows, &mut trial_far);
                     }
                 }
                 // With mixed Newton, `accept` evaluates the trial itself (with the
@@ -362,7 +371,7 @@ impl Iteration<'_> {
                     Some(c) => curved_step(&self.work.step, t, c, (t / first_t).powi(2)),
                     None => self.work.step.iter().map(|d| t * d).collect(),
                 };
-                self.accept(trial, trial_rows, t, ratio, Some(&taken));
+                self.accept(trial, trial_rows, trial_far, t, ratio, Some(&taken));
                 return Ok(());
             }
             // Rejected: shrink the region (to at most a fraction of the tried step).
@@ -441,7 +450,7 @@ impl Iteration<'_> {
         trial: &SystemState,
         rows: &[Row],
         t: f64,
-    ) -> Option<(SystemState, Vec<Row>, f64)> {
+    ) -> Option<(SystemState, Vec<Row>, Vec<FarVertex>, f64)> {
         let held: Vec<usize> = (0..rows.len())
             .filter(|&i| self.multiplier(rows[i].key) > 0.0 || rows[i].value < 0.0)
             .collect();
@@ -457,12 +466,12 @@ impl Iteration<'_> {
             return None;
         }
         let state = self.model.retract(trial, &c);
-        let mut state_rows = Vec::new();
-        if !self.collect_rows(&state, &mut state_rows) {
+        let (mut state_rows, mut state_far) = (Vec::new(), Vec::new());
+        if !self.collect_rows(&state, &mut state_rows, &mut state_far) {
             return None;
         }
         let energy = self.model.energy(&state);
-        Some((state, state_rows, energy))
+        Some((state, state_rows, state_far, energy))
     }
 
     /// The quadratic model `gᵀp + ½ pᵀHp` (J) of the energy change along `p`.
@@ -539,6 +548,7 @@ impl Iteration<'_> {
         &mut self,
         trial: SystemState,
         rows: Vec<Row>,
+        far: Vec<FarVertex>,
         t: f64,
         ratio: f64,
         taken: Option<&[f64]>,
@@ -553,6 +563,7 @@ impl Iteration<'_> {
         };
         self.state = trial;
         self.rows = rows;
+        self.far = far;
         std::mem::swap(&mut self.work.eval, &mut self.work.trial_eval);
         match &stresses {
             Some(stresses) => self

@@ -30,6 +30,7 @@
 //!    classification of the returned state.
 
 mod curvature;
+mod far;
 mod floor;
 mod follow;
 mod globalise;
@@ -42,7 +43,7 @@ pub(crate) use stall::stalled_at_floor;
 
 use strand_system::{EdgeStresses, Evaluation, HessianPattern, Model, Residual, SystemState};
 
-use crate::constraints::{Constraints, Row, RowKey, limit_rows};
+use crate::constraints::{Constraints, FarVertex, Row, RowKey, limit_rows};
 use crate::gauge::Gauge;
 use crate::linear::symmetric_product;
 use crate::report::{Solution, SolveReport, Termination};
@@ -220,6 +221,9 @@ pub(crate) struct Iteration<'a> {
     /// Current iterate and its rows.
     state: SystemState,
     rows: Vec<Row>,
+    /// The vertices of the features far from the meshes whose rows `rows` leaves out
+    /// (see `far.rs`): empty when `rows` holds every row.
+    far: Vec<FarVertex>,
     /// Multipliers of the last step by key (sorted).
     multipliers: Vec<(RowKey, f64)>,
     /// Per row of the SQP model being stepped: the amount (N, or N·m for an angular
@@ -315,6 +319,7 @@ impl<'a> Iteration<'a> {
             work,
             state,
             rows: Vec::new(),
+            far: Vec::new(),
             multipliers: Vec::new(),
             penalty_shifts: Vec::new(),
             merit_weight: 0.0,
@@ -340,9 +345,10 @@ impl<'a> Iteration<'a> {
             ascent: false,
             plain_model: false,
         };
-        let mut rows = Vec::new();
-        iteration.collect_rows(&iteration.state.clone(), &mut rows);
+        let (mut rows, mut far) = (Vec::new(), Vec::new());
+        iteration.collect_rows(&iteration.state.clone(), &mut rows, &mut far);
         iteration.rows = rows;
+        iteration.far = far;
         iteration
     }
 
@@ -604,7 +610,7 @@ impl<'a> Iteration<'a> {
     /// `None` unless the Hessian was found indefinite and the direction's Rayleigh
     /// quotient is negative.
     fn negative_curvature(&mut self) -> Option<Vec<f64>> {
-        if !self.indefinite || !self.rows.is_empty() {
+        if !self.indefinite || !self.unconstrained() {
             return None;
         }
         let work = &mut *self.work;
@@ -640,29 +646,29 @@ impl<'a> Iteration<'a> {
         }
         work.gauge.fix_vector(&mut work.step);
         work.cholesky.solve_in_place(&mut work.step);
+        // Rows left out for far features hold if the step keeps their vertices within
+        // their clearances (see `far.rs`); else they are brought in and the QP solved
+        // again.
         if self.rows.is_empty() {
-            return Ok(());
+            let moved = self.far_moved(&self.work.step);
+            if moved.is_empty() {
+                return Ok(());
+            }
+            self.include_far_rows(Some(&moved))?;
+            if self.rows.is_empty() {
+                return Ok(());
+            }
         }
-        let hint: Vec<usize> = (0..self.rows.len())
-            .filter(|&i| {
-                self.multipliers
-                    .binary_search_by(|(k, _)| k.cmp(&self.rows[i].key))
-                    .is_ok()
-            })
-            .collect();
-        work.rhs.copy_from_slice(gradient);
-        work.gauge.fix_vector(&mut work.rhs);
-        let constrained = crate::sqp::constrained_step(
-            self.model.pattern(),
-            &work.damped,
-            &mut work.cholesky,
-            &work.rhs,
-            &self.rows,
-            &work.step,
-            &hint,
-        )
-        .map_err(|_| Termination::SubproblemFailed)?;
-        work.step.copy_from_slice(&constrained.step);
+        let mut constrained = self.constrained_step()?;
+        loop {
+            let moved = self.far_moved(&constrained.step);
+            if moved.is_empty() {
+                break;
+            }
+            self.include_far_rows(Some(&moved))?;
+            constrained = self.constrained_step()?;
+        }
+        self.work.step.copy_from_slice(&constrained.step);
         // A held row's multiplier in the penalised model falls short of the true one
         // by the pull the model leaves out (see `add_row_penalty`).
         let shifts = &self.penalty_shifts;
@@ -681,15 +687,74 @@ impl<'a> Iteration<'a> {
         Ok(())
     }
 
-    /// Rows at `state`: joint limits and (if any) contact. `false` when the state is not
-    /// admissible (a centreline through an obstacle).
-    fn collect_rows(&self, state: &SystemState, rows: &mut Vec<Row>) -> bool {
+    /// The QP of the linearised rows with the damped model's factor, from the Newton
+    /// step in `work.step` (left as it is).
+    fn constrained_step(&mut self) -> Result<crate::sqp::ConstrainedStep, Termination> {
+        let hint: Vec<usize> = (0..self.rows.len())
+            .filter(|&i| {
+                self.multipliers
+                    .binary_search_by(|(k, _)| k.cmp(&self.rows[i].key))
+                    .is_ok()
+            })
+            .collect();
+        let work = &mut *self.work;
+        let gradient = work.model_gradient.as_ref().unwrap_or(&work.eval.gradient);
+        work.rhs.copy_from_slice(gradient);
+        work.gauge.fix_vector(&mut work.rhs);
+        crate::sqp::constrained_step(
+            self.model.pattern(),
+            &work.damped,
+            &mut work.cholesky,
+            &work.rhs,
+            &self.rows,
+            &work.step,
+            &hint,
+        )
+        .map_err(|_| Termination::SubproblemFailed)
+    }
+
+    /// Rows at `state`: joint limits and (if any) contact, less the rows of features
+    /// far from the meshes, whose vertices go to `far` (see `far.rs`). `false` when
+    /// the state is not admissible (a centreline through an obstacle).
+    fn collect_rows(
+        &self,
+        state: &SystemState,
+        rows: &mut Vec<Row>,
+        far: &mut Vec<FarVertex>,
+    ) -> bool {
+        rows.clear();
+        far.clear();
+        limit_rows(self.model, state, rows);
+        let Some(c) = self.constraints else {
+            return true;
+        };
+        if c.rows_leaving_far(self.model, state, rows, far).is_err() {
+            return false;
+        }
+        // Whether there are rows at all decides the unconstrained paths: with only
+        // far features, every row is made (the left-out features may make none).
+        if rows.is_empty() && !far.is_empty() {
+            far.clear();
+            return c.rows(self.model, state, rows).is_ok();
+        }
+        true
+    }
+
+    /// Every row at `state` ([`Iteration::collect_rows`] leaving nothing out).
+    fn collect_all_rows(&self, state: &SystemState, rows: &mut Vec<Row>) -> bool {
         rows.clear();
         limit_rows(self.model, state, rows);
         match self.constraints {
             Some(c) => c.rows(self.model, state, rows).is_ok(),
             None => true,
         }
+    }
+
+    /// Whether the iterate has no constraint rows at all (with far features left out
+    /// there are always rows made, see [`Iteration::collect_rows`]): the
+    /// unconstrained paths of the iteration apply.
+    fn unconstrained(&self) -> bool {
+        self.rows.is_empty()
     }
 
     /// Finish: residual, multipliers per row and the stability of the returned state.
