@@ -57,25 +57,20 @@ impl Iteration<'_> {
     }
 
     /// Brings the left-out rows of the features at the vertices `moved` into
-    /// `self.rows` (every left-out row when `moved` is `None`, or when a moved vertex
-    /// has no unknowns of its own, carried by a body or a clip): appended where not there yet, with no penalty
-    /// shift (a left-out row was not held); those vertices leave the far list. Fails
-    /// as the subproblem where the rows cannot be evaluated (not expected: the
-    /// left-out features are clear of the meshes).
-    pub(super) fn include_far_rows(
-        &mut self,
-        moved: Option<&[(usize, usize)]>,
-    ) -> Result<(), Termination> {
+    /// `self.rows` (every left-out row where a moved vertex has no unknowns of its own:
+    /// carried by a body or a clip): appended where not there yet, with no penalty
+    /// shift (a left-out row was not held); those vertices leave the far list. Fails as
+    /// the subproblem where the rows cannot be evaluated (not expected: the left-out
+    /// features are clear of the meshes).
+    pub(super) fn include_far_rows(&mut self, moved: &[(usize, usize)]) -> Result<(), Termination> {
         if self.far.is_empty() {
             return Ok(());
         }
         let dofs = self.model.dofs();
-        let blocks: Option<Vec<usize>> = moved.and_then(|moved| {
-            moved
-                .iter()
-                .map(|&(rod, vertex)| dofs.vertex(rod, vertex))
-                .collect()
-        });
+        let blocks: Option<Vec<usize>> = moved
+            .iter()
+            .map(|&(rod, vertex)| dofs.vertex(rod, vertex))
+            .collect();
         let state = self.state.clone();
         let mut found: Vec<Row> = Vec::new();
         let evaluated = match (&blocks, self.constraints) {
@@ -99,11 +94,11 @@ impl Iteration<'_> {
                 .into_iter()
                 .filter(|r| present.binary_search(&r.key).is_err()),
         );
-        match (moved, blocks) {
-            (Some(moved), Some(_)) => self
+        match blocks {
+            Some(_) => self
                 .far
                 .retain(|v| moved.binary_search(&(v.rod, v.vertex)).is_err()),
-            _ => self.far.clear(),
+            None => self.far.clear(),
         }
         Ok(())
     }

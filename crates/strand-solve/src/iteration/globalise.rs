@@ -61,7 +61,7 @@ impl Iteration<'_> {
             .zip(&self.work.eval.gradient)
             .map(|(s, g)| s * g)
             .sum();
-        let newton_step = self.unconstrained() && self.work.model_gradient.is_none();
+        let newton_step = self.rows.is_empty() && self.work.model_gradient.is_none();
         let curvature =
             self.work
                 .step_curvature(self.model.pattern(), newton_step, self.damping, slope);
@@ -125,7 +125,7 @@ impl Iteration<'_> {
             let turned = self.stiff && t * rotation > FOLLOW_TURN * self.valley_turn;
             let mixed = settings.mixed_newton && self.stiff;
             let mut energy = if full {
-                let with_hessian = !mixed || (turned && self.unconstrained());
+                let with_hessian = !mixed || (turned && self.rows.is_empty());
                 self.model
                     .evaluate(&trial, &mut self.work.trial_eval, with_hessian);
                 self.work.trial_eval.energy
@@ -140,7 +140,7 @@ impl Iteration<'_> {
             // tenth digit and costs two Hessians and a factorisation).
             let surprising = self.work.eval.energy - energy < settings.trust_ratio * model_decrease
                 && !within_noise(self.work.eval.energy, energy, model_decrease);
-            if self.unconstrained() {
+            if self.rows.is_empty() {
                 if full && surprising {
                     // The second-order correction: the remainder of the gradient at the
                     // trial beyond the model, solved with this iteration's factor.
@@ -220,7 +220,7 @@ impl Iteration<'_> {
             }
             if full
                 && !accepted
-                && !self.unconstrained()
+                && !self.rows.is_empty()
                 && trial_merit.is_finite()
                 && predicted > 0.0
                 && settings.constraint_correction
@@ -319,7 +319,7 @@ impl Iteration<'_> {
             }
             if accepted {
                 let short = self.damping > 0.0;
-                if full && short && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.unconstrained() {
+                if full && short && t >= 1.0 && ratio > 0.9 && room >= 2.0 && self.rows.is_empty() {
                     // The model is exact and the step well inside the region (a damped
                     // step along negative curvature): extend it while the energy falls.
                     // An undamped step on a positive definite Hessian already ends at

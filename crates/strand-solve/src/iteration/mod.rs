@@ -610,7 +610,7 @@ impl<'a> Iteration<'a> {
     /// `None` unless the Hessian was found indefinite and the direction's Rayleigh
     /// quotient is negative.
     fn negative_curvature(&mut self) -> Option<Vec<f64>> {
-        if !self.indefinite || !self.unconstrained() {
+        if !self.indefinite || !self.rows.is_empty() {
             return None;
         }
         let work = &mut *self.work;
@@ -646,26 +646,20 @@ impl<'a> Iteration<'a> {
         }
         work.gauge.fix_vector(&mut work.step);
         work.cholesky.solve_in_place(&mut work.step);
-        // Rows left out for far features hold if the step keeps their vertices within
-        // their clearances (see `far.rs`); else they are brought in and the QP solved
-        // again.
+        // No rows: none left out either (see `collect_rows`).
         if self.rows.is_empty() {
-            let moved = self.far_moved(&self.work.step);
-            if moved.is_empty() {
-                return Ok(());
-            }
-            self.include_far_rows(Some(&moved))?;
-            if self.rows.is_empty() {
-                return Ok(());
-            }
+            return Ok(());
         }
+        // Rows left out for far features hold if the step keeps their vertices within
+        // their clearances (see `far.rs`); else those vertices' rows are brought in and
+        // the QP solved again.
         let mut constrained = self.constrained_step()?;
         loop {
             let moved = self.far_moved(&constrained.step);
             if moved.is_empty() {
                 break;
             }
-            self.include_far_rows(Some(&moved))?;
+            self.include_far_rows(&moved)?;
             constrained = self.constrained_step()?;
         }
         self.work.step.copy_from_slice(&constrained.step);
@@ -748,13 +742,6 @@ impl<'a> Iteration<'a> {
             Some(c) => c.rows(self.model, state, rows).is_ok(),
             None => true,
         }
-    }
-
-    /// Whether the iterate has no constraint rows at all (with far features left out
-    /// there are always rows made, see [`Iteration::collect_rows`]): the
-    /// unconstrained paths of the iteration apply.
-    fn unconstrained(&self) -> bool {
-        self.rows.is_empty()
     }
 
     /// Finish: residual, multipliers per row and the stability of the returned state.
