@@ -225,12 +225,14 @@ impl<'m> Solver<'m> {
             .filter(|_| settings.nested_iteration && !already_converged())
         {
             let coarse_model = Model::try_new(coarse_system).map_err(InitialStateError::from)?;
-            // The coarse level only proposes a start: it gets no continuation and a
-            // bounded budget, so a hard coarse problem cannot cost more than it saves.
+            // The coarse level only proposes a start: it gets no continuation, no
+            // release retry and a bounded budget, so a hard coarse problem cannot cost
+            // more than it saves.
             let coarse_settings = SolverSettings {
                 nested_iteration: false,
                 load_continuation: false,
                 support_continuation: false,
+                release_retry: false,
                 max_iterations: settings.max_iterations.min(settings.coarse_max_iterations),
                 ..settings.clone()
             };

@@ -139,7 +139,8 @@ pub struct SolverSettings {
     /// continuation (counted as one continuation step). A cable creeping along a 60°
     /// groove under the rows' pull then converges where it ran out of budget
     /// (`everyday_s39_013`: 3.2 N after 439 iterations, now converged), while the
-    /// cases that converge directly keep the default's path.
+    /// cases that converge directly keep the default's path. A coarse level of nested
+    /// iteration, which only proposes a start within its own budget, does not retry.
     pub release_retry: bool,
     /// When the first trial of a step with contact rows is rejected, try it once more
     /// projected back onto the rows held (the rows' second-order correction: a curved
