@@ -99,16 +99,20 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
         number(doc.tolerance_n),
         doc.iterations,
     );
-    // Where the iterations went, when not all in one direct solve.
+    // Where the iterations went, when not all in one direct solve: the final solve,
+    // the coarse level, the continuation (load or stiffness steps, a release retry),
+    // leaving unstable states, and attempts that a later one replaced.
     let mut parts = Vec::new();
     if doc.coarse_iterations > 0 {
         parts.push(format!("{} coarse", doc.coarse_iterations));
     }
     if doc.continuation_steps > 0 {
-        parts.push(format!(
-            "{} in {} load steps",
-            doc.continuation_iterations, doc.continuation_steps
-        ));
+        // A converged release retry is the final solve itself: a step without
+        // iterations of its own.
+        parts.push(match doc.continuation_iterations {
+            0 => format!("after {} continuation step(s)", doc.continuation_steps),
+            n => format!("{n} in {} continuation step(s)", doc.continuation_steps),
+        });
     }
     if doc.escape_iterations > 0 {
         parts.push(format!(
@@ -116,7 +120,16 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
             doc.escape_iterations
         ));
     }
+    let accounted = doc.fine_iterations
+        + doc.coarse_iterations
+        + doc.continuation_iterations
+        + doc.escape_iterations;
+    let replaced = doc.iterations.saturating_sub(accounted);
+    if replaced > 0 {
+        parts.push(format!("{replaced} in attempts that did not converge"));
+    }
     if !parts.is_empty() {
+        parts.insert(0, format!("{} final", doc.fine_iterations));
         let _ = writeln!(s, "iterations  {} ({})", doc.iterations, parts.join(", "));
     }
     let mut curvature = format!(

@@ -847,6 +847,34 @@ fn a_cable_creeping_along_a_groove_converges_on_a_retry_with_open_rows_released(
     let tmp = tempfile::tempdir().unwrap();
     let case = replay(39, 13, (136, "groove60"));
     assert_converges_clear(tmp.path(), &case);
+    // The terminal says where the iterations went, and its parts add up: the final
+    // solve, the coarse level, the retry and the attempt it replaced.
+    let output = Command::new(binary())
+        .arg("solve")
+        .arg(write_case(tmp.path(), &case))
+        .arg("--out")
+        .arg(tmp.path().join("terminal"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("iterations"))
+        .expect("an iterations line");
+    let numbers = |text: &str| -> Vec<usize> {
+        text.split(|c: char| !c.is_ascii_digit())
+            .filter_map(|w| w.parse().ok())
+            .collect()
+    };
+    let (total, parts) = line.split_once('(').expect("a breakdown");
+    let total = numbers(total)[0];
+    let parts: usize = parts
+        .split(", ")
+        .filter(|p| !p.starts_with("after"))
+        .map(|p| numbers(p)[0])
+        .sum();
+    assert_eq!(parts, total, "{line}");
+    assert!(line.contains("attempts that did not converge"), "{line}");
     let without = with_solver_settings(replay(39, 13, (136, "groove60")), "release_retry: false");
     let outcome = solve_and_check(&binary(), tmp.path(), &without, Duration::from_secs(120));
     println!("{}", outcome.row);

@@ -86,10 +86,12 @@ pub struct ResultDoc {
     /// Newton iterations of the coarse level of nested iteration (part of `iterations`).
     #[serde(default)]
     pub coarse_iterations: usize,
-    /// Load steps of the continuation (0: direct solve).
+    /// Steps of the continuation (0: direct solve): load or stiffness steps, and a
+    /// release retry (solver setting `release_retry`) counted as one.
     #[serde(default)]
     pub continuation_steps: usize,
-    /// Newton iterations of the continuation's load steps (part of `iterations`).
+    /// Newton iterations of the continuation's steps and of a release retry that did
+    /// not converge (part of `iterations`).
     #[serde(default)]
     pub continuation_iterations: usize,
     /// Newton iterations spent leaving unstable equilibria (part of `iterations`).
