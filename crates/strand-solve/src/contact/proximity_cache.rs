@@ -216,7 +216,8 @@ impl FeatureLists<'_> {
     /// the evaluation's `beyond_m` beyond the radius, except the vertices of an edge
     /// that is not left out (its rows depend on its vertices' contacts). Those within
     /// `margin_m` (m) of the mesh are listed as far vertices (an edge's at both of
-    /// them); farther ones make no rows at all. `None` when nothing is left out.
+    /// them), once per vertex with the least of its features' clearances; farther ones
+    /// make no rows at all. `None` when nothing is left out.
     pub(super) fn far_features(
         &mut self,
         vertices: &[Point3<f64>],
@@ -244,28 +245,31 @@ impl FeatureLists<'_> {
                 marks.vertices[e + 1] = None;
             }
         }
-        let far = self.far.as_mut().expect("checked above");
-        let rod = self.rod;
-        let mut list = |vertex: usize, clearance_m: f64| {
-            if clearance_m <= margin_m {
-                far.vertices.push(FarVertex {
-                    rod,
-                    vertex,
-                    clearance_m,
-                });
-            }
-        };
+        // Per vertex, the least clearance of its left-out features within the margin
+        // (its sphere, its two edges): one entry, checked once per step.
+        let mut least = vec![f64::INFINITY; vertices.len()];
+        let within = |c: &Option<f64>| c.filter(|&c| c <= margin_m);
         for (j, c) in marks.vertices.iter().enumerate() {
-            if let Some(c) = *c {
-                list(j, c);
+            if let Some(c) = within(c) {
+                least[j] = least[j].min(c);
             }
         }
         for (e, c) in marks.edges.iter().enumerate() {
-            if let Some(c) = *c {
-                list(e, c);
-                list(e + 1, c);
+            if let Some(c) = within(c) {
+                least[e] = least[e].min(c);
+                least[e + 1] = least[e + 1].min(c);
             }
         }
+        let far = self.far.as_mut().expect("checked above");
+        let rod = self.rod;
+        far.vertices
+            .extend(least.iter().enumerate().filter(|(_, c)| c.is_finite()).map(
+                |(vertex, &clearance_m)| FarVertex {
+                    rod,
+                    vertex,
+                    clearance_m,
+                },
+            ));
         Some(marks)
     }
 
