@@ -24,6 +24,7 @@ use strand_contact::distance_grid_floor;
 
 use super::Contact;
 use super::advance::{PATH_SAMPLES, PATH_STRIDE, path_room};
+use super::proximity_cache::Candidates;
 
 /// Threshold of an edge's first search at the path's start, in its rod's radii: edges
 /// in or near contact (about a radius away) get exact bounds at once, those farther
@@ -70,6 +71,9 @@ pub(super) struct MeshPath<'a> {
     /// The nearest triangle of each edge's last search of each mesh (per rod: edge
     /// times mesh count plus mesh): prunes the next search, never changes its bound.
     hints: Vec<Vec<Option<usize>>>,
+    /// The rows' kept candidate lists (incremental proximity): each bounds its edge's
+    /// distance to its mesh from below without a search.
+    kept: Candidates<'a>,
     /// Search every edge within its whole reach at once and every mesh within it
     /// (the reference the thresholds and the least-so-far limits are tested against).
     pub(super) exact_only: bool,
@@ -98,6 +102,7 @@ impl<'a> MeshPath<'a> {
                 .iter()
                 .map(|edges| vec![None; edges.len() * mesh_count])
                 .collect(),
+            kept: contact.kept.begin(0.0),
             exact_only: false,
         }
     }
@@ -296,6 +301,11 @@ impl<'a> MeshPath<'a> {
             } else {
                 least.unwrap_or(limit)
             };
+            // A mesh the edge's kept list puts beyond the limit has nothing within it.
+            let kept = self.kept.edge_distance_lower_bound(rod, index, edge, a, b);
+            if !self.exact_only && kept.is_some_and(|lower| lower > within) {
+                continue;
+            }
             if let Some(found) =
                 self.contact.meshes[index].segment_distance_bound_from(a, b, within, *hint)
             {

@@ -131,3 +131,58 @@ fn a_bound_found_within_a_threshold_is_exact_and_one_not_found_is_below_it() {
     }
     assert!(lower > 100 && exact > 100, "{lower} lower, {exact} exact");
 }
+
+#[test]
+fn kept_lists_rule_out_meshes_without_changing_the_advancement() {
+    let margin = 0.02;
+    let mut next = uniform(0x7e57_1157_0bd5_2026);
+    let total = |w: QueryWork| w.bvh_nodes + w.box_tests + w.exact_tests;
+    let (mut with_lists, mut without_lists) = (0, 0);
+    for case in 0..80 {
+        let (centrelines, deltas) = path(&mut next);
+        let moves = edge_moves(&deltas);
+        let radii = vec![0.01, 0.004];
+        // The rows' lists, searched where each edge was up to half the slack ago.
+        let listed = Contact::new(vec![floor(300), plate()], margin);
+        let slack = 0.5 * margin;
+        {
+            let mut candidates = listed.kept.begin(slack);
+            for (rod, line) in centrelines.iter().enumerate() {
+                let shift = Vector3::new(next() - 0.5, next() - 0.5, next() - 0.5) * slack;
+                for (index, mesh) in listed.meshes.iter().enumerate() {
+                    let mut lists = candidates.of(rod, index, line.len());
+                    for (edge, ab) in line.windows(2).enumerate() {
+                        let (a, b) = (ab[0] + shift, ab[1] + shift);
+                        lists.near(true, edge, mesh, &a, &b, radii[rod] + margin);
+                    }
+                }
+            }
+        }
+        let bare = Contact::new(vec![floor(300), plate()], margin);
+        let before = query_work();
+        let t = MeshPath::new(&listed, &centrelines, &deltas, &moves, radii.clone()).advance();
+        let middle = query_work();
+        let t_bare = MeshPath::new(&bare, &centrelines, &deltas, &moves, radii.clone()).advance();
+        with_lists += total(middle.since(&before));
+        without_lists += total(query_work().since(&middle));
+        let mut reference = MeshPath::new(&listed, &centrelines, &deltas, &moves, radii);
+        reference.exact_only = true;
+        let t_exact = reference.advance();
+        assert_eq!(
+            t.to_bits(),
+            t_exact.to_bits(),
+            "case {case}: {t} vs {t_exact}"
+        );
+        assert_eq!(
+            t.to_bits(),
+            t_bare.to_bits(),
+            "case {case}: {t} vs {t_bare}"
+        );
+    }
+    println!("work with kept lists {with_lists}, without {without_lists}");
+    // The lists rule meshes out: the advancement searches less.
+    assert!(
+        (with_lists as f64) < 0.95 * without_lists as f64,
+        "{with_lists} vs {without_lists}"
+    );
+}

@@ -160,6 +160,23 @@ impl Candidates<'_> {
         });
     }
 
+    /// The lower bound (m) of the distance from edge `edge` of rod `rod`, now at
+    /// segment `[p0, p1]` (world, m), to mesh `mesh` (its index in the contact) that
+    /// the edge's kept list gives however far it moved
+    /// ([`KeptTriangles::distance_lower_bound`]), without searching; `None` when it
+    /// has no list.
+    pub(super) fn edge_distance_lower_bound(
+        &self,
+        rod: usize,
+        mesh: usize,
+        edge: usize,
+        p0: &Point3<f64>,
+        p1: &Point3<f64>,
+    ) -> Option<f64> {
+        let kept = self.kept.get(&(rod, mesh))?.get(2 * edge + 1)?.as_ref()?;
+        Some(kept.distance_lower_bound(p0, p1))
+    }
+
     /// The vertices of the features left out so far, taken.
     pub(super) fn far_vertices(&mut self) -> Vec<FarVertex> {
         self.far
