@@ -25,6 +25,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::perm::PermRef;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
@@ -68,9 +69,7 @@ pub struct Inertia {
 /// with `cholesky`, the model's factorisation, whose factor this overwrites) nothing
 /// lies below `−τ`, so nothing below `+τ` either (the Schur complement of the rows,
 /// `−δI − A H'⁻¹ Aᵀ`, is then negative definite: Haynsworth), and the count is 0
-/// without the bordered matrix, whose rows a faer factorisation would fill densely
-/// (`m²` entries, `m³` work for `m` rows: a soft cable lying on a floor along a
-/// thousand contacts). Otherwise, when `cholesky` works in the envelope, the inertia
+/// without the bordered matrix. Otherwise, when `cholesky` works in the envelope, the inertia
 /// is counted there ([`envelope`]: the Hessian block by an
 /// unpivoted signed factorisation, the rows by their Schur complement); otherwise, or
 /// when a pivot there is too small to trust, by faer's sparse `LDLᵀ` of `K(σ)`.
@@ -103,9 +102,10 @@ pub fn reduced_inertia(
     }
 }
 
-/// [`reduced_inertia`] by faer's simplicial `LDLᵀ` of the bordered matrix `K(±τ)` in
-/// the natural order, with the rows as given (independent rows: see
-/// [`independent_rows`]).
+/// [`reduced_inertia`] by faer's simplicial `LDLᵀ` of the bordered matrix `K(±τ)`,
+/// each row right after its last unknown ([`rows_after_their_unknowns`]: the factor
+/// stays in the band however many rows are active), with the rows as given
+/// (independent rows: see [`independent_rows`]).
 pub fn faer_reduced_inertia(
     pattern: &HessianPattern,
     hessian: &[f64],
@@ -158,8 +158,8 @@ fn row_diagonal(norm_squared: f64, largest_diagonal: f64) -> f64 {
 }
 
 /// The bordered pattern `[H Aᵀ; A −δI]` (upper triangle, CSC) with a simplicial
-/// symbolic analysis in the natural order (the rows of `A` last, so their pivots come
-/// after the Hessian's).
+/// symbolic analysis in the unknowns' natural order with each active row right after
+/// the last unknown it moves ([`rows_after_their_unknowns`]).
 struct Bordered<'p> {
     pattern: &'p HessianPattern,
     structure: SymbolicSparseColMat<usize>,
@@ -191,10 +191,11 @@ impl<'p> Bordered<'p> {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
             ..Default::default()
         };
+        let (forward, inverse) = rows_after_their_unknowns(n, active);
         let symbolic = factorize_symbolic_cholesky(
             structure.as_ref(),
             Side::Upper,
-            SymmetricOrdering::Identity,
+            SymmetricOrdering::Custom(PermRef::new_checked(&forward, &inverse, dim)),
             params,
         )
         .expect("the bordered pattern is square and sorted");
@@ -208,6 +209,12 @@ impl<'p> Bordered<'p> {
 
     fn nnz(&self) -> usize {
         self.structure.row_idx().len()
+    }
+
+    /// Entries of the `LDLᵀ` factor (tests: the work of the factorisation).
+    #[cfg(test)]
+    fn factor_entries(&self) -> usize {
+        self.symbolic.len_val()
     }
 
     /// Values of `K(σ)`.
@@ -266,6 +273,42 @@ impl<'p> Bordered<'p> {
             .filter(|&k| factor[col_ptr[k]] < 0.0)
             .count())
     }
+}
+
+/// The order of the bordered matrix's `n + m` unknowns (`forward[new] = old`, and its
+/// inverse): the Hessian's `n` in their natural order, each active row (`n + i`) right
+/// after the last unknown it moves. Rows last would leave their Schur complement
+/// `A H'⁻¹ Aᵀ` dense (`m²` entries, `m³` work: a cable lying on a floor along
+/// thousands of contacts); next to their unknowns they fill only the band. Each row
+/// still comes after all its unknowns, so its pivot is `−δ` less the Schur complement
+/// of those unknowns (of the size of `aᵀa / d`, not of `δ`) and the penalty `aᵀa/δ` is
+/// never added to an unknown not yet eliminated. The count of negative pivots is the
+/// same in any order (Sylvester's law of inertia).
+fn rows_after_their_unknowns(n: usize, active: &[&Row]) -> (Vec<usize>, Vec<usize>) {
+    // Rows by their last unknown (a row without entries at the end).
+    let mut by_last: Vec<(usize, usize)> = active
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let last = row.gradient.iter().map(|&(k, _)| k).max().unwrap_or(n);
+            (last, n + i)
+        })
+        .collect();
+    by_last.sort_unstable();
+    let mut forward = Vec::with_capacity(n + active.len());
+    let mut rows = by_last.iter().peekable();
+    for k in 0..n {
+        forward.push(k);
+        while let Some(&(_, row)) = rows.next_if(|(last, _)| *last == k) {
+            forward.push(row);
+        }
+    }
+    forward.extend(rows.map(|&(_, row)| row));
+    let mut inverse = vec![0; forward.len()];
+    for (new, &old) in forward.iter().enumerate() {
+        inverse[old] = new;
+    }
+    (forward, inverse)
 }
 
 #[cfg(test)]

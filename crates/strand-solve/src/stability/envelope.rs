@@ -1,12 +1,12 @@
 //! The inertia of `K(σ)` counted in the Hessian's envelope (a single rod), without
 //! faer's symbolic analysis of the bordered pattern.
 //!
-//! faer factorises `K(σ) = [H' Aᵀ; A −δI]` (`H' = H + σD`, gauge held) in the natural
-//! order: first the pivots of `H'`, then those of the Schur complement
-//! `S = −δI − A H'⁻¹ Aᵀ` in the rows' order. The same pivots come from the envelope's
-//! unpivoted signed factorisation of `H'` and a dense unpivoted `LDLᵀ` of `S`, which
-//! takes one envelope solve per active row. By Haynsworth's inertia additivity
-//! `neg(K) = neg(H') + neg(S)`, whatever the order. A positive definite `H'` (tried
+//! The envelope counts the pivots of `K(σ) = [H' Aᵀ; A −δI]` (`H' = H + σD`, gauge
+//! held) in the natural order: first those of `H'` (the envelope's unpivoted signed
+//! factorisation), then those of the Schur complement `S = −δI − A H'⁻¹ Aᵀ` (a dense
+//! unpivoted `LDLᵀ`, one envelope solve per active row, so only for a few rows). By
+//! Haynsworth's inertia additivity `neg(K) = neg(H') + neg(S)`, the count of faer's
+//! factorisation with each row after its unknowns (Sylvester's law: any order). A positive definite `H'` (tried
 //! first, by Cholesky) makes `S` negative definite: then the count is 0.
 
 use strand_system::HessianPattern;

@@ -219,3 +219,77 @@ fn the_envelope_count_equals_faer_and_dense_eigenvalues() {
         "{neutral_seen} with a neutral direction"
     );
 }
+
+#[test]
+fn many_active_rows_are_counted_like_the_dense_eigenvalues() {
+    // More rows than the envelope takes (its dense Schur complement): faer's count of
+    // the bordered matrix, rows next to their unknowns, against brute force.
+    let tau = 1e-11;
+    let mut seed = 2026u64;
+    let mut compared = 0;
+    for case in 0..12 {
+        let pattern = rod_pattern(30);
+        let n = pattern.dim();
+        let neutral = index(&mut seed, n / 3);
+        let values = indefinite_values(&pattern, &mut seed, neutral);
+        let rows: Vec<Row> = (0..80)
+            .map(|i| {
+                let first = index(&mut seed, n - 2);
+                let mut gradient: Vec<(usize, f64)> =
+                    (first..first + 3).map(|k| (k, next(&mut seed))).collect();
+                // Every fifth row also moves a distant unknown (a rod–rod contact).
+                if i % 5 == 0 {
+                    gradient.push((index(&mut seed, n), next(&mut seed)));
+                }
+                Row {
+                    key: RowKey::Contact(i as u64),
+                    value: 0.0,
+                    gradient,
+                    curvature: None,
+                }
+            })
+            .collect();
+        let all: Vec<&Row> = rows.iter().collect();
+        let independent = super::independent_rows(&all);
+        let kept: Vec<Row> = independent.iter().map(|&r| r.clone()).collect();
+        let plus = reduced_eigenvalues(&dense_shifted(&pattern, &values, &[], tau), &kept);
+        let minus = reduced_eigenvalues(&dense_shifted(&pattern, &values, &[], -tau), &kept);
+        if plus.iter().chain(&minus).any(|l| l.abs() < 1e-13) {
+            continue;
+        }
+        let below = |ls: &[f64]| ls.iter().filter(|&&l| l < 0.0).count();
+        let expected = Inertia {
+            negative: below(&plus),
+            neutral: below(&minus) - below(&plus),
+        };
+        let gauge = Gauge::default();
+        let faer = faer_reduced_inertia(&pattern, &values, &gauge, &independent, tau).ok();
+        assert_eq!(faer, Some(expected), "case {case}: faer");
+        assert!(expected.negative > 0, "case {case}: the draw is indefinite");
+        compared += 1;
+    }
+    assert!(compared >= 10, "{compared} compared");
+}
+
+#[test]
+fn the_bordered_factor_grows_linearly_with_the_active_rows() {
+    // A cable lying on a floor: a row on every vertex's position. With the rows last
+    // their Schur complement filled densely (m² entries); next to their unknowns the
+    // factor stays in the band.
+    let entries = |edges: usize| {
+        let pattern = rod_pattern(edges);
+        let rows: Vec<Row> = (0..=edges)
+            .map(|v| Row {
+                key: RowKey::Contact(v as u64),
+                value: 0.0,
+                gradient: (6 * v..6 * v + 3).map(|k| (k, 1.0)).collect(),
+                curvature: None,
+            })
+            .collect();
+        let active: Vec<&Row> = rows.iter().collect();
+        super::Bordered::new(&pattern, &active).factor_entries()
+    };
+    let (small, large) = (entries(200), entries(400));
+    let ratio = large as f64 / small as f64;
+    assert!(ratio < 2.05, "{small} -> {large} entries: {ratio}");
+}
