@@ -108,6 +108,10 @@ pub(crate) fn run(
     // skipped by the refresh-rate limit, and "N/N variants … elapsed" is the record
     // of the run.
     bar.finish();
+    // The bar leaves the cursor at the end of its line: the summary starts a new one.
+    if !bar.is_hidden() {
+        eprintln!();
+    }
     let report = report?;
     let _ = writeln!(
         out,

@@ -192,6 +192,8 @@ fn batch_on_a_terminal_draws_the_progress_bar_and_finishes() {
     // The bar was drawn and finished: its final state is left on the terminal.
     run.assert_shows("3/3 variants");
     run.assert_shows("computed 3, skipped 0 (finished before), failed 0");
+    // The summary starts a line of its own, not at the end of the bar's.
+    run.assert_shows("\nbatch       cooler_hose");
     assert!(dir.join("summary.csv").is_file(), "no summary.csv");
     let solved = std::fs::read_dir(dir.join("variants"))
         .expect("no variants directory")
