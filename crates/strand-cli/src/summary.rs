@@ -260,20 +260,64 @@ fn clip_lines(s: &mut String, doc: &ResultDoc, unit: LengthUnit) {
     }
 }
 
+/// Contacts listed one per line on the terminal, at most (the largest forces; every
+/// one is in `result.json`).
+const MAX_CONTACT_LINES: usize = 12;
+
+/// Per rod in contact: how many contacts, where along it and their total force.
+fn contact_counts(s: &mut String, doc: &ResultDoc, unit: LengthUnit) {
+    let u = unit.symbol();
+    for rod in &doc.rods {
+        let on_rod = doc.contacts.iter().filter(|c| c.rod == rod.name);
+        let (count, from, to, total) = on_rod.fold(
+            (0, f64::INFINITY, f64::NEG_INFINITY, 0.0),
+            |(n, from, to, total), c| (n + 1, from.min(c.s_m), to.max(c.s_m), total + c.force_n),
+        );
+        if count > 0 {
+            let _ = writeln!(
+                s,
+                "  {}: {count} contacts from s = {} to {} {u}, forces summing to {} N (all in result.json)",
+                rod.name,
+                number(from / unit.metres()),
+                number(to / unit.metres()),
+                number(total),
+            );
+        }
+    }
+}
+
 /// Active contacts and the smallest clearance of every rod (cases with an environment).
 fn contact_lines(s: &mut String, built: &BuiltCase, doc: &ResultDoc, unit: LengthUnit) {
     if built.environment.is_empty() {
         return;
     }
     let u = unit.symbol();
-    if doc.contacts.is_empty() {
+    let contacts = &doc.contacts;
+    if contacts.is_empty() {
         let _ = writeln!(s, "contacts    none");
     } else {
+        // A fine cable lying along a surface touches at thousands of points: the
+        // terminal shows the largest forces and a line per rod, result.json has all.
+        let shown: Vec<&strand_report::ContactResult> = if contacts.len() <= MAX_CONTACT_LINES {
+            contacts.iter().collect()
+        } else {
+            // The largest forces, listed in the order of the rest (by rod, along it).
+            let mut largest: Vec<usize> = (0..contacts.len()).collect();
+            largest.sort_by(|&a, &b| contacts[b].force_n.total_cmp(&contacts[a].force_n));
+            largest.truncate(MAX_CONTACT_LINES);
+            largest.sort_unstable();
+            largest.iter().map(|&k| &contacts[k]).collect()
+        };
         let _ = writeln!(
             s,
-            "contacts    (force on the rod along the normal, from the obstacle)"
+            "contacts    {}(force on the rod along the normal, from the obstacle)",
+            if shown.len() < contacts.len() {
+                format!("{}, the {} largest ", contacts.len(), shown.len())
+            } else {
+                String::new()
+            }
         );
-        for c in &doc.contacts {
+        for c in shown {
             let _ = writeln!(
                 s,
                 "  {} at s = {} {u} on {}  at {} {u}  {} N along {}",
@@ -284,6 +328,9 @@ fn contact_lines(s: &mut String, built: &BuiltCase, doc: &ResultDoc, unit: Lengt
                 number(c.force_n),
                 vector(&c.normal, 1.0, 1e-12),
             );
+        }
+        if contacts.len() > MAX_CONTACT_LINES {
+            contact_counts(s, doc, unit);
         }
     }
     let _ = writeln!(

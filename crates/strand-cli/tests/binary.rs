@@ -121,3 +121,71 @@ fn the_bundled_groove_case_rests_on_both_flanks_in_balance() {
         assert!(nearest >= 0.01 - 1e-12, "{p:?} is {nearest} m from a flank");
     }
 }
+
+#[test]
+fn a_cable_along_a_groove_lists_its_largest_contacts_and_a_count_per_rod() {
+    // Hundreds of contacts along a fine hose: the terminal shows the twelve largest
+    // forces and one line per rod, not a line per contact.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    let (code, out, err) = strand(&[
+        "solve",
+        &case("hose_in_groove.ron"),
+        "--segments",
+        "1000",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let contacts = result["contacts"].as_array().unwrap();
+    assert!(contacts.len() > 100, "{} contacts", contacts.len());
+    let listed: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("  hose at s ="))
+        .collect();
+    assert_eq!(listed.len(), 12, "{out}");
+    assert!(
+        out.contains(&format!("contacts    {}, the 12 largest", contacts.len())),
+        "{out}"
+    );
+    // The twelve are the largest forces of result.json.
+    let mut forces: Vec<f64> = contacts
+        .iter()
+        .map(|c| c["force_N"].as_f64().unwrap())
+        .collect();
+    forces.sort_by(|a, b| b.total_cmp(a));
+    let least_listed = listed
+        .iter()
+        .map(|l| {
+            // "… mm  1.9876 N along (…)": the number before " N along".
+            let before = l.split(" N along").next().unwrap();
+            before.rsplit(' ').next().unwrap().parse::<f64>().unwrap()
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (least_listed - forces[11]).abs() <= 1e-5 * forces[11],
+        "{least_listed} vs {}",
+        forces[11]
+    );
+    let total: f64 = forces.iter().sum();
+    let per_rod = out
+        .lines()
+        .find(|l| l.starts_with(&format!("  hose: {} contacts from s =", contacts.len())))
+        .unwrap_or_else(|| panic!("no count line:\n{out}"));
+    assert!(per_rod.contains("(all in result.json)"), "{per_rod}");
+    let summed: f64 = per_rod
+        .split("summing to ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        (summed - total).abs() <= 1e-5 * total,
+        "{summed} vs {total}"
+    );
+}
