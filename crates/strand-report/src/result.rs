@@ -79,6 +79,11 @@ pub struct ResultDoc {
     /// never 4 × `residual_floor_N`.
     #[serde(default, rename = "residual_floor_N")]
     pub residual_floor_n: f64,
+    /// The size of the applied loads (weights and dead loads), N: a residual accepted
+    /// at the round-off floor is below 1e-6 of it, else the solve stops as
+    /// `floor_above_loads` (0 for a system moved only by its supports).
+    #[serde(default, rename = "applied_load_N")]
+    pub applied_load_n: f64,
     /// Newton iterations of the final solve on the full model at full load (part of
     /// `iterations`).
     #[serde(default)]
@@ -444,6 +449,7 @@ pub fn collect(case: &str, model: &Model, solution: &Solution, mut timing: Timin
         neutral_directions: report.neutral_directions,
         gauge_freedoms: report.gauge_freedoms,
         residual_floor_n: report.residual_floor_n,
+        applied_load_n: report.applied_load_n,
         fine_iterations: report.fine_iterations,
         coarse_iterations: report.coarse_iterations,
         continuation_steps: report.continuation_steps,

@@ -196,6 +196,7 @@ pub(crate) mod tests {
             neutral_directions: 0,
             gauge_freedoms: 0,
             residual_floor_n: 0.0,
+            applied_load_n: 0.0,
             fine_iterations: 0,
             coarse_iterations: 0,
             continuation_steps: 0,

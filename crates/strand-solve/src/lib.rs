@@ -33,7 +33,7 @@ pub use activity::{Activity, activity};
 pub use constraints::{
     ConstraintError, Constraints, FarVertex, Row, RowKey, StartHint, limit_rows,
 };
-pub use iteration::ROUND_OFF_STALL;
+pub use iteration::{ROUND_OFF_RESOLVED, ROUND_OFF_STALL};
 pub use linear::{PatternAnalysis, SparseCholesky};
 pub use newton::{Solver, solve, solve_constrained};
 pub use report::{Solution, SolveReport, Termination};

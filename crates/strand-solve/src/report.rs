@@ -28,6 +28,13 @@ pub enum Termination {
     NotFinite,
     /// The QP of a constrained step (joint limits, contact) could not be solved.
     SubproblemFailed,
+    /// The solve stopped short of the tolerance (at the round-off floor, or not) on a
+    /// model whose round-off floor is not small against the applied loads (above
+    /// [`crate::ROUND_OFF_RESOLVED`] of [`SolveReport::applied_load_n`]): stiffnesses
+    /// this far apart (a huge `ea` or `ga` on a light cable) leave out-of-balance
+    /// forces of the size of the loads that `f64` cannot resolve, so no state is an
+    /// equilibrium of them, and no continuation is tried.
+    FloorAboveLoads,
 }
 
 /// What the solver did and how good the result is.
@@ -46,6 +53,10 @@ pub struct SolveReport {
     /// no further progress within 4 × this floor is converged at round-off (its residual
     /// may then exceed `tolerance_n`, never 4 × the floor).
     pub residual_floor_n: f64,
+    /// The size of the applied loads, N ([`strand_system::System::applied_load_n`]:
+    /// weights and dead loads): a residual accepted at the round-off floor must be
+    /// below [`crate::ROUND_OFF_RESOLVED`] of it ([`Termination::FloorAboveLoads`]).
+    pub applied_load_n: f64,
     /// Every Newton iteration performed: the final solve, the coarse levels of nested
     /// iteration and the continuation steps.
     pub iterations: usize,
@@ -99,6 +110,7 @@ impl SolveReport {
             residual: Residual::default(),
             tolerance_n,
             residual_floor_n: 0.0,
+            applied_load_n: 0.0,
             iterations: 0,
             fine_iterations: 0,
             coarse_iterations: 0,

@@ -100,6 +100,14 @@ pub fn not_converged(origin: &str, variant: Option<&str>, doc: &ResultDoc) -> Op
             "; the residual stopped decreasing at {} N while the energy stayed constant",
             number(doc.residual_n)
         ),
+        "floor_above_loads" => format!(
+            "; the round-off floor of this model ({} N) is not small against its loads \
+             ({} N): its stiffnesses are too far apart for double precision (a section's \
+             ea, ga, ei or gj far above what its material gives), so the state is no \
+             equilibrium of these loads; check the sections' stiffnesses",
+            number(doc.residual_floor_n),
+            number(doc.applied_load_n)
+        ),
         _ => String::new(),
     };
     Some(format!(

@@ -428,6 +428,31 @@ impl System {
         &self.rods[handle.0]
     }
 
+    /// The size of the loads applied to the system, N: the weight of every rod and of
+    /// every body that is not fixed, plus the magnitude of every dead force at a rod
+    /// end and of every dead moment there divided by its rod's length (a moment `M`
+    /// acts like a force `M/L` at the rod's scale). 0 for a system moved only by its
+    /// supports (no gravity, no dead loads).
+    pub fn applied_load_n(&self) -> f64 {
+        let g = self.gravity.norm();
+        let rods: f64 = self
+            .rods
+            .iter()
+            .map(|r| {
+                let length = r.rod.length();
+                let end = |end: &End| end.load.force.norm() + end.load.moment.norm() / length;
+                g * r.rod.mass() + end(&r.start) + end(&r.end)
+            })
+            .sum();
+        let bodies: f64 = self
+            .bodies
+            .iter()
+            .filter(|b| !b.fixed)
+            .map(|b| g * b.mass)
+            .sum();
+        rods + bodies
+    }
+
     /// The fixed rotation from a body's frame to the boundary frame of a rod end attached
     /// to its port: the port frame at a rod's start, the port frame turned by π about
     /// its `a1` at a rod's end (so that `a3` points along the rod, into the port).

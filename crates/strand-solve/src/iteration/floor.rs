@@ -33,6 +33,15 @@ const FLOOR_ULPS: f64 = 2.0;
 /// of the floor has converged to round-off.
 pub(crate) const ROUND_OFF_SPREAD: f64 = 4.0;
 
+/// A residual accepted at the round-off floor (above the tolerance) must be at most
+/// this fraction of the applied loads ([`strand_system::System::applied_load_n`]):
+/// else the floor is not small against the loads and the state is no resolved
+/// equilibrium of them ([`crate::Termination::FloorAboveLoads`]). The floors of real
+/// cables and hoses lie 1e-8 of their weights and below (a steel cable of EA 5.6e5 N
+/// at 8884 segments: about 1e-9 N); a cable of `ea = ga = 1e15` N weighing 0.59 N has
+/// a floor of 4.3 N.
+pub const ROUND_OFF_RESOLVED: f64 = 1e-6;
+
 /// The round-off floor of the residual in N (the combined measure of
 /// [`strand_system::Residual::combined_n`]) of `model` with Hessian values `hessian`
 /// (in the model's pattern, upper triangle): [`FLOOR_ULPS`] times the largest block

@@ -36,6 +36,7 @@ mod follow;
 mod globalise;
 mod stall;
 
+pub use floor::ROUND_OFF_RESOLVED;
 pub(crate) use floor::strain_floor;
 use floor::{ROUND_OFF_SPREAD, residual_floor};
 pub use stall::ROUND_OFF_STALL;
@@ -311,6 +312,7 @@ impl<'a> Iteration<'a> {
         let valley_turn = valley_turn(model);
         let mut report = SolveReport::new(model.dofs().len(), settings.tolerance_n);
         report.residual_floor_n = floor;
+        report.applied_load_n = model.system().applied_load_n();
         report.gauge_freedoms = work.gauge.held().len();
         let mut iteration = Self {
             model,
@@ -767,10 +769,27 @@ impl<'a> Iteration<'a> {
         // row holding: a guard that the residual judged and the one reported are one.
         let meets = residual.combined_n <= self.tolerance
             || residual.combined_n <= ROUND_OFF_SPREAD * self.report.residual_floor_n;
-        let termination = if termination == Termination::Converged && !(meets && satisfied) {
-            Termination::Stagnated
-        } else {
-            termination
+        // A residual accepted at round-off must also be small against the loads: a
+        // floor of the size of the loads resolves no equilibrium of them.
+        let load = self.report.applied_load_n;
+        let resolved = residual.combined_n <= self.settings.tolerance_n
+            || load <= 0.0
+            || residual.combined_n <= ROUND_OFF_RESOLVED * load;
+        // A floor above that fraction of the loads resolves no equilibrium at all:
+        // any stop short of the tolerance (but a failed subproblem or a non-finite
+        // number) is that, and no continuation can do better.
+        let unresolvable = load > 0.0
+            && self.report.residual_floor_n > ROUND_OFF_RESOLVED * load
+            && residual.combined_n > self.settings.tolerance_n;
+        let termination = match termination {
+            Termination::Converged if !(meets && satisfied) => Termination::Stagnated,
+            Termination::Converged if !resolved => Termination::FloorAboveLoads,
+            Termination::MaxIterations | Termination::LineSearchFailed | Termination::Stagnated
+                if unresolvable =>
+            {
+                Termination::FloorAboveLoads
+            }
+            other => other,
         };
         let converged = termination == Termination::Converged;
         let active: Vec<&Row> = self

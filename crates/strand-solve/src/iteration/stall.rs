@@ -49,9 +49,63 @@ impl Iteration<'_> {
 }
 
 /// Whether `report` ends a solve stalled at its round-off floor: stagnated with a
-/// residual within [`ROUND_OFF_STALL`] times the estimated floor. Continuation is not
+/// residual within [`ROUND_OFF_STALL`] times the estimated floor, or converged at a
+/// floor above the loads ([`Termination::FloorAboveLoads`]). Continuation is not
 /// tried after such a solve.
 pub(crate) fn stalled_at_floor(report: &SolveReport) -> bool {
-    report.termination == Termination::Stagnated
-        && report.residual.combined_n <= ROUND_OFF_STALL * report.residual_floor_n
+    // A floor above the loads is this model's too: continuation reaches it again.
+    report.termination == Termination::FloorAboveLoads
+        || (report.termination == Termination::Stagnated
+            && report.residual.combined_n <= ROUND_OFF_STALL * report.residual_floor_n)
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+    use strand_rod::{Rod, Section};
+    use strand_system::{End, Model, RodSpec, System, initial_state};
+
+    use crate::{SolverSettings, Termination};
+
+    /// A 0.6 m cable of 0.1 kg/m pinned at two points 0.5 m apart under gravity, with
+    /// axial and shear stiffness `stretch` (N).
+    fn hanging(stretch: f64) -> Model {
+        let section = Section::try_explicit(stretch, stretch, 5e-3, 3.8e-3, 0.1, 0.003).unwrap();
+        let rod = Rod::try_straight(section, 0.6, 30).unwrap();
+        Model::try_new(System {
+            rods: vec![RodSpec {
+                name: "cable".into(),
+                rod,
+                start: End::pinned(Vector3::zeros()),
+                end: End::pinned(Vector3::new(0.5, 0.0, 0.0)),
+                route: None,
+            }],
+            bodies: vec![],
+            clips: vec![],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_floor_above_the_loads_is_not_converged_and_tries_no_continuation() {
+        let settings = SolverSettings::default();
+        let solve = |stretch: f64| {
+            let model = hanging(stretch);
+            let start = initial_state(model.system());
+            crate::solve(&model, start, &settings).unwrap().report
+        };
+        // A real cable: converged, its floor far below its weight (0.59 N).
+        let real = solve(2e4);
+        assert!(real.converged, "{real:?}");
+        assert!((real.applied_load_n - 0.1 * 0.6 * 9.81).abs() < 1e-12);
+        assert!(real.residual_floor_n < 1e-9 * real.applied_load_n);
+        // Stiffnesses 1e15 N: a floor of the size of the weight. Not converged, and
+        // said why, without continuation steps that would reach the same floor.
+        let stiff = solve(1e15);
+        assert!(!stiff.converged && !stiff.stable, "{stiff:?}");
+        assert_eq!(stiff.termination, Termination::FloorAboveLoads, "{stiff:?}");
+        assert!(stiff.residual_floor_n > crate::ROUND_OFF_RESOLVED * stiff.applied_load_n);
+        assert_eq!(stiff.continuation_steps, 0);
+    }
 }
