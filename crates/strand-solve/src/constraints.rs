@@ -26,8 +26,8 @@ pub enum ConstraintError {
     /// A rod starts with its centreline through an obstacle's surface or another
     /// centreline (found by the start check: [`Constraints::check_start`]).
     #[error(
-        "rod '{rod}' starts through {what}: its centreline passes through ({:.1}, {:.1}, \
-         {:.1}) mm\n  hint: {hint}",
+        "rod '{rod}' starts with its centreline through an obstacle ({what}) at ({:.1}, \
+         {:.1}, {:.1}) mm\n  hint: {hint}",
         .point_mm[0], .point_mm[1], .point_mm[2]
     )]
     StartsThrough {

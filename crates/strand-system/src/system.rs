@@ -771,7 +771,9 @@ impl System {
         };
         if !(spec.start.has_frame() && spec.end.has_frame()) {
             return Err(invalid(format!(
-                "{turns} extra twist turn(s) need both ends clamped (a clamp, connector or clamped port):                  a pinned or free end cannot hold a twist"
+                "{turns} extra twist turn(s) (`twist_turns` of its ends) need both ends \
+                 clamped (a clamp, connector or clamped port): a pinned or free end cannot \
+                 hold a twist"
             )));
         }
         // Total twist up to (|turns| + 1/2) turns over N vertices: below π/2 per vertex.
@@ -779,7 +781,9 @@ impl System {
         let segments = spec.rod.segments() as u64;
         if segments < needed {
             return Err(invalid(format!(
-                "{turns} extra twist turn(s) need at least {needed} segments (got {segments}):                  the twist per segment must stay below a quarter turn"
+                "{turns} extra twist turn(s) (`twist_turns` of its ends) need at least \
+                 {needed} segments (got {segments}): the twist per segment must stay below a \
+                 quarter turn; raise the rod's `segments` or lower `twist_turns`"
             )));
         }
         Ok(())

@@ -78,6 +78,15 @@ pub fn parse_value(text: &str, motion: &str, unit: &str) -> Result<f64, RangeErr
         .find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')
         .unwrap_or(t.len());
     let (number, given) = (t[..split].trim(), t[split..].trim());
+    // The number first: `abc` or `NaNdeg` is no number, whatever its unit would be.
+    let value = number
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| RangeError::Number {
+            text: text.to_string(),
+            unit: unit.to_string(),
+        })?;
     if !given.is_empty() && given != unit {
         return Err(RangeError::Unit {
             text: text.to_string(),
@@ -86,14 +95,7 @@ pub fn parse_value(text: &str, motion: &str, unit: &str) -> Result<f64, RangeErr
             unit: unit.to_string(),
         });
     }
-    number
-        .parse::<f64>()
-        .ok()
-        .filter(|x| x.is_finite())
-        .ok_or_else(|| RangeError::Number {
-            text: text.to_string(),
-            unit: unit.to_string(),
-        })
+    Ok(value)
 }
 
 impl MotionRange {
@@ -170,6 +172,16 @@ mod tests {
             parse_value("4rad", "x", "deg"),
             Err(RangeError::Unit { .. })
         ));
+        // Text that is no number is said to be none, not to be in another unit.
+        for text in ["abc", "NaNdeg", "infdeg", "deg", ""] {
+            assert!(
+                matches!(
+                    parse_value(text, "x", "deg"),
+                    Err(RangeError::Number { .. })
+                ),
+                "{text}"
+            );
+        }
         assert!(matches!(
             MotionRange::parse("0..90", "x", "deg"),
             Err(RangeError::Form { .. })
