@@ -376,6 +376,29 @@ pub enum SystemError {
         /// Distance between the prescribed end positions in m.
         distance_m: f64,
     },
+    /// Two places that hold a rod (its ends, clips fixed in the world) are farther
+    /// apart than the rod between them can reach.
+    #[error(
+        "rod '{rod}': {to} (at {to_s_m:.6} m along the rod) is held {distance_m:.6} m from \
+         {from} (at {from_s_m:.6} m), but only {arc_m:.6} m of rod lies between them: move \
+         the clip's base or its place along the rod (`at`), or lengthen the rod"
+    )]
+    ClipOutOfReach {
+        /// Rod name.
+        rod: String,
+        /// The first holder along the rod: `its start` or `clip 'name'`.
+        from: String,
+        /// Its reference arc length, m.
+        from_s_m: f64,
+        /// The next holder along the rod: `clip 'name'` or `its end`.
+        to: String,
+        /// Its reference arc length, m.
+        to_s_m: f64,
+        /// The least distance between where they hold the rod, m.
+        distance_m: f64,
+        /// The rod's reference length between them, m.
+        arc_m: f64,
+    },
     /// Two rods share a name.
     #[error("two rods are named '{0}': rod names must be unique")]
     DuplicateName(String),
@@ -859,6 +882,66 @@ impl System {
                         rod: spec.name.clone(),
                         length_m,
                         distance_m,
+                    });
+                }
+            }
+        }
+        self.validate_clip_reach(&poses)
+    }
+
+    /// Checks that every clip fixed in the world lies within reach of the places next
+    /// to it along its rod that hold the rod (its fixed ends and such clips): the rod
+    /// between them must not need more than 10 % of axial strain, as for the ends.
+    fn validate_clip_reach(&self, poses: &[Pose]) -> Result<(), SystemError> {
+        for (index, spec) in self.rods.iter().enumerate() {
+            // (arc length m, what, centre m, radius m): where each holder keeps the rod.
+            let mut held: Vec<(f64, String, Vector3<f64>, f64)> = Vec::new();
+            for (end, at_end, s, what) in [
+                (&spec.start, false, 0.0, "its start"),
+                (&spec.end, true, spec.rod.length(), "its end"),
+            ] {
+                let fixed = match end.support {
+                    Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
+                    _ => self.end_placement(end, at_end, poses).0,
+                };
+                if let Some(p) = fixed {
+                    held.push((s, what.to_string(), p, 0.0));
+                }
+            }
+            let arcs = spec.rod.arc_lengths();
+            for clip in &self.clips {
+                if clip.rod.0 != index || clip.body.is_some() || clip.parent.is_some() {
+                    continue;
+                }
+                let offset = clip.base.orientation * clip.offset.position;
+                let (centre, radius) = match clip.joint {
+                    Joint::Fixed => (clip.base.position + offset, 0.0),
+                    Joint::Revolute { .. } | Joint::Spherical => {
+                        (clip.base.position, clip.offset.position.norm())
+                    }
+                    // A rail may carry the clip anywhere along it.
+                    Joint::Prismatic { .. } => continue,
+                };
+                let s = arcs.get(clip.vertex).copied().unwrap_or(0.0);
+                held.push((s, format!("clip '{}'", clip.name), centre, radius));
+            }
+            if held.len() < 3 {
+                continue; // the ends alone are checked above
+            }
+            held.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for pair in held.windows(2) {
+                let ((s0, from, c0, r0), (s1, to, c1, r1)) = (&pair[0], &pair[1]);
+                let distance_m = ((c1 - c0).norm() - r0 - r1).max(0.0);
+                let arc_m = s1 - s0;
+                if distance_m > 1.1 * arc_m {
+                    return Err(SystemError::ClipOutOfReach {
+                        rod: spec.name.clone(),
+                        from: from.clone(),
+                        from_s_m: *s0,
+                        to: to.clone(),
+                        to_s_m: *s1,
+                        distance_m,
+                        arc_m,
                     });
                 }
             }

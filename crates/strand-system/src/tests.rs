@@ -516,6 +516,38 @@ fn validation_rejects_unreachable_ends_and_free_rods() {
 }
 
 #[test]
+fn validation_rejects_a_clip_out_of_reach_of_its_neighbours_along_the_rod() {
+    // The clipped hose: clamped start, the hinge 0.3 m along it (vertex 2 of 8 on
+    // 1.2 m) with its base 0.3 m from the start. Within reach as built.
+    assert!(Model::try_new(clipped_system()).is_ok());
+    // The hinge's base 2 m away: 0.45 m of hose cannot reach it from the start.
+    let mut system = clipped_system();
+    system.clips[0].base.position = Vector3::new(0.3, 0.02, 2.0);
+    match Model::try_new(system).unwrap_err() {
+        SystemError::ClipOutOfReach {
+            from,
+            to,
+            arc_m,
+            distance_m,
+            ..
+        } => {
+            assert_eq!((from.as_str(), to.as_str()), ("its start", "clip 'hinge'"));
+            assert!((arc_m - 0.3).abs() < 1e-12, "{arc_m}");
+            assert!(distance_m > 1.9, "{distance_m}");
+        }
+        other => panic!("{other}"),
+    }
+    // The ball 0.6 m along the hose from the hinge (the rail between them, which may
+    // carry its vertex anywhere, is not a holder) but about 1 m away from it: rejected.
+    let mut system = clipped_system();
+    system.clips[2].base.position = Vector3::new(0.3, 0.02, 1.0);
+    assert!(matches!(
+        Model::try_new(system).unwrap_err(),
+        SystemError::ClipOutOfReach { .. }
+    ));
+}
+
+#[test]
 fn initial_guess_meets_held_ends_with_the_rod_length() {
     let mut system = test_system();
     system.rods[1].rod = Rod::try_straight(*system.rods[1].rod.section(), 1.2, 40).unwrap();
