@@ -467,6 +467,9 @@ pub(crate) fn write_solved(
             doc.findings.len()
         );
     }
+    for stretched in strand_study::solve::stretched_rods(&built.origin, &doc) {
+        let _ = writeln!(err, "warning: {stretched}");
+    }
     match strand_study::solve::not_converged(&built.origin, variant, &doc) {
         None => Ok(Exit::Success),
         Some(message) => {

@@ -122,6 +122,44 @@ pub fn not_converged(origin: &str, variant: Option<&str>, doc: &ResultDoc) -> Op
     ))
 }
 
+/// Mean stretch of a rod's centreline (its length over the reference length, less 1)
+/// above which `strand solve` asks whether the length is right: cables and hoses do
+/// not stretch by percents under their own weight; a rod a few percent shorter than
+/// the path between its supports does (a 590 mm cable between pins 640 mm apart:
+/// 7.9 %, 1.7 kN of tension).
+pub const STRETCH_WARNING: f64 = 0.02;
+
+/// Per rod of `doc` whose centreline is more than [`STRETCH_WARNING`] longer than its
+/// reference length: what `strand solve` warns about it (after `warning: `), with the
+/// case file `origin`, the stretch and the largest tension (N).
+pub fn stretched_rods(origin: &str, doc: &ResultDoc) -> Vec<String> {
+    doc.rods
+        .iter()
+        .filter_map(|rod| {
+            let centreline: f64 = rod
+                .position_m
+                .windows(2)
+                .map(|w| {
+                    let d = [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]];
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+                })
+                .sum();
+            let stretch = centreline / rod.length_m - 1.0;
+            (stretch > STRETCH_WARNING).then(|| {
+                let tension = rod.tangential_force_n.iter().copied().fold(0.0, f64::max);
+                format!(
+                    "{origin}: rod '{}' is stretched: its centreline is {} % longer than its \
+                     length, with up to {} N of tension; is its `length` right (too short \
+                     for the path between its supports)?",
+                    rod.name,
+                    number(100.0 * stretch),
+                    number(tension)
+                )
+            })
+        })
+        .collect()
+}
+
 /// Contacts, clearances and the environment meshes' diagnostics and outlines (near
 /// the hoses) of `solution` into `doc`, then the case's limits and the findings
 /// against them ([`crate::findings::add_findings`]).
