@@ -42,6 +42,26 @@ pub enum MeshError {
         /// The coordinates as read.
         z: f64,
     },
+    /// A vertex lies farther from the origin than any part of a machine
+    /// ([`MAX_COORDINATE_M`]): a wrong unit or scale, or a damaged file (the
+    /// squares of such coordinates overflow, and every triangle would look degenerate).
+    #[error(
+        "{mesh}: vertex {vertex} lies at ({x:e}, {y:e}, {z:e}) m, beyond the {limit:e} m from the origin a part may lie\n  hint: check the mesh's `unit` and `scale`, or repair the file"
+    )]
+    VertexTooFar {
+        /// The mesh's file path or name.
+        mesh: String,
+        /// 1-based vertex number.
+        vertex: usize,
+        /// The coordinates in the world, m.
+        x: f64,
+        /// The coordinates in the world, m.
+        y: f64,
+        /// The coordinates in the world, m.
+        z: f64,
+        /// [`MAX_COORDINATE_M`].
+        limit: f64,
+    },
     /// A triangle refers to a vertex that does not exist.
     #[error(
         "{mesh}: triangle {triangle} refers to vertex index {index}, but there are only {count} vertices\n  hint: triangle indices are 0-based and must be < the number of vertices"
@@ -94,3 +114,7 @@ pub enum MeshError {
         hint: String,
     },
 }
+
+/// The farthest a mesh vertex may lie from the origin, m (a million kilometres: far
+/// beyond any machine, far below where squared lengths overflow).
+pub const MAX_COORDINATE_M: f64 = 1e9;

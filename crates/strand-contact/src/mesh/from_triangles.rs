@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::topology::{Shape, analyse, shape};
 use super::triangle_tree::TriangleTree;
-use super::{MeshError, ObstacleMesh};
+use super::{MAX_COORDINATE_M, MeshError, ObstacleMesh};
 
 /// A triangle counts as degenerate (and is skipped) when twice its area is at most
 /// this fraction of its longest edge squared, i.e. it is flat to rounding.
@@ -51,6 +51,20 @@ pub(crate) fn build(
     mut triangles: Vec<[u32; 3]>,
 ) -> Result<ObstacleMesh, MeshError> {
     let count = vertices.len();
+    if let Some((k, p)) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, p)| p.iter().any(|x| x.abs() > MAX_COORDINATE_M))
+    {
+        return Err(MeshError::VertexTooFar {
+            mesh: name,
+            vertex: k + 1,
+            x: p[0],
+            y: p[1],
+            z: p[2],
+            limit: MAX_COORDINATE_M,
+        });
+    }
     let in_range = |i: &u32| (*i as usize) < count;
     if !triangles.iter().flatten().all(in_range) {
         let (triangle, index) = triangles

@@ -53,7 +53,7 @@ mod work;
 
 pub use diagnostics::{MeshDiagnostics, SLIVER_RELATIVE_AREA};
 pub use distance_bound::{DISTANCE_GRID_STEPS, DistanceBound, distance_grid_floor};
-pub use error::MeshError;
+pub use error::{MAX_COORDINATE_M, MeshError};
 pub(crate) use flat_bvh::FlatBvh;
 pub use from_triangles::DEGENERATE_RELATIVE_AREA;
 pub use kept_triangles::KeptTriangles;

@@ -54,11 +54,8 @@ pub enum MeshFormat {
 /// `solid`; binary STL (then reported as broken) when it has an `.stl` extension or is
 /// not text; OBJ otherwise.
 pub fn detect_format(bytes: &[u8], extension: Option<&str>) -> MeshFormat {
-    if bytes.len() >= HEADER + 4 {
-        let count = u32::from_le_bytes(bytes[HEADER..HEADER + 4].try_into().expect("4 bytes"));
-        if (HEADER + 4) as u64 + RECORD as u64 * u64::from(count) == bytes.len() as u64 {
-            return MeshFormat::BinaryStl;
-        }
+    if binary_size_matches(bytes) {
+        return MeshFormat::BinaryStl;
     }
     // Text (UTF-8 without a NUL) starting with `solid` after white space, or other
     // text; `None` for bytes that are not text.
@@ -120,8 +117,45 @@ pub(crate) fn mesh_from_bytes(
     let extension = path.extension().and_then(|e| e.to_str());
     match detect_format(bytes, extension) {
         MeshFormat::Obj => super::load_obj::obj_mesh(path, bytes, scale_to_metres, pose),
+        MeshFormat::BinaryStl if extension.is_some_and(|e| e.eq_ignore_ascii_case("obj")) => {
+            // Named OBJ, not text, and not the size of a binary STL: a damaged OBJ
+            // more likely than an STL saved under the wrong name.
+            match binary_size_matches(bytes) {
+                true => stl_mesh(path, bytes, scale_to_metres, pose),
+                false => Err(stl_error(
+                    path,
+                    format!(
+                        "not a mesh file: an OBJ file is text, but byte {} (0x{:02x}) is not \
+                         (a NUL or not UTF-8), and its {} bytes are not those of a binary STL \
+                         (84 + 50 per triangle)",
+                        first_non_text(bytes),
+                        bytes[first_non_text(bytes)],
+                        bytes.len()
+                    ),
+                    "the file is damaged or not a mesh: export the part again as OBJ or STL",
+                )),
+            }
+        }
         _ => stl_mesh(path, bytes, scale_to_metres, pose),
     }
+}
+
+/// Whether `bytes` have the size of a binary STL with the triangle count in its header.
+fn binary_size_matches(bytes: &[u8]) -> bool {
+    bytes.len() >= HEADER + 4 && {
+        let count = u32::from_le_bytes(bytes[HEADER..HEADER + 4].try_into().expect("4 bytes"));
+        (HEADER + 4) as u64 + RECORD as u64 * u64::from(count) == bytes.len() as u64
+    }
+}
+
+/// The offset of the first byte of `bytes` that is not text (a NUL, or where UTF-8
+/// breaks); `bytes` must hold one.
+fn first_non_text(bytes: &[u8]) -> usize {
+    let nul = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+    let utf8 = std::str::from_utf8(bytes)
+        .err()
+        .map_or(bytes.len(), |e| e.valid_up_to());
+    nul.min(utf8).min(bytes.len().saturating_sub(1))
 }
 
 /// The bytes of a mesh file.

@@ -262,3 +262,55 @@ fn the_format_is_told_by_content_with_odd_white_space_and_text() {
         assert_eq!(detect_format(bytes, extension), format, "{bytes:?}");
     }
 }
+
+#[test]
+fn a_damaged_obj_is_not_reported_as_a_truncated_stl() {
+    // Text with a stray byte that is not UTF-8, named .obj, of no binary STL's size:
+    // the error says the OBJ is not text and where, not "truncated binary STL".
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("part.obj");
+    std::fs::write(
+        &path,
+        b"garbage\x00\xff\xfe binary junk\nv 1 2\nf 1 2 3 4 5\n",
+    )
+    .unwrap();
+    let message = ObstacleMesh::load(&path, 1.0, &Isometry3::identity())
+        .unwrap_err()
+        .to_string();
+    assert!(!message.contains("truncated binary STL"), "{message}");
+    assert!(
+        message.contains("an OBJ file is text, but byte 7 (0x00)"),
+        "{message}"
+    );
+    assert!(
+        message.contains("export the part again as OBJ or STL"),
+        "{message}"
+    );
+    // The same bytes named .stl are a broken STL, as before.
+    let stl = dir.path().join("part.stl");
+    std::fs::copy(&path, &stl).unwrap();
+    let message = ObstacleMesh::load(&stl, 1.0, &Isometry3::identity())
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("truncated binary STL"), "{message}");
+}
+
+#[test]
+fn a_vertex_far_beyond_any_part_is_an_error_not_a_degenerate_mesh() {
+    // A vertex at 1e300 m: its triangle's squared lengths overflow, and it was
+    // reported as "degenerate"; now the vertex and the likely cause are named.
+    let triangle = [[0u32, 1, 2]];
+    let at = |x: f64| {
+        vec![
+            Point3::new(x, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ]
+    };
+    match ObstacleMesh::try_from_triangles("far", at(1e300), &triangle) {
+        Err(MeshError::VertexTooFar { vertex: 1, .. }) => {}
+        other => panic!("{other:?}"),
+    }
+    // A part 1e8 m out (within the limit) is a mesh.
+    assert!(ObstacleMesh::try_from_triangles("near", at(1e8), &triangle).is_ok());
+}
