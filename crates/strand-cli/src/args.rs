@@ -317,6 +317,23 @@ and total time, and the issue-9 targets (all converge, median iterations <= 20, 
     },
 }
 
+impl Command {
+    /// The output directory the command writes into, if it names one (`report` writes
+    /// a file, `check` and `bench` nothing).
+    pub(crate) fn out_dir(&self) -> Option<&std::path::Path> {
+        match self {
+            Command::Solve { out, .. }
+            | Command::Motion { out, .. }
+            | Command::Study { out, .. }
+            | Command::Merge { out, .. } => out.as_deref(),
+            Command::Sensitivity { out, .. }
+            | Command::Optimize { out, .. }
+            | Command::Batch { out, .. } => Some(out),
+            _ => None,
+        }
+    }
+}
+
 /// Where each step of `strand motion` starts ([`strand_case::motion::Predictor`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum PredictorArg {

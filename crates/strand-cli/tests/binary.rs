@@ -223,3 +223,34 @@ fn a_rod_too_short_for_its_supports_is_solved_with_a_warning_that_it_is_stretche
         .unwrap();
     assert!(percent >= 100.0 * (640.0 / 590.0 - 1.0) - 1e-6, "{warning}");
 }
+
+#[test]
+fn an_out_that_is_a_file_is_an_input_error_before_any_work() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("afile");
+    std::fs::write(&file, "keep me").unwrap();
+    let out = file.to_str().unwrap();
+    let cooler = case("cooler_hose.ron");
+    for args in [
+        vec!["solve", cooler.as_str(), "--out", out],
+        vec![
+            "batch",
+            cooler.as_str(),
+            "--vary",
+            "hose2.length=+0mm..+10mm:10mm",
+            "--out",
+            out,
+        ],
+        vec!["merge", tmp.path().to_str().unwrap(), "--out", out],
+    ] {
+        let (code, stdout, err) = strand(&args);
+        assert_eq!(code, Some(2), "{args:?}: {stdout}{err}");
+        assert!(
+            err.contains("is a file, not a directory"),
+            "{args:?}: {err}"
+        );
+        // Nothing solved, nothing written.
+        assert!(!stdout.contains("converged"), "{stdout}");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
+    }
+}
