@@ -129,6 +129,10 @@ fn build_nominal(
                 format!("{item}.points[{index}]"),
                 "remove the repeated point".to_string(),
             ),
+            NominalError::DoublesBack { index, .. } => (
+                format!("{item}.points[{index}]"),
+                "check the order of the points around it (a point given twice?)".to_string(),
+            ),
             NominalError::FrameCount { .. } => (
                 format!("{item}.frames"),
                 "give one frame per point, or omit `frames`".to_string(),

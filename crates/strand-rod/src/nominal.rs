@@ -168,6 +168,11 @@ impl NominalRod {
     }
 }
 
+/// The largest angle, degrees, between consecutive chords of a nominal centreline's
+/// points: a CAD centreline sampled at any spacing that follows a hose turns by far
+/// less between neighbouring chords; beyond it the points double back (a point given
+/// twice in another order, a copy-and-paste slip), see [`NominalError::DoublesBack`].
+pub const MAX_CHORD_TURN_DEG: f64 = 150.0;
 /// Why a nominal shape cannot define a rod.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum NominalError {
@@ -190,6 +195,20 @@ pub enum NominalError {
     RepeatedPoint {
         /// Index of the second of the two points.
         index: usize,
+    },
+    /// The centreline turns back on itself at a point: consecutive chords point in
+    /// nearly opposite directions (more than [`MAX_CHORD_TURN_DEG`] apart), so the curve
+    /// through the points makes a loop no hose has.
+    #[error(
+        "the nominal centreline turns back on itself at points[{index}] (the chords \
+         before and after it are {angle_deg:.1}° apart, more than {max:.0}°)",
+        max = MAX_CHORD_TURN_DEG
+    )]
+    DoublesBack {
+        /// Index of the point where it turns.
+        index: usize,
+        /// The angle between the chords before and after it, degrees.
+        angle_deg: f64,
     },
     /// `frames` has not one frame per point.
     #[error("nominal frames: expected one per point ({points}), got {frames}")]
@@ -418,6 +437,17 @@ impl Spline {
         let polyline: f64 = chords.iter().map(|c| c.norm()).sum();
         if let Some(i) = chords.iter().position(|c| c.norm() <= 1e-9 * polyline) {
             return Err(NominalError::RepeatedPoint { index: i + 1 });
+        }
+        if let Some((i, angle)) = chords
+            .windows(2)
+            .map(|w| w[0].angle(&w[1]).to_degrees())
+            .enumerate()
+            .find(|(_, angle)| *angle > MAX_CHORD_TURN_DEG)
+        {
+            return Err(NominalError::DoublesBack {
+                index: i + 1,
+                angle_deg: angle,
+            });
         }
         let m = chords.len();
         let directions = match &shape.frames {
@@ -864,6 +894,25 @@ mod tests {
             err(NominalShape::from_points(vec![p(0.0), p(1.0), p(1.0)]), 4),
             NominalError::RepeatedPoint { index: 2 }
         );
+        // Back and forth along x: it turns back at points[1] (180°).
+        assert_eq!(
+            err(
+                NominalShape::from_points(vec![p(0.0), p(1.0), p(0.0), p(1.0)]),
+                4
+            ),
+            NominalError::DoublesBack {
+                index: 1,
+                angle_deg: 180.0
+            }
+        );
+        // A hairpin sampled every 30° turns by 30° per point: a shape.
+        let hairpin: Vec<Vector3<f64>> = (0..=6)
+            .map(|k| {
+                let a = (k as f64 * 30.0).to_radians();
+                Vector3::new(a.sin(), 1.0 - a.cos(), 0.0)
+            })
+            .collect();
+        assert!(Rod::try_from_nominal(s, &NominalShape::from_points(hairpin), 12).is_ok());
         assert_eq!(
             err(NominalShape::from_points(vec![p(0.0), p(f64::NAN)]), 4),
             NominalError::NotFinite {
