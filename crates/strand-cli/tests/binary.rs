@@ -254,3 +254,29 @@ fn an_out_that_is_a_file_is_an_input_error_before_any_work() {
         assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
     }
 }
+
+#[test]
+fn an_optimisation_whose_constraint_no_design_meets_ends_infeasible_without_an_optimum() {
+    // A 10 m minimum bend radius: no length of hose 2 meets it. The run stops as
+    // infeasible (it said "non_smooth" when the trust region collapsed with the
+    // constraint violated), exit 3, and its case file does not claim to be optimal.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("opt");
+    let (code, out, err) = strand(&[
+        "optimize",
+        &case("cooler_hose.ron"),
+        "--vary",
+        "hose2.length=150mm..300mm",
+        "--subject-to",
+        "bend_radius>=10000mm",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(3), "{out}{err}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("optimum.json")).unwrap()).unwrap();
+    assert_eq!(doc["converged"], false);
+    assert_eq!(doc["termination"], "infeasible", "{doc}");
+    let text = std::fs::read_to_string(dir.join("cooler_hose_optimum.ron")).unwrap();
+    assert!(text.starts_with("// NOT an optimum"), "{}", &text[..200]);
+}

@@ -401,7 +401,13 @@ pub fn optimize(
         progress(&record);
         history.push(record);
         if radius < settings.step_tolerance {
-            break Termination::NonSmooth;
+            // Collapsed with a constraint still violated: no feasible point was found
+            // (whether the gradients also jumped is in `non_smooth`).
+            break if worst(&lin.rows) > settings.feasibility_tolerance {
+                Termination::Infeasible
+            } else {
+                Termination::NonSmooth
+            };
         }
     };
     // The multipliers at the final point (a zero-size step there when converged).

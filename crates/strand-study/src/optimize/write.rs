@@ -36,8 +36,14 @@ pub fn optimal_case(case: &Case, optimum: &Optimum, doc: &OptimumDoc) -> Result<
         .filter_map(|v| doc.parameters.get(v).map(|p| (v, p)))
         .map(|(v, p)| format!("{v} = {} {}", significant(p.value, 7), p.unit))
         .collect();
+    // Only a converged run found an optimum; otherwise the file holds its best point.
+    let what = if doc.converged {
+        "The optimal design"
+    } else {
+        "NOT an optimum (the run did not converge): the best point found"
+    };
     let text = format!(
-        "// The optimal design of {} by `strand optimize` (minimise {}: {} {}; {}):\n// {}\n{body}\n",
+        "// {what} of {} by `strand optimize` (minimise {}: {} {}; {}):\n// {}\n{body}\n",
         case.origin,
         doc.objective.name,
         significant(doc.objective.value, 5),
