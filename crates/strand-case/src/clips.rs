@@ -743,11 +743,14 @@ mod tests {
         BASE.replace("CLIPS", clips)
     }
 
+    /// A clip on `rod` at `at` mm, its base on the line of the rod's start (within
+    /// reach of it: the 'other' rod starts 100 mm off the first).
     fn clip(name: &str, rod: &str, at: f64, joint: &str, extra: &str) -> String {
         format!(
-            "\"{name}\": (rod: \"{rod}\", at: {at}, base: (position: ({x}, 0, 0), direction: (1, 0, 0), \
+            "\"{name}\": (rod: \"{rod}\", at: {at}, base: (position: ({x}, {y}, 0), direction: (1, 0, 0), \
              normal: (0, 0, 1)), joint: {joint}{extra}),",
-            x = at * 0.95
+            x = at * 0.95,
+            y = if rod == "other" { 100 } else { 0 }
         )
     }
 
