@@ -80,7 +80,7 @@ pub struct ResultDoc {
     #[serde(default, rename = "residual_floor_N")]
     pub residual_floor_n: f64,
     /// The size of the applied loads (weights and dead loads), N: a residual accepted
-    /// at the round-off floor is below 1e-6 of it, else the solve stops as
+    /// at the round-off floor is below 1e-3 of it, else the solve stops as
     /// `floor_above_loads` (0 for a system moved only by its supports).
     #[serde(default, rename = "applied_load_N")]
     pub applied_load_n: f64,

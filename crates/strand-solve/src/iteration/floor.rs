@@ -38,9 +38,11 @@ pub(crate) const ROUND_OFF_SPREAD: f64 = 4.0;
 /// else the floor is not small against the loads and the state is no resolved
 /// equilibrium of them ([`crate::Termination::FloorAboveLoads`]). The floors of real
 /// cables and hoses lie 1e-8 of their weights and below (a steel cable of EA 5.6e5 N
-/// at 8884 segments: about 1e-9 N); a cable of `ea = ga = 1e15` N weighing 0.59 N has
-/// a floor of 4.3 N.
-pub const ROUND_OFF_RESOLVED: f64 = 1e-6;
+/// at 8884 segments: about 1e-9 N); the convergence map's stiffest bars (EA/EI = 1e12,
+/// EA = 1e10 N) converge at floors up to about 1e-5 of their loads; a cable of
+/// `ea = ga = 1e15` N weighing 0.59 N has a floor of 4.3 N (7 times its weight), one
+/// of `ei = 1e12` N·m² a floor of 0.42 N.
+pub const ROUND_OFF_RESOLVED: f64 = 1e-3;
 
 /// The round-off floor of the residual in N (the combined measure of
 /// [`strand_system::Residual::combined_n`]) of `model` with Hessian values `hessian`
