@@ -118,3 +118,32 @@ pub enum MeshError {
 /// The farthest a mesh vertex may lie from the origin, m (a million kilometres: far
 /// beyond any machine, far below where squared lengths overflow).
 pub const MAX_COORDINATE_M: f64 = 1e9;
+
+impl MeshError {
+    /// The error of building the mesh of file `label` (its path): the errors that name
+    /// the mesh name the file instead of the mesh (its file stem).
+    pub(crate) fn of_file(self, label: &str) -> Self {
+        match self {
+            MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
+                mesh: label.to_string(),
+                detail,
+            },
+            MeshError::VertexTooFar {
+                vertex,
+                x,
+                y,
+                z,
+                limit,
+                ..
+            } => MeshError::VertexTooFar {
+                mesh: label.to_string(),
+                vertex,
+                x,
+                y,
+                z,
+                limit,
+            },
+            other => other,
+        }
+    }
+}

@@ -64,13 +64,7 @@ pub(crate) fn obj_mesh(
         let world = pose * Point3::from(Point3::from(*vertex).coords * scale_to_metres);
         *vertex = [world.x, world.y, world.z];
     });
-    build(name_of(path), vertices, parsed.triangles).map_err(|e| match e {
-        MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
-            mesh: label,
-            detail,
-        },
-        other => other,
-    })
+    build(name_of(path), vertices, parsed.triangles).map_err(|e| e.of_file(&label))
 }
 
 /// The vertices and triangles of an OBJ file as tobj reads it: every model's

@@ -219,13 +219,7 @@ fn stl_mesh(
             [world.x, world.y, world.z]
         })
         .collect();
-    build(super::load_obj::name_of(path), vertices, triangles).map_err(|e| match e {
-        MeshError::NoTriangles { detail, .. } => MeshError::NoTriangles {
-            mesh: label,
-            detail,
-        },
-        other => other,
-    })
+    build(super::load_obj::name_of(path), vertices, triangles).map_err(|e| e.of_file(&label))
 }
 
 /// The corners of every triangle of a binary STL (file units).
