@@ -49,6 +49,18 @@ pub(crate) fn run(
     Ok(Exit::Success)
 }
 
+/// The smallest value, as a fraction of the largest of its unit, that the summary's
+/// ranking divides a derivative by (see [`summary`]).
+const RELATIVE_FLOOR: f64 = 1e-3;
+
+/// The unit of an output from its name (`cable.peak_force_N` → `N`,
+/// `ecu.moment_Nm.x` → `Nm`); empty where the name has none.
+fn unit_of(name: &str) -> &str {
+    name.rsplit('.')
+        .find(|part| part.contains('_'))
+        .map_or("", |part| part.rsplit('_').next().unwrap_or(""))
+}
+
 /// The terminal summary: the largest derivatives (by size relative to the output's
 /// value) with units.
 fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> String {
@@ -60,8 +72,17 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
             }
         }
     }
+    // Relative to the value, but never to less than 1e-3 of the largest value of the
+    // same unit: an output that is zero by statics (a horizontal reaction of a
+    // symmetric cable, -3.9e-12 N) would otherwise lead the list with its round-off.
+    let mut largest: std::collections::HashMap<&str, f64> = std::collections::HashMap::new();
+    for o in &doc.outputs {
+        let entry = largest.entry(unit_of(&o.name)).or_insert(0.0);
+        *entry = entry.max(o.value.abs());
+    }
     let weight = |(o, _, d): &(&SensitivityOutput, &SensitivityParameter, f64)| {
-        (d / o.value.abs().max(1e-12)).abs()
+        let scale = RELATIVE_FLOOR * largest.get(unit_of(&o.name)).copied().unwrap_or(0.0);
+        (d / o.value.abs().max(scale).max(1e-300)).abs()
     };
     rows.sort_by(|a, b| weight(b).total_cmp(&weight(a)));
     let mut s = format!(
@@ -75,11 +96,7 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
     );
     s.push_str("largest relative changes (output value, derivative per parameter unit):\n");
     for (o, p, d) in rows.iter().take(SHOWN) {
-        let unit = o
-            .name
-            .rsplit('.')
-            .find(|part| part.contains('_'))
-            .map_or("", |part| part.rsplit('_').next().unwrap_or(""));
+        let unit = unit_of(&o.name);
         s.push_str(&format!(
             "  {:<40} {:>12} {unit:<3}  d/d{}: {:>12} {unit}/{}{}\n",
             o.name,
@@ -107,4 +124,41 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
         dir.display()
     ));
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_zero_by_statics_do_not_lead_the_relative_ranking() {
+        let output = |name: &str, value: f64, d: f64| SensitivityOutput {
+            name: name.into(),
+            value,
+            d: [("cable.length".to_string(), d)].into_iter().collect(),
+            one_sided: Vec::new(),
+        };
+        let doc = SensitivityDoc {
+            case: "hanging_cable".into(),
+            converged: true,
+            residual_n: 1e-12,
+            parameters: vec![SensitivityParameter {
+                name: "cable.length".into(),
+                unit: "mm".into(),
+            }],
+            outputs: vec![
+                // Zero by statics, its round-off and its derivative's.
+                output("ecu.force_N.x", -3.9e-12, 1e-11),
+                output("ecu.moment_Nm.x", 6e-18, 1e-17),
+                // Real outputs: 1 % and 0.5 % per mm.
+                output("ecu.force_N.z", 0.29, 0.0029),
+                output("ecu.moment_Nm.y", 0.08, 0.0004),
+            ],
+            near_switch: Vec::new(),
+        };
+        let text = summary(&doc, 0.01, 0.02, Path::new("out"));
+        let listed: Vec<&str> = text.lines().filter(|l| l.starts_with("  ")).collect();
+        assert!(listed[0].contains("ecu.force_N.z"), "{text}");
+        assert!(listed[1].contains("ecu.moment_Nm.y"), "{text}");
+    }
 }
