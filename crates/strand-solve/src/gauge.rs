@@ -143,10 +143,15 @@ pub(crate) mod tests {
     /// A 1 m rod "r" of 8 edges between `start` and `end` under gravity (also used by
     /// other modules' tests).
     pub(crate) fn rod_between(start: End, end: End, section: Section) -> Model {
+        one_rod(Rod::try_straight(section, 1.0, 8).unwrap(), start, end)
+    }
+
+    /// `rod`, named "r", between `start` and `end` under gravity (9.81 m/s² down z).
+    pub(crate) fn one_rod(rod: Rod, start: End, end: End) -> Model {
         Model::try_new(System {
             rods: vec![RodSpec {
                 name: "r".into(),
-                rod: Rod::try_straight(section, 1.0, 8).unwrap(),
+                rod,
                 start,
                 end,
                 route: None,

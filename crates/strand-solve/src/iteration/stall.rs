@@ -63,30 +63,21 @@ pub(crate) fn stalled_at_floor(report: &SolveReport) -> bool {
 mod tests {
     use nalgebra::Vector3;
     use strand_rod::{Rod, Section};
-    use strand_system::{End, Model, RodSpec, System, initial_state};
+    use strand_system::{End, Model, initial_state};
 
+    use crate::gauge::tests::one_rod;
     use crate::{SolverSettings, Termination};
 
     /// A 0.6 m cable of 0.1 kg/m pinned at two points 0.5 m apart under gravity, with
     /// axial and shear stiffness `stretch` (N).
     fn hanging(stretch: f64) -> Model {
         let section = Section::try_explicit(stretch, stretch, 5e-3, 3.8e-3, 0.1, 0.003).unwrap();
-        let rod = Rod::try_straight(section, 0.6, 30).unwrap();
-        Model::try_new(System {
-            rods: vec![RodSpec {
-                name: "cable".into(),
-                rod,
-                start: End::pinned(Vector3::zeros()),
-                end: End::pinned(Vector3::new(0.5, 0.0, 0.0)),
-                route: None,
-            }],
-            bodies: vec![],
-            clips: vec![],
-            gravity: Vector3::new(0.0, 0.0, -9.81),
-        })
-        .unwrap()
+        one_rod(
+            Rod::try_straight(section, 0.6, 30).unwrap(),
+            End::pinned(Vector3::zeros()),
+            End::pinned(Vector3::new(0.5, 0.0, 0.0)),
+        )
     }
-
     #[test]
     fn a_floor_above_the_loads_is_not_converged_and_tries_no_continuation() {
         let settings = SolverSettings::default();
