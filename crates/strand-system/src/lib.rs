@@ -30,8 +30,8 @@ pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};
 pub use route::RouteShape;
 pub use system::{
-    BodyHandle, BodySpec, ClipSpec, End, EndLoad, Joint, JointState, Port, Pose, RodHandle,
-    RodSpec, Support, System, SystemError, SystemState,
+    BodyHandle, BodySpec, ClipReach, ClipSpec, End, EndLoad, Joint, JointState, Port, Pose,
+    RodHandle, RodSpec, Support, System, SystemError, SystemState,
 };
 
 #[cfg(test)]

@@ -378,27 +378,8 @@ pub enum SystemError {
     },
     /// Two places that hold a rod (its ends, clips fixed in the world) are farther
     /// apart than the rod between them can reach.
-    #[error(
-        "rod '{rod}': {to} (at {to_s_m:.6} m along the rod) is held {distance_m:.6} m from \
-         {from} (at {from_s_m:.6} m), but only {arc_m:.6} m of rod lies between them: move \
-         the clip's base or its place along the rod (`at`), or lengthen the rod"
-    )]
-    ClipOutOfReach {
-        /// Rod name.
-        rod: String,
-        /// The first holder along the rod: `its start` or `clip 'name'`.
-        from: String,
-        /// Its reference arc length, m.
-        from_s_m: f64,
-        /// The next holder along the rod: `clip 'name'` or `its end`.
-        to: String,
-        /// Its reference arc length, m.
-        to_s_m: f64,
-        /// The least distance between where they hold the rod, m.
-        distance_m: f64,
-        /// The rod's reference length between them, m.
-        arc_m: f64,
-    },
+    #[error("{0}")]
+    ClipOutOfReach(Box<ClipReach>),
     /// Two rods share a name.
     #[error("two rods are named '{0}': rod names must be unique")]
     DuplicateName(String),
@@ -443,6 +424,31 @@ pub enum SystemError {
         /// A rod of the floating group.
         rod: String,
     },
+}
+
+/// Two holders of a rod farther apart than the rod between them reaches
+/// ([`SystemError::ClipOutOfReach`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "rod '{rod}': {to} (at {to_s_m:.6} m along the rod) is held {distance_m:.6} m from \
+     {from} (at {from_s_m:.6} m), but only {arc_m:.6} m of rod lies between them: move \
+     the clip's base or its place along the rod (`at`), or lengthen the rod"
+)]
+pub struct ClipReach {
+    /// Rod name.
+    pub rod: String,
+    /// The first holder along the rod: `its start` or `clip 'name'`.
+    pub from: String,
+    /// Its reference arc length, m.
+    pub from_s_m: f64,
+    /// The next holder along the rod: `clip 'name'` or `its end`.
+    pub to: String,
+    /// Its reference arc length, m.
+    pub to_s_m: f64,
+    /// The least distance between where they hold the rod, m.
+    pub distance_m: f64,
+    /// The rod's reference length between them, m.
+    pub arc_m: f64,
 }
 
 impl System {
@@ -934,7 +940,7 @@ impl System {
                 let distance_m = ((c1 - c0).norm() - r0 - r1).max(0.0);
                 let arc_m = s1 - s0;
                 if distance_m > 1.1 * arc_m {
-                    return Err(SystemError::ClipOutOfReach {
+                    return Err(SystemError::ClipOutOfReach(Box::new(ClipReach {
                         rod: spec.name.clone(),
                         from: from.clone(),
                         from_s_m: *s0,
@@ -942,7 +948,7 @@ impl System {
                         to_s_m: *s1,
                         distance_m,
                         arc_m,
-                    });
+                    })));
                 }
             }
         }
