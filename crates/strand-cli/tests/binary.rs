@@ -279,4 +279,16 @@ fn an_optimisation_whose_constraint_no_design_meets_ends_infeasible_without_an_o
     assert_eq!(doc["termination"], "infeasible", "{doc}");
     let text = std::fs::read_to_string(dir.join("cooler_hose_optimum.ron")).unwrap();
     assert!(text.starts_with("// NOT an optimum"), "{}", &text[..200]);
+    // Bounds whose start cannot be built: an input error naming the file once.
+    let file = case("cooler_hose.ron");
+    let (code, out, err) = strand(&[
+        "optimize",
+        &file,
+        "--vary",
+        "hose2.length=10mm..20mm",
+        "--out",
+        tmp.path().join("short").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(2), "{out}{err}");
+    assert_eq!(err.matches(file.as_str()).count(), 1, "{err}");
 }

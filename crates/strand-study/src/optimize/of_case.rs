@@ -35,8 +35,9 @@ pub struct OptimizeRun {
 /// `origin` (the case file) goes before the message when given.
 fn study_error(error: OptimizeError, origin: Option<&str>) -> StudyError {
     let message = match origin {
-        Some(origin) => format!("{origin}: {error}"),
-        None => error.to_string(),
+        // A case error names its file itself.
+        Some(origin) if !matches!(error, OptimizeError::Case(_)) => format!("{origin}: {error}"),
+        _ => error.to_string(),
     };
     match error.kind() {
         ErrorKind::Input => StudyError::Input(message),
