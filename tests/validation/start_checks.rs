@@ -17,9 +17,14 @@ use crate::common::strand;
 /// The corners and outward quads of the box `[0, 400] × [-100, 100] × [-100, 100]` mm,
 /// as OBJ text; `lid` includes the top face z = 100.
 fn box_obj(lid: bool) -> String {
+    box_along_x(lid, -50, 450)
+}
+
+/// [`box_obj`] spanning `x0..x1` mm along x.
+fn box_along_x(lid: bool, x0: i32, x1: i32) -> String {
     let mut text = String::new();
     for k in 0..8 {
-        let x = if k & 1 == 0 { -50 } else { 450 };
+        let x = if k & 1 == 0 { x0 } else { x1 };
         let y = if k & 2 == 0 { -100 } else { 100 };
         let z = if k & 4 == 0 { -100 } else { 100 };
         text.push_str(&format!("v {x} {y} {z}\n"));
@@ -147,21 +152,36 @@ fn a_hose_crossing_over_itself_is_rejected_by_check_and_solve_with_the_place() {
 
 #[test]
 fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
-    // The closed box encloses the clamps: every start the solver can guess (hanging,
-    // bowed, arched, straight) begins inside it. The user gave no route, so the hint
-    // asks for one rather than to move it.
+    // A closed box across the taut hose's middle (x 100..300 mm), its clamps outside:
+    // every start the solver can guess (hanging, bowed, arched, straight: all straight
+    // for a hose as long as its clamps are apart) passes through it. The user gave no
+    // route, so the hint asks for one rather than to move it.
     let text = straight_400mm_hose();
     let unrouted = text.replace("route: Some([(0, 0, 0), (400, 0, 0)])", "route: None");
     assert_ne!(unrouted, text, "the route was not found");
-    let results = check_and_solve(&unrouted, &box_obj(true));
-    rejected(&results, "rod 'hose' starts inside mesh 'part'");
-    for (_, _, stderr) in &results {
+    let results = check_and_solve(&unrouted, &box_along_x(true, 100, 300));
+    for (exit, stdout, stderr) in &results {
+        assert_eq!(*exit, Exit::InvalidInput, "{stdout}{stderr}");
+        assert!(
+            stderr.contains("through an obstacle (touches mesh 'part')"),
+            "{stderr}"
+        );
         assert!(
             stderr.contains("hint: the rod has no `route`")
                 && stderr.contains("give the rod a `route`"),
             "{stderr}"
         );
         assert!(!stderr.contains("move the rod's `route`"), "{stderr}");
+    }
+    // The box around the clamps: no route can help, the hint says to move the support.
+    let results = check_and_solve(&unrouted, &box_obj(true));
+    rejected(&results, "rod 'hose' starts inside mesh 'part'");
+    for (_, _, stderr) in &results {
+        assert!(
+            stderr.contains("move its connector, pin, clamp or port"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("give the rod a `route`"), "{stderr}");
     }
 }
 

@@ -292,3 +292,31 @@ fn an_optimisation_whose_constraint_no_design_meets_ends_infeasible_without_an_o
     assert_eq!(code, Some(2), "{out}{err}");
     assert_eq!(err.matches(file.as_str()).count(), 1, "{err}");
 }
+
+#[test]
+fn a_connector_inside_a_closed_part_is_named_with_the_support_to_move() {
+    // The box of `cable_over_box` moved around connector 'a': no route can help, so
+    // the error says the end is held inside the part (it said to give a route).
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(case("cable_over_box.ron")).unwrap();
+    let box_obj = std::path::Path::new(&case("cable_over_box.ron"))
+        .parent()
+        .unwrap()
+        .join("../assets/parts/box.obj");
+    let moved = text.replace(
+        r#"(name: "box", obj: "../assets/parts/box.obj", unit: "mm"),"#,
+        &format!(
+            r#"(name: "box", obj: "{}", unit: "mm", position: (-200, 0, 100)),"#,
+            box_obj.display()
+        ),
+    );
+    assert_ne!(moved, text);
+    let file = tmp.path().join("inside.ron");
+    std::fs::write(&file, moved).unwrap();
+    let (code, out, err) = strand(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{out}{err}");
+    assert!(err.contains("starts inside mesh 'box'"), "{err}");
+    assert!(err.contains("at s = 0.0 mm"), "{err}");
+    assert!(err.contains("move its connector"), "{err}");
+    assert!(!err.contains("give the rod a `route`"), "{err}");
+}

@@ -95,6 +95,8 @@ pub enum StartHint {
     /// The rod has no route: the start is the solver's guess (hanging, bowed, arched or
     /// straight between the ends), none of which clears; a route chooses the way.
     GiveRoute,
+    /// An end of the rod is held inside the part: no route can help.
+    MoveSupport,
 }
 
 impl std::fmt::Display for StartHint {
@@ -109,6 +111,10 @@ impl std::fmt::Display for StartHint {
                  sideways or up, straight between the ends) clears the obstacles: give the \
                  rod a `route` (a list of points, or `route_file`) that passes clear of \
                  them, or move its supports or the obstacle"
+            }
+            StartHint::MoveSupport => {
+                "the rod's end is held there, inside the part: move its connector, pin, \
+                 clamp or port, or the part, so that the end lies outside it"
             }
         })
     }

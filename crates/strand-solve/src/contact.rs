@@ -668,6 +668,7 @@ impl Constraints for Contact {
     }
 
     fn check_start(&self, model: &Model, state: &SystemState) -> Result<(), ConstraintError> {
+        self.check_held_ends(model, state)?;
         self.check_overlap(model, state)?;
         self.check_enclosed(model, state)
     }

@@ -2,7 +2,7 @@
 //! rod, and no rod inside a closed part.
 
 use strand_contact::Obstacle;
-use strand_system::{Model, SystemState};
+use strand_system::{Model, Support, SystemState};
 
 use super::{Contact, START_OVERLAP_M};
 use crate::constraints::{ConstraintError, StartHint};
@@ -74,6 +74,41 @@ impl Contact {
             point_mm: [g.point.x * 1e3, g.point.y * 1e3, g.point.z * 1e3],
             hint: start_hint(model, &rod.name),
         })
+    }
+
+    /// `Err` naming the first held rod end (a connector, pin, clamp or port) that lies
+    /// inside a closed mesh at `state`: no start of the rod clears the part then, and
+    /// the fix is the support, not a route.
+    pub(super) fn check_held_ends(
+        &self,
+        model: &Model,
+        state: &SystemState,
+    ) -> Result<(), ConstraintError> {
+        for (r, rod_state) in state.rods.iter().enumerate() {
+            let spec = &model.system().rods[r];
+            let last = rod_state.positions.len() - 1;
+            let held = [(&spec.start, 0), (&spec.end, last)]
+                .into_iter()
+                .filter(|(end, _)| end.support != Support::Free);
+            for (_, j) in held {
+                let p = rod_state.positions[j];
+                let inside = self
+                    .meshes
+                    .iter()
+                    .filter(|m| m.diagnostics().closed)
+                    .find(|m| m.encloses(&nalgebra::Point3::from(p)));
+                if let Some(mesh) = inside {
+                    return Err(ConstraintError::StartsEnclosed {
+                        rod: spec.name.clone(),
+                        mesh: mesh.name().to_string(),
+                        s_mm: spec.rod.arc_lengths()[j] * 1e3,
+                        point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
+                        hint: StartHint::MoveSupport,
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// `Err` naming the first rod vertex (by rod, then arc length) that lies inside a
