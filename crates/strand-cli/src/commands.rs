@@ -57,9 +57,9 @@ pub(crate) fn solve_cold(built: &BuiltCase) -> Result<Solution, Failure> {
 
 /// An `--out` that names an existing file, not a directory: an input error before any
 /// work (a solve of minutes would otherwise end in "cannot write").
-fn check_out_dir(dir: Option<&Path>) -> Result<(), Failure> {
+fn check_out_dir(dir: &Path) -> Result<(), Failure> {
     match dir {
-        Some(dir) if dir.exists() && !dir.is_dir() => Err(Failure {
+        dir if dir.exists() && !dir.is_dir() => Err(Failure {
             exit: Exit::InvalidInput,
             message: format!(
                 "--out {}: is a file, not a directory; name a directory (it is created if \
@@ -77,7 +77,7 @@ pub(crate) fn execute(
     err: &mut dyn Write,
 ) -> Result<Exit, Failure> {
     if let Some(dir) = command.out_dir() {
-        check_out_dir(Some(dir))?;
+        check_out_dir(dir)?;
     }
     match command {
         Command::Solve {

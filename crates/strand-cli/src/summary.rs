@@ -267,13 +267,21 @@ const MAX_CONTACT_LINES: usize = 12;
 /// Per rod in contact: how many contacts, where along it and their total force.
 fn contact_counts(s: &mut String, doc: &ResultDoc, unit: LengthUnit) {
     let u = unit.symbol();
+    // One pass over the contacts (a harness has hundreds of rods), printed by rod.
+    let mut per_rod: std::collections::HashMap<&str, (usize, f64, f64, f64)> =
+        std::collections::HashMap::new();
+    for c in &doc.contacts {
+        let (n, from, to, total) =
+            per_rod
+                .entry(c.rod.as_str())
+                .or_insert((0, f64::INFINITY, f64::NEG_INFINITY, 0.0));
+        *n += 1;
+        *from = from.min(c.s_m);
+        *to = to.max(c.s_m);
+        *total += c.force_n;
+    }
     for rod in &doc.rods {
-        let on_rod = doc.contacts.iter().filter(|c| c.rod == rod.name);
-        let (count, from, to, total) = on_rod.fold(
-            (0, f64::INFINITY, f64::NEG_INFINITY, 0.0),
-            |(n, from, to, total), c| (n + 1, from.min(c.s_m), to.max(c.s_m), total + c.force_n),
-        );
-        if count > 0 {
+        if let Some(&(count, from, to, total)) = per_rod.get(rod.name.as_str()) {
             let _ = writeln!(
                 s,
                 "  {}: {count} contacts from s = {} to {} {u}, forces summing to {} N (all in result.json)",

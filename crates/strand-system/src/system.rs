@@ -494,6 +494,15 @@ impl System {
         }
     }
 
+    /// World position (m) of a rod end held where nothing moves it (a connector, pin or
+    /// clamp, or a port of a fixed body), for the given body poses; `None` otherwise.
+    fn fixed_end_position(&self, end: &End, at_end: bool, poses: &[Pose]) -> Option<Vector3<f64>> {
+        match end.support {
+            Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
+            _ => self.end_placement(end, at_end, poses).0,
+        }
+    }
+
     /// World position (m) and boundary frame of a held rod end for the given body poses:
     /// `(None, None)` for a free end, no frame for a pinned end or ball-joint port.
     pub fn end_placement(
@@ -873,13 +882,9 @@ impl System {
         self.validate_clips()?;
         let poses = self.body_poses();
         for spec in &self.rods {
-            let fixed_position = |end: &End, at_end: bool| match end.support {
-                Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
-                _ => self.end_placement(end, at_end, &poses).0,
-            };
             if let (Some(a), Some(b)) = (
-                fixed_position(&spec.start, false),
-                fixed_position(&spec.end, true),
+                self.fixed_end_position(&spec.start, false, &poses),
+                self.fixed_end_position(&spec.end, true, &poses),
             ) {
                 let length_m = spec.rod.length();
                 let distance_m = (b - a).norm();
@@ -899,26 +904,32 @@ impl System {
     /// to it along its rod that hold the rod (its fixed ends and such clips): the rod
     /// between them must not need more than 10 % of axial strain, as for the ends.
     fn validate_clip_reach(&self, poses: &[Pose]) -> Result<(), SystemError> {
-        for (index, spec) in self.rods.iter().enumerate() {
+        // The clips fixed in the world, per rod (one pass over the clips, not one per rod).
+        let mut world_clips: Vec<Vec<&ClipSpec>> = vec![Vec::new(); self.rods.len()];
+        for clip in &self.clips {
+            if clip.body.is_none()
+                && clip.parent.is_none()
+                && let Some(list) = world_clips.get_mut(clip.rod.0)
+            {
+                list.push(clip);
+            }
+        }
+        for (spec, clips) in self.rods.iter().zip(&world_clips) {
+            if clips.is_empty() {
+                continue; // the ends alone are checked by `validate`
+            }
             // (arc length m, what, centre m, radius m): where each holder keeps the rod.
             let mut held: Vec<(f64, String, Vector3<f64>, f64)> = Vec::new();
             for (end, at_end, s, what) in [
                 (&spec.start, false, 0.0, "its start"),
                 (&spec.end, true, spec.rod.length(), "its end"),
             ] {
-                let fixed = match end.support {
-                    Support::Port { body, .. } if !self.bodies[body.0].fixed => None,
-                    _ => self.end_placement(end, at_end, poses).0,
-                };
-                if let Some(p) = fixed {
+                if let Some(p) = self.fixed_end_position(end, at_end, poses) {
                     held.push((s, what.to_string(), p, 0.0));
                 }
             }
             let arcs = spec.rod.arc_lengths();
-            for clip in &self.clips {
-                if clip.rod.0 != index || clip.body.is_some() || clip.parent.is_some() {
-                    continue;
-                }
+            for clip in clips {
                 let offset = clip.base.orientation * clip.offset.position;
                 let (centre, radius) = match clip.joint {
                     Joint::Fixed => (clip.base.position + offset, 0.0),
@@ -930,9 +941,6 @@ impl System {
                 };
                 let s = arcs.get(clip.vertex).copied().unwrap_or(0.0);
                 held.push((s, format!("clip '{}'", clip.name), centre, radius));
-            }
-            if held.len() < 3 {
-                continue; // the ends alone are checked above
             }
             held.sort_by(|a, b| a.0.total_cmp(&b.0));
             for pair in held.windows(2) {

@@ -1,7 +1,7 @@
 //! Checks of a starting configuration: no overlap with an obstacle or another piece of
 //! rod, and no rod inside a closed part.
 
-use strand_contact::Obstacle;
+use strand_contact::{Obstacle, ObstacleMesh};
 use strand_system::{Model, Support, SystemState};
 
 use super::{Contact, START_OVERLAP_M};
@@ -87,24 +87,20 @@ impl Contact {
         for (r, rod_state) in state.rods.iter().enumerate() {
             let spec = &model.system().rods[r];
             let last = rod_state.positions.len() - 1;
-            let held = [(&spec.start, 0), (&spec.end, last)]
-                .into_iter()
-                .filter(|(end, _)| end.support != Support::Free);
-            for (_, j) in held {
-                let p = rod_state.positions[j];
-                let inside = self
-                    .meshes
-                    .iter()
-                    .filter(|m| m.diagnostics().closed)
-                    .find(|m| m.encloses(&nalgebra::Point3::from(p)));
-                if let Some(mesh) = inside {
-                    return Err(ConstraintError::StartsEnclosed {
-                        rod: spec.name.clone(),
-                        mesh: mesh.name().to_string(),
-                        s_mm: spec.rod.arc_lengths()[j] * 1e3,
-                        point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
-                        hint: StartHint::MoveSupport,
-                    });
+            for (end, j) in [(&spec.start, 0), (&spec.end, last)] {
+                if end.support == Support::Free {
+                    continue;
+                }
+                let p = nalgebra::Point3::from(rod_state.positions[j]);
+                if let Some(mesh) = self.closed_meshes().find(|m| m.encloses(&p)) {
+                    return Err(starts_enclosed(
+                        model,
+                        state,
+                        r,
+                        j,
+                        mesh,
+                        StartHint::MoveSupport,
+                    ));
                 }
             }
         }
@@ -119,26 +115,42 @@ impl Contact {
         state: &SystemState,
     ) -> Result<(), ConstraintError> {
         for (r, rod_state) in state.rods.iter().enumerate() {
-            let rod = &model.system().rods[r];
-            for mesh in self.meshes.iter().filter(|m| m.diagnostics().closed) {
-                let Some(j) = rod_state
-                    .positions
-                    .iter()
-                    .position(|p| mesh.encloses(&nalgebra::Point3::from(*p)))
-                else {
-                    continue;
-                };
-                let p = rod_state.positions[j];
-                let s = rod.rod.arc_lengths()[j];
-                return Err(ConstraintError::StartsEnclosed {
-                    rod: rod.name.clone(),
-                    mesh: mesh.name().to_string(),
-                    s_mm: s * 1e3,
-                    point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
-                    hint: start_hint(model, &rod.name),
-                });
+            for mesh in self.closed_meshes() {
+                let enclosed = |p: &nalgebra::Vector3<f64>| mesh.encloses(&(*p).into());
+                if let Some(j) = rod_state.positions.iter().position(enclosed) {
+                    let hint = start_hint(model, &model.system().rods[r].name);
+                    return Err(starts_enclosed(model, state, r, j, mesh, hint));
+                }
             }
         }
         Ok(())
+    }
+
+    /// The meshes that have an inside (closed ones).
+    fn closed_meshes(&self) -> impl Iterator<Item = &ObstacleMesh> {
+        self.meshes
+            .iter()
+            .map(|m| m.as_ref())
+            .filter(|m| m.diagnostics().closed)
+    }
+}
+
+/// The error of vertex `j` of rod `r` at `state` starting inside `mesh`, with `hint`.
+fn starts_enclosed(
+    model: &Model,
+    state: &SystemState,
+    r: usize,
+    j: usize,
+    mesh: &ObstacleMesh,
+    hint: StartHint,
+) -> ConstraintError {
+    let rod = &model.system().rods[r];
+    let p = state.rods[r].positions[j];
+    ConstraintError::StartsEnclosed {
+        rod: rod.name.clone(),
+        mesh: mesh.name().to_string(),
+        s_mm: rod.rod.arc_lengths()[j] * 1e3,
+        point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
+        hint,
     }
 }
