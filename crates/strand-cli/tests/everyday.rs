@@ -26,8 +26,9 @@
 //! Knobs (environment variables): `EVERYDAY_CASES` (default 12), `EVERYDAY_SEED`
 //! (default 1), `EVERYDAY_MAX_SEGMENTS` (default 300), `EVERYDAY_TIMEOUT_S` (default
 //! 120), `EVERYDAY_STRAND` (another `strand` binary with the same CLI, to measure it),
-//! `EVERYDAY_DIR` (keep the cases and results there instead of a temporary folder).
-//! The table is printed to stdout (`-- --nocapture`).
+//! `EVERYDAY_DIR` (keep the cases and results there instead of a temporary folder),
+//! `EVERYDAY_FIRST` (default 0: the index of the first case, to replay one case of a
+//! seed without its predecessors). The table is printed to stdout (`-- --nocapture`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -652,6 +653,7 @@ fn binary() -> PathBuf {
 #[test]
 fn everyday_cables_over_floors_boxes_and_grooves_are_solved_honestly() {
     let cases: usize = env_or("EVERYDAY_CASES", 12);
+    let first: usize = env_or("EVERYDAY_FIRST", 0);
     let seed: u64 = env_or("EVERYDAY_SEED", 1);
     let max_segments: usize = env_or("EVERYDAY_MAX_SEGMENTS", 300);
     let timeout = Duration::from_secs_f64(env_or("EVERYDAY_TIMEOUT_S", 120.0));
@@ -671,7 +673,7 @@ fn everyday_cables_over_floors_boxes_and_grooves_are_solved_honestly() {
     let (mut converged, mut not_converged, mut invalid) = (0, 0, 0);
     let mut iterations = Vec::new();
     let mut worst_time = 0f64;
-    for index in 0..cases {
+    for index in first..first + cases {
         let outcome = solve_and_check(&binary, &dir, &generate(seed, index, max_segments), timeout);
         match outcome.exit {
             Some(0) => converged += 1,
