@@ -11,26 +11,96 @@ use nalgebra::{UnitQuaternion, Vector3};
 use strand_rod::{Rod, RodState, so3};
 use strand_system::{Model, RodSpec, System, SystemState};
 
+use crate::SolverSettings;
+
 /// Rods with more segments than this are coarsened.
 pub const COARSE_THRESHOLD: usize = 64;
 /// Target number of segments of a coarsened rod.
 pub const COARSE_SEGMENTS: usize = 24;
 
-/// The coarse vertex indices of a rod with `segments` edges: every `k`-th and the last.
-fn coarse_indices(segments: usize) -> Vec<usize> {
-    let k = segments.div_ceil(COARSE_SEGMENTS).max(1);
+/// Ratio of the segments of one level to the next coarser one, with contact, for rods
+/// long enough that a quarter of them is still above [`COARSE_THRESHOLD`]: such a rod
+/// is started
+/// from a chain of levels (7426 segments from 1486, 298, 60), each a quarter or a
+/// fifth of the last, instead of from [`COARSE_SEGMENTS`] directly. A coarse level is
+/// only a start, and the fine level must still move everything it got wrong: a cable
+/// draped over a groove's rim at 24 segments (its kinks catch on the rim) slid off it
+/// at every finer discretisation, creeping about one edge per iteration over hundreds
+/// of fine edges (`everyday_s52_010`, 7426 segments: not solved in 600 s). Through the
+/// levels each one moves only as far as the one below got it wrong.
+pub const LEVEL_RATIO: usize = 4;
+
+/// Whether some rod of `system` is long enough to be started through levels
+/// ([`LEVEL_RATIO`]).
+pub(crate) fn has_levels(system: &System) -> bool {
+    system
+        .rods
+        .iter()
+        .any(|r| r.rod.segments() / LEVEL_RATIO > COARSE_THRESHOLD)
+}
+
+/// The finest level of a nested iteration, as its coarse levels see it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Finest {
+    /// Its unknowns.
+    pub unknowns: usize,
+    /// Whether it is started through levels ([`has_levels`]).
+    pub levels: bool,
+}
+
+/// The budget of a coarse level of `level_unknowns` Newton iterations under `finest`.
+/// Under a rod started through levels: [`SolverSettings::coarse_max_iterations`]
+/// iterations of the finest level's work (an iteration costs about its unknowns), at
+/// most [`SolverSettings::max_iterations`]: under a 7426-segment cable the 60-segment
+/// level gets all 200 it may need to slide the cable off a rim (166, 1 ms each).
+/// Otherwise (one coarse level of about [`COARSE_SEGMENTS`]: no contact, or rods of at
+/// most 4 × 64 segments) the coarse budget itself, as measured on the convergence map
+/// (`tests/validation/convergence_map.rs`): scaled there, its stiff cases' coarse
+/// levels spend up to 200 iterations per continuation step for no better start
+/// (maximum 96 → 99 of 100).
+pub(crate) fn level_budget(
+    settings: &SolverSettings,
+    level_unknowns: usize,
+    finest: Finest,
+) -> usize {
+    if !finest.levels {
+        return settings.coarse_max_iterations.min(settings.max_iterations);
+    }
+    let ratio = finest.unknowns as f64 / level_unknowns.max(1) as f64;
+    let budget = (settings.coarse_max_iterations as f64 * ratio).floor() as usize;
+    budget.clamp(
+        settings.coarse_max_iterations.min(settings.max_iterations),
+        settings.max_iterations,
+    )
+}
+
+/// The coarse vertex indices of a rod with `segments` edges: every `k`-th and the last,
+/// about [`COARSE_SEGMENTS`] edges, or with `levels` a quarter of a rod long enough.
+fn coarse_indices(segments: usize, levels: bool) -> Vec<usize> {
+    let target = if levels && segments / LEVEL_RATIO > COARSE_THRESHOLD {
+        segments / LEVEL_RATIO
+    } else {
+        COARSE_SEGMENTS
+    };
+    let k = segments.div_ceil(target).max(1);
     let mut indices: Vec<usize> = (0..segments).step_by(k).collect();
     indices.push(segments);
     indices
 }
 
-/// The system with every long rod coarsened, and per rod the kept vertex indices.
-pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
-    if system
+/// Whether nested iteration starts `system` from a coarse level (a rod of more than
+/// [`COARSE_THRESHOLD`] segments).
+pub(crate) fn is_nested(system: &System) -> bool {
+    system
         .rods
         .iter()
-        .all(|r| r.rod.segments() <= COARSE_THRESHOLD)
-    {
+        .any(|r| r.rod.segments() > COARSE_THRESHOLD)
+}
+
+/// The system with every long rod coarsened (with `levels`, long ones to a quarter:
+/// [`LEVEL_RATIO`]), and per rod the kept vertex indices.
+pub(crate) fn coarsen(system: &System, levels: bool) -> Option<(System, Vec<Vec<usize>>)> {
+    if !is_nested(system) {
         return None;
     }
     let mut rods = Vec::with_capacity(system.rods.len());
@@ -38,7 +108,7 @@ pub(crate) fn coarsen(system: &System) -> Option<(System, Vec<Vec<usize>>)> {
     for (r, spec) in system.rods.iter().enumerate() {
         let n = spec.rod.segments();
         let mut indices = if n > COARSE_THRESHOLD {
-            coarse_indices(n)
+            coarse_indices(n, levels)
         } else {
             (0..=n).collect()
         };
@@ -256,6 +326,62 @@ fn prolong_rod(
 mod tests {
     use super::*;
 
+    /// The segments of the levels below a rod of `segments`, finest first.
+    fn levels(mut segments: usize) -> Vec<usize> {
+        let mut out = Vec::new();
+        while segments > COARSE_THRESHOLD {
+            segments = coarse_indices(segments, true).len() - 1;
+            out.push(segments);
+        }
+        out
+    }
+
+    #[test]
+    fn a_long_rod_is_started_through_levels_and_a_short_one_from_one() {
+        // everyday_s52_010's cable: three levels, each a quarter to a fifth of the last.
+        assert_eq!(levels(7426), [1486, 298, 60]);
+        assert_eq!(levels(1000), [250, 23]);
+        // Up to 4 × 64 segments one coarse level of about 24, as before levels.
+        assert_eq!(levels(256), [24]);
+        assert_eq!(levels(100), [20]);
+        assert_eq!(levels(64), [0usize; 0]);
+        // Every level keeps both ends.
+        let kept = coarse_indices(7426, true);
+        // Without levels (no contact) one level of about 24 whatever the length.
+        assert_eq!(coarse_indices(7426, false).len() - 1, 24);
+        assert_eq!((kept[0], *kept.last().unwrap()), (0, 7426));
+    }
+
+    #[test]
+    fn a_coarse_level_gets_its_budget_in_work_of_the_finest_level() {
+        let settings = SolverSettings::default();
+        let (coarse, most) = (settings.coarse_max_iterations, settings.max_iterations);
+        let levels = |unknowns| Finest {
+            unknowns,
+            levels: true,
+        };
+        // A level with a quarter of the unknowns: four times the coarse budget, at
+        // most the fine budget.
+        assert_eq!(
+            level_budget(&settings, 1000, levels(4000)),
+            (4 * coarse).min(most)
+        );
+        assert_eq!(level_budget(&settings, 357, levels(44_553)), most);
+        // Never below the coarse budget (a level as large as the finest one).
+        assert_eq!(level_budget(&settings, 100, levels(100)), coarse);
+        let tight = SolverSettings {
+            max_iterations: 10,
+            ..SolverSettings::default()
+        };
+        assert_eq!(level_budget(&tight, 100, levels(10_000)), 10);
+        // One coarse level under a rod without levels: the coarse budget.
+        let single = Finest {
+            unknowns: 1203,
+            levels: false,
+        };
+        assert_eq!(level_budget(&settings, 123, single), coarse);
+    }
+
     /// A moulded rod (helical arc) of 200 segments clamped at its nominal end frames:
     /// its coarse copy must be stress-free in the restricted nominal shape.
     #[test]
@@ -283,7 +409,7 @@ mod tests {
             clips: Vec::new(),
             gravity: Vector3::zeros(),
         };
-        let (coarse_system, kept) = coarsen(&system).expect("coarsened");
+        let (coarse_system, kept) = coarsen(&system, false).expect("coarsened");
         let coarse = Model::try_new(coarse_system).unwrap();
         let fine_state = SystemState {
             rods: vec![nominal.state.clone()],
@@ -300,11 +426,17 @@ mod tests {
 
     #[test]
     fn coarse_indices_cover_the_rod() {
-        for n in [65, 99, 100, 999, 1000] {
-            let idx = coarse_indices(n);
+        for n in [65, 99, 100, 256, 257, 999, 1000, 7426] {
+            let idx = coarse_indices(n, true);
             assert_eq!((idx[0], *idx.last().unwrap()), (0, n));
             assert!(idx.windows(2).all(|w| w[1] > w[0]));
-            assert!(idx.len() - 1 <= COARSE_SEGMENTS + 1, "{n}: {}", idx.len());
+            // About COARSE_SEGMENTS, or a quarter of a rod long enough for levels.
+            let target = if n / LEVEL_RATIO > COARSE_THRESHOLD {
+                n / LEVEL_RATIO
+            } else {
+                COARSE_SEGMENTS
+            };
+            assert!(idx.len() - 1 <= target + 1, "{n}: {}", idx.len());
         }
     }
 }

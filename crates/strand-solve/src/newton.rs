@@ -73,6 +73,9 @@ pub struct Solver<'m> {
     pub(crate) work: Workspace,
     /// Edge stresses of the start's first Hessian (mixed Newton), used once.
     initial_stresses: Option<EdgeStresses>,
+    /// The finest level when this solver is a coarse level of nested iteration (its
+    /// budget is counted in that level's work, [`nested::level_budget`]).
+    finest: Option<nested::Finest>,
 }
 
 impl<'m> Solver<'m> {
@@ -84,6 +87,7 @@ impl<'m> Solver<'m> {
             model,
             constraints: None,
             initial_stresses: None,
+            finest: None,
             work: Workspace {
                 cholesky: SparseCholesky::try_new(model.pattern())?,
                 diagonal: diagonal_positions(model),
@@ -221,26 +225,47 @@ impl<'m> Solver<'m> {
         }
         let mut coarse_iterations = 0;
         let mut start = initial.clone();
-        if let Some((coarse_system, kept)) = nested::coarsen(self.model.system())
+        // Levels of a quarter each under long rods with contact (see
+        // [`nested::LEVEL_RATIO`]); without contact the fine level corrects a single
+        // coarse level's start in a few Newton steps, and an extra level only costs
+        // (the convergence map's 1000-segment rods: 25 % more instructions).
+        let finest = self.finest.unwrap_or(nested::Finest {
+            unknowns: self.model.dofs().len(),
+            levels: self.constraints.is_some() && nested::has_levels(self.model.system()),
+        });
+        if let Some((coarse_system, kept)) = nested::coarsen(self.model.system(), finest.levels)
             .filter(|_| settings.nested_iteration && !already_converged())
         {
             let coarse_model = Model::try_new(coarse_system).map_err(InitialStateError::from)?;
-            // The coarse level only proposes a start: it gets no continuation, no
-            // release retry and a bounded budget, so a hard coarse problem cannot cost
-            // more than it saves.
+            // A coarse level only proposes a start: it gets no continuation and no
+            // release retry, and a budget in work of the finest level
+            // ([`nested::level_budget`]), so a hard coarse problem cannot cost more
+            // than it saves. It is itself started from a coarser level when it is
+            // long enough ([`nested::coarsen`]: every level a quarter of the last).
             let coarse_settings = SolverSettings {
-                nested_iteration: false,
+                nested_iteration: true,
                 load_continuation: false,
                 support_continuation: false,
                 release_retry: false,
-                max_iterations: settings.max_iterations.min(settings.coarse_max_iterations),
+                max_iterations: nested::level_budget(settings, coarse_model.dofs().len(), finest),
                 ..settings.clone()
             };
             let mut coarse_solver = Solver::try_new(&coarse_model)?;
             coarse_solver.constraints = self.constraints;
+            coarse_solver.finest = Some(finest);
             let coarse =
                 coarse_solver.solve(nested::restrict(&initial, &kept), &coarse_settings)?;
             coarse_iterations = coarse.report.iterations;
+            if std::env::var_os("STRAND_TRACE").is_some() {
+                eprintln!(
+                    "strand-solve: coarse level of {} unknowns (budget {}): {} iterations, converged {}, stable {}",
+                    coarse_model.dofs().len(),
+                    coarse_settings.max_iterations,
+                    coarse.report.iterations,
+                    coarse.report.converged,
+                    coarse.report.stable
+                );
+            }
             // A prolonged state is a start only where the fine iteration can move from
             // it: its new vertices interpolate the coarse ones, and with contact they
             // can put a fine edge's centreline through a mesh the coarse capsules

@@ -292,22 +292,37 @@ impl Iteration<'_> {
                         self.model.energy(&bent)
                     };
                     std::mem::swap(&mut self.work.trial_eval, &mut self.work.spare_eval);
+                    // With rows: the merit at the trial's own rows, and only a trial
+                    // the conservative advancement reaches (no edge through a mesh on
+                    // the way).
+                    let (mut bent_rows, mut bent_far) = (Vec::new(), Vec::new());
+                    let bent_merit = if self.rows.is_empty() {
+                        bent_energy
+                    } else if self.constraints.is_some_and(|c| {
+                        c.advancement(self.model, &self.state, &bent)
+                            .is_ok_and(|a| a >= 1.0)
+                    }) && self.collect_rows(&bent, &mut bent_rows, &mut bent_far)
+                    {
+                        bent_energy + self.merit_weight * violation_of(&bent_rows)
+                    } else {
+                        f64::INFINITY
+                    };
                     if self.trace {
                         eprintln!(
-                            "strand-solve:   negative-curvature trial: energy {bent_energy:.9e} J, length {length:.2e} (reach {reach:.2e})"
+                            "strand-solve:   negative-curvature trial: merit {bent_merit:.9e} J, length {length:.2e} (reach {reach:.2e})"
                         );
                     }
-                    if bent_energy.is_finite() && bent_energy < best_so_far {
+                    if bent_merit.is_finite() && bent_merit < best_so_far {
                         self.model.evaluate(&bent, &mut self.work.trial_eval, true);
                         let ratio = if predicted > 0.0 {
-                            (merit - bent_energy) / predicted
+                            (merit - bent_merit) / predicted
                         } else {
                             1.0
                         };
                         self.accept(
                             bent,
-                            Vec::new(),
-                            Vec::new(),
+                            bent_rows,
+                            bent_far,
                             t,
                             ratio.min(1.0),
                             Some(&combined),

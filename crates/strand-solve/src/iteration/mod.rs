@@ -35,6 +35,7 @@ mod floor;
 mod follow;
 mod globalise;
 mod stall;
+mod tangent;
 
 pub use floor::ROUND_OFF_RESOLVED;
 pub(crate) use floor::strain_floor;
@@ -609,32 +610,69 @@ impl<'a> Iteration<'a> {
     /// A direction of negative curvature of the Hessian (the generalised eigenvector of
     /// `(H, D)` with the most negative eigenvalue), from a few steps of inverse
     /// iteration with the current damped factor, warm-started from the last one.
-    /// `None` unless the Hessian was found indefinite and the direction's Rayleigh
-    /// quotient is negative.
+    /// With rows, of the SQP model's Hessian on the directions that keep the rows held
+    /// in the last step (projected inverse iteration, [`tangent`]; none when more than
+    /// [`tangent::MAX_TANGENT_ROWS`] are held). `None` unless the Hessian was found
+    /// indefinite and the direction's Rayleigh quotient is negative.
     fn negative_curvature(&mut self) -> Option<Vec<f64>> {
-        if !self.indefinite || !self.rows.is_empty() {
+        if !self.indefinite {
             return None;
         }
+        let held: Vec<&Row> = self
+            .rows
+            .iter()
+            .filter(|r| self.multiplier(r.key) > 0.0)
+            .collect();
         let work = &mut *self.work;
+        let n = work.step.len();
+        let projector = if self.rows.is_empty() {
+            None
+        } else {
+            Some(tangent::TangentProjector::new(
+                &mut work.cholesky,
+                &work.gauge,
+                n,
+                &held,
+            )?)
+        };
         let scale = damping_scale(
             &work.eval.hessian,
             &work.diagonal,
             &work.rotation,
             &work.bending_scale,
         );
-        let n = work.step.len();
         if self.curvature_direction.len() != n {
             self.curvature_direction = crate::saddle::generic_start(n);
         }
         let x = &mut self.curvature_direction;
-        crate::saddle::inverse_iteration(work, &scale, x, NEGATIVE_CURVATURE_ITERATIONS)?;
-        symmetric_product(
-            self.model.pattern(),
-            &work.eval.hessian,
-            x,
-            &mut work.product,
-        );
-        let curvature: f64 = x.iter().zip(&work.product).map(|(a, b)| a * b).sum();
+        match &projector {
+            None => {
+                crate::saddle::inverse_iteration(work, &scale, x, NEGATIVE_CURVATURE_ITERATIONS)?
+            }
+            Some(projector) => {
+                projector.project(x);
+                for _ in 0..NEGATIVE_CURVATURE_ITERATIONS {
+                    crate::saddle::inverse_iteration(work, &scale, x, 1)?;
+                    projector.project(x);
+                }
+            }
+        }
+        // The energy's curvature without rows; with rows the model's (the rows'
+        // curvature is what makes it negative), `damped` less its damping.
+        let curvature: f64 = if projector.is_none() {
+            symmetric_product(
+                self.model.pattern(),
+                &work.eval.hessian,
+                x,
+                &mut work.product,
+            );
+            x.iter().zip(&work.product).map(|(a, b)| a * b).sum()
+        } else {
+            symmetric_product(self.model.pattern(), &work.damped, x, &mut work.product);
+            let damped: f64 = x.iter().zip(&work.product).map(|(a, b)| a * b).sum();
+            let damping: f64 = x.iter().zip(&scale).map(|(xi, d)| d * xi * xi).sum();
+            damped - self.damping * damping
+        };
         (curvature < 0.0).then(|| x.clone())
     }
 
