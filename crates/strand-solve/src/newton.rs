@@ -258,12 +258,13 @@ impl<'m> Solver<'m> {
             coarse_iterations = coarse.report.iterations;
             if std::env::var_os("STRAND_TRACE").is_some() {
                 eprintln!(
-                    "strand-solve: coarse level of {} unknowns (budget {}): {} iterations, converged {}, stable {}",
+                    "strand-solve: coarse level of {} unknowns (budget {}): {} iterations, converged {}, stable {} at {:.3} s",
                     coarse_model.dofs().len(),
                     coarse_settings.max_iterations,
                     coarse.report.iterations,
                     coarse.report.converged,
-                    coarse.report.stable
+                    coarse.report.stable,
+                    started.elapsed().as_secs_f64()
                 );
             }
             // A prolonged state is a start only where the fine iteration can move from
