@@ -33,10 +33,11 @@ const REJECTED_SHRINK_CONTACT: f64 = 0.5;
 /// Lengths tried along a direction of negative curvature (each a quarter of the last).
 const NEGATIVE_CURVATURE_TRIALS: usize = 5;
 
-/// [`NEGATIVE_CURVATURE_TRIALS`] with contact rows, where each trial also collects
-/// the rows and the conservative advancement (a 3247-segment cable on a floor: about
-/// 0.2 G instructions each, five of them a sixth of its solve, none taken). On the
-/// cable over a rim that needs them the first or second length is taken.
+/// [`NEGATIVE_CURVATURE_TRIALS`] with contact rows, where a trial whose energy beats
+/// the best also collects its rows and the conservative advancement (a 3247-segment
+/// cable on a floor: about 0.2 G instructions each, five of them a sixth of its solve,
+/// none taken). On the cable over a rim that needs them the first or second length is
+/// taken.
 const NEGATIVE_CURVATURE_TRIALS_WITH_ROWS: usize = 2;
 
 impl Iteration<'_> {
@@ -305,10 +306,15 @@ impl Iteration<'_> {
                     std::mem::swap(&mut self.work.trial_eval, &mut self.work.spare_eval);
                     // With rows: the merit at the trial's own rows, and only a trial
                     // the conservative advancement reaches (no edge through a mesh on
-                    // the way).
+                    // the way). Neither is needed when the energy alone does not beat
+                    // the best (the merit is never below it).
                     let (mut bent_rows, mut bent_far) = (Vec::new(), Vec::new());
                     let bent_merit = if self.rows.is_empty() {
                         bent_energy
+                    } else if bent_energy.partial_cmp(&best_so_far)
+                        != Some(std::cmp::Ordering::Less)
+                    {
+                        f64::INFINITY
                     } else if self.constraints.is_some_and(|c| {
                         c.advancement(self.model, &self.state, &bent)
                             .is_ok_and(|a| a >= 1.0)
