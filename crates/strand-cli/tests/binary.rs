@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{case, strand};
+use common::{case, read_json, strand};
 
 #[test]
 fn binary_reports_exit_codes_and_errors() {
@@ -137,8 +137,7 @@ fn a_cable_along_a_groove_lists_its_largest_contacts_and_a_count_per_rod() {
         dir.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let result: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let result = read_json(&dir.join("result.json"));
     let contacts = result["contacts"].as_array().unwrap();
     assert!(contacts.len() > 100, "{} contacts", contacts.len());
     let listed: Vec<&str> = out
@@ -273,8 +272,7 @@ fn an_optimisation_whose_constraint_no_design_meets_ends_infeasible_without_an_o
         dir.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(3), "{out}{err}");
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("optimum.json")).unwrap()).unwrap();
+    let doc = read_json(&dir.join("optimum.json"));
     assert_eq!(doc["converged"], false);
     assert_eq!(doc["termination"], "infeasible", "{doc}");
     let text = std::fs::read_to_string(dir.join("cooler_hose_optimum.ron")).unwrap();

@@ -9,7 +9,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{case, strand};
+use common::{case, read_json, strand};
 
 /// Outer radius of hose 3, mm (cases/cooler_hose_contact.ron: ro = 18.4 mm).
 const HOSE3_OUTER_RADIUS_MM: f64 = 18.4;
@@ -151,9 +151,7 @@ fn tube_exports_in_mm_rest_on_the_environment_file_and_m_is_a_thousandth() {
             "{unit:?}: STL {lowest}"
         );
         // The VTP's points are the centreline of result.json (m) in the unit.
-        let doc: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap())
-                .unwrap();
+        let doc = read_json(&dir.join("result.json"));
         let first_m: Vec<f64> = doc["rods"][0]["position_m"][0]
             .as_array()
             .unwrap()

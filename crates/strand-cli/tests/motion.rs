@@ -5,7 +5,7 @@ use std::path::Path;
 
 mod common;
 
-use common::{case, strand};
+use common::{case, read_json, strand};
 
 #[test]
 fn hinge_motion_writes_every_output() {
@@ -65,11 +65,8 @@ fn hinge_motion_writes_every_output() {
         single.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let read = |p: &Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-    };
-    let a = read(&single.join("result.json"));
-    let b = read(&seq.join("steps/002/result.json"));
+    let a = read_json(&single.join("result.json"));
+    let b = read_json(&seq.join("steps/002/result.json"));
     assert_eq!(a["variant"], "engine_roll=4deg");
     assert_eq!(b["variant"], "engine_roll=4deg");
     for r in 0..3 {
@@ -124,19 +121,16 @@ fn a_batch_at_a_motion_pose_solves_every_variant_there() {
         batch.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(0), "{out}{err}");
-    let read = |p: &Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-    };
     let solve = |extra: &[&str], dir: &Path| {
         let mut args = vec!["solve", engine.as_str(), "--out", dir.to_str().unwrap()];
         args.extend_from_slice(extra);
         let (code, out, err) = strand(&args);
         assert_eq!(code, Some(0), "{out}{err}");
-        read(&dir.join("result.json"))
+        read_json(&dir.join("result.json"))
     };
     let posed = solve(&["--motion", "engine_roll=4deg"], &tmp.path().join("posed"));
     let unposed = solve(&[], &tmp.path().join("unposed"));
-    let variant = read(&batch.join("variants/hose2.length_p0mm/result.json"));
+    let variant = read_json(&batch.join("variants/hose2.length_p0mm/result.json"));
     assert_eq!(variant["converged"], true);
     assert!(largest_vertex_distance_m(&variant, &posed) < 1e-7);
     assert_eq!(

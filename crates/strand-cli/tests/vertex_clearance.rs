@@ -12,7 +12,7 @@ mod triangle;
 
 use std::path::Path;
 
-use common::{case, strand};
+use common::{case, read_json, strand};
 
 use triangle::{V, closest_on_triangle, dot, sub};
 
@@ -49,8 +49,7 @@ fn vertex_clearances_match_a_brute_force_distance_to_every_triangle() {
     let case = case("cooler_hose_contact.ron");
     let (exit, _, err) = strand(&["solve", &case, "--out", dir.to_str().unwrap()]);
     assert_eq!(exit, Some(0), "{err}");
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let doc = read_json(&dir.join("result.json"));
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/engine_bay");
     let all: Vec<[V; 3]> = ["radiator", "fan_shroud", "engine", "oil_cooler", "brackets"]
         .iter()

@@ -30,13 +30,19 @@ pub const COARSE_SEGMENTS: usize = 24;
 /// levels each one moves only as far as the one below got it wrong.
 pub const LEVEL_RATIO: usize = 4;
 
+/// Whether a rod of `segments` is long enough to be started through levels (a
+/// quarter of it still above [`COARSE_THRESHOLD`]).
+fn long_enough_for_levels(segments: usize) -> bool {
+    segments / LEVEL_RATIO > COARSE_THRESHOLD
+}
+
 /// Whether some rod of `system` is long enough to be started through levels
 /// ([`LEVEL_RATIO`]).
 pub(crate) fn has_levels(system: &System) -> bool {
     system
         .rods
         .iter()
-        .any(|r| r.rod.segments() / LEVEL_RATIO > COARSE_THRESHOLD)
+        .any(|r| long_enough_for_levels(r.rod.segments()))
 }
 
 /// The finest level of a nested iteration, as its coarse levels see it.
@@ -77,7 +83,7 @@ pub(crate) fn level_budget(
 /// The coarse vertex indices of a rod with `segments` edges: every `k`-th and the last,
 /// about [`COARSE_SEGMENTS`] edges, or with `levels` a quarter of a rod long enough.
 fn coarse_indices(segments: usize, levels: bool) -> Vec<usize> {
-    let target = if levels && segments / LEVEL_RATIO > COARSE_THRESHOLD {
+    let target = if levels && long_enough_for_levels(segments) {
         segments / LEVEL_RATIO
     } else {
         COARSE_SEGMENTS
@@ -431,7 +437,7 @@ mod tests {
             assert_eq!((idx[0], *idx.last().unwrap()), (0, n));
             assert!(idx.windows(2).all(|w| w[1] > w[0]));
             // About COARSE_SEGMENTS, or a quarter of a rod long enough for levels.
-            let target = if n / LEVEL_RATIO > COARSE_THRESHOLD {
+            let target = if long_enough_for_levels(n) {
                 n / LEVEL_RATIO
             } else {
                 COARSE_SEGMENTS

@@ -27,3 +27,8 @@ pub fn strand(args: &[&str]) -> (Option<i32>, String, String) {
         text(output.stderr),
     )
 }
+
+/// The JSON document at `path` (a `result.json`, `optimum.json`, …).
+pub fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}

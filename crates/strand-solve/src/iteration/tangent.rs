@@ -27,23 +27,23 @@ pub(crate) const MAX_TANGENT_ROWS: usize = 32;
 const DEPENDENCE: f64 = 1e-10;
 
 /// The `K`-orthogonal projection onto the null space of some rows.
-pub(crate) struct TangentProjector {
-    /// The rows' gradients.
-    gradients: Vec<Vec<(usize, f64)>>,
+pub(crate) struct TangentProjector<'r> {
+    /// The rows.
+    rows: &'r [&'r Row],
     /// `K⁻¹ a_i` per row.
     columns: Vec<Vec<f64>>,
     /// `(A K⁻¹ Aᵀ)⁺`.
     inverse: DMatrix<f64>,
 }
 
-impl TangentProjector {
+impl<'r> TangentProjector<'r> {
     /// The projection for `rows` with the factor `K` in `cholesky` (gauge held), or
     /// `None` when there are more than [`MAX_TANGENT_ROWS`].
     pub(crate) fn new(
         cholesky: &mut SparseCholesky,
         gauge: &Gauge,
         n: usize,
-        rows: &[&Row],
+        rows: &'r [&'r Row],
     ) -> Option<Self> {
         if rows.len() > MAX_TANGENT_ROWS {
             return None;
@@ -52,17 +52,16 @@ impl TangentProjector {
             // Nothing held: the projection is the identity (and the pseudo-inverse of
             // an empty matrix would panic).
             return Some(Self {
-                gradients: Vec::new(),
+                rows,
                 columns: Vec::new(),
                 inverse: DMatrix::zeros(0, 0),
             });
         }
-        let gradients: Vec<Vec<(usize, f64)>> = rows.iter().map(|r| r.gradient.clone()).collect();
-        let columns: Vec<Vec<f64>> = gradients
+        let columns: Vec<Vec<f64>> = rows
             .iter()
-            .map(|gradient| {
+            .map(|row| {
                 let mut column = vec![0.0; n];
-                for &(k, a) in gradient {
+                for &(k, a) in &row.gradient {
                     column[k] += a;
                 }
                 gauge.fix_vector(&mut column);
@@ -71,14 +70,14 @@ impl TangentProjector {
             })
             .collect();
         let m = rows.len();
-        let schur = DMatrix::from_fn(m, m, |i, j| dot_sparse(&gradients[i], &columns[j]));
+        let schur = DMatrix::from_fn(m, m, |i, j| dot_sparse(&rows[i].gradient, &columns[j]));
         let largest = schur.diagonal().amax();
         if !(largest.is_finite() && largest > 0.0) {
             return None;
         }
         let inverse = schur.pseudo_inverse(DEPENDENCE * largest).ok()?;
         Some(Self {
-            gradients,
+            rows,
             columns,
             inverse,
         })
@@ -86,12 +85,12 @@ impl TangentProjector {
 
     /// Projects `w` onto the rows' null space in place.
     pub(crate) fn project(&self, w: &mut [f64]) {
-        if self.gradients.is_empty() {
+        if self.rows.is_empty() {
             return;
         }
         let along = DVector::from_iterator(
-            self.gradients.len(),
-            self.gradients.iter().map(|g| dot_sparse(g, w)),
+            self.rows.len(),
+            self.rows.iter().map(|row| dot_sparse(&row.gradient, w)),
         );
         let weights = &self.inverse * along;
         for (column, weight) in self.columns.iter().zip(weights.iter()) {
