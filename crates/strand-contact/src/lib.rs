@@ -38,5 +38,5 @@ mod huge_pages;
 
 pub use gaps::{
     Gap, GapError, MeshIndex, Obstacle, RodGeometry, all_gaps, mesh_gaps, require_clearance,
-    rod_rod_clearances, rod_rod_gaps, rod_rod_gaps_of,
+    rod_rod_clearances, rod_rod_gaps, rod_rod_gaps_of, rod_rod_local_minima, rod_rod_minima_of,
 };

@@ -28,7 +28,6 @@ mod nearby;
 mod proximity_cache;
 #[cfg(test)]
 mod proximity_tests;
-mod rod_minima;
 #[cfg(test)]
 mod scaling_tests;
 mod start;
@@ -233,13 +232,12 @@ impl Contact {
             exclusion.excluded(rod_a, edge_a, rod_b, edge_b)
         };
         let between_rods = match pairs {
-            RodPairs::LocalMinima => strand_contact::rod_rod_gaps_of(
+            RodPairs::LocalMinima => strand_contact::rod_rod_minima_of(
                 &rods,
                 margin_m,
                 exclude,
                 edges.map(|e| &e.pairs[..]),
-            )
-            .map(rod_minima::local_minima),
+            ),
             RodPairs::Least => strand_contact::rod_rod_clearances(&rods, margin_m, exclude),
         }
         .map_err(|e| describe_error(model, e))?;

@@ -83,4 +83,58 @@ impl EdgeTree {
             stack.push((2 * node, first, half));
         }
     }
+
+    /// As [`EdgeTree::overlapping_from`], but a node of more than one edge that
+    /// overlaps `query` is first offered whole to `certify(node, first, end)` (its
+    /// edges `first..end` from `from` on); if that returns a value, the node is reported
+    /// as one [`Found::Run`] with it and not descended. Reports come in increasing edge
+    /// order.
+    pub(crate) fn runs_from<T>(
+        &self,
+        query: &Aabb,
+        from: usize,
+        mut certify: impl FnMut(usize, usize, usize) -> Option<T>,
+        mut found: impl FnMut(Found<T>),
+    ) {
+        if from >= self.edges {
+            return;
+        }
+        let mut stack = vec![(1usize, 0usize, self.size)];
+        while let Some((node, first, count)) = stack.pop() {
+            #[cfg(test)]
+            NODES_VISITED.with(|c| c.set(c.get() + 1));
+            if first + count <= from || first >= self.edges || !self.boxes[node].overlaps(query) {
+                continue;
+            }
+            if count == 1 {
+                found(Found::Edge(first));
+                continue;
+            }
+            let (start, end) = (first.max(from), (first + count).min(self.edges));
+            if end - start > 1
+                && let Some(value) = certify(node, start, end)
+            {
+                found(Found::Run { start, end, value });
+                continue;
+            }
+            let half = count / 2;
+            stack.push((2 * node + 1, first + half, half));
+            stack.push((2 * node, first, half));
+        }
+    }
+}
+
+/// What [`EdgeTree::runs_from`] reports.
+pub(crate) enum Found<T> {
+    /// One edge whose box overlaps the query.
+    Edge(usize),
+    /// The edges `start..end` of a node the caller certified, with its value.
+    Run {
+        /// First edge.
+        start: usize,
+        /// One past the last edge.
+        end: usize,
+        /// What the certificate returned.
+        value: T,
+    },
 }

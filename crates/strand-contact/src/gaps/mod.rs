@@ -19,11 +19,13 @@
 //! [`require_clearance`] with its location, never pushed through.
 
 mod broad_phase;
+mod chain_shape;
 mod edge_tree;
 mod mesh_gaps;
 mod mesh_index;
 mod rod_rod_clearances;
 mod rod_rod_gaps;
+mod rod_rod_minima;
 
 use nalgebra::{Point3, Unit, Vector3};
 
@@ -32,6 +34,7 @@ pub use mesh_gaps::mesh_gaps;
 pub use mesh_index::MeshIndex;
 pub use rod_rod_clearances::rod_rod_clearances;
 pub use rod_rod_gaps::{rod_rod_gaps, rod_rod_gaps_of};
+pub use rod_rod_minima::{rod_rod_local_minima, rod_rod_minima_of};
 
 /// The centreline and outer radius of one rod.
 #[derive(Clone, Copy, Debug)]

@@ -7,6 +7,12 @@ use super::{Gap, GapError, Obstacle, RodGeometry, validate};
 use crate::closest::{TIE_TOLERANCE, closest_segment_segment};
 use nalgebra::Unit;
 
+#[cfg(test)]
+thread_local! {
+    /// Edge pairs whose exact gap was computed on this thread (a work counter).
+    pub(crate) static PAIRS_EVALUATED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
 /// One [`Gap`] per pair of rod edges whose gap `distance − radius_a − radius_b` is at
 /// most `margin` (m), over all rods including each rod with itself.
 ///
@@ -96,6 +102,8 @@ pub(super) fn edge_pair_gap(
     (rod_b, edge_b): (usize, usize),
     within: f64,
 ) -> Result<Option<Gap>, GapError> {
+    #[cfg(test)]
+    PAIRS_EVALUATED.with(|c| c.set(c.get() + 1));
     let (a, b) = (&rods[rod_a], &rods[rod_b]);
     let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
     let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
