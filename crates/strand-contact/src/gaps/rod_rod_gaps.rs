@@ -107,6 +107,13 @@ pub(super) fn edge_pair_gap(
     let (a, b) = (&rods[rod_a], &rods[rod_b]);
     let (a0, a1) = (&a.vertices[edge_a], &a.vertices[edge_a + 1]);
     let (b0, b1) = (&b.vertices[edge_b], &b.vertices[edge_b + 1]);
+    // Their centres' distance less their half lengths bounds the segments' distance
+    // from below: most candidates of a box query are rejected here for a few flops.
+    let lower = (nalgebra::center(a0, a1) - nalgebra::center(b0, b1)).norm()
+        - 0.5 * ((a1 - a0).norm() + (b1 - b0).norm());
+    if lower - a.radius - b.radius > within {
+        return Ok(None);
+    }
     let closest = closest_segment_segment(a0, a1, b0, b1);
     let gap = closest.distance - a.radius - b.radius;
     if gap > within {
