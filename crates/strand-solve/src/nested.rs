@@ -373,6 +373,22 @@ fn prolong_rod(
 mod tests {
     use super::*;
 
+    /// A system of `rod` alone between `start` and `end`, without gravity.
+    fn clamped_rod(rod: Rod, start: strand_system::End, end: strand_system::End) -> System {
+        System {
+            rods: vec![RodSpec {
+                name: "rod".into(),
+                start,
+                end,
+                rod,
+                route: None,
+            }],
+            bodies: vec![],
+            clips: Vec::new(),
+            gravity: Vector3::zeros(),
+        }
+    }
+
     /// The segments of the levels below a rod of `segments`, finest first.
     fn levels(mut segments: usize) -> Vec<usize> {
         let mut out = Vec::new();
@@ -434,7 +450,7 @@ mod tests {
     #[test]
     fn coarse_copy_of_a_moulded_rod_is_stress_free_in_its_nominal_shape() {
         use strand_rod::{NominalShape, Section};
-        use strand_system::{End, Model, RodSpec, System, SystemState};
+        use strand_system::{End, Model, SystemState};
         let points = (0..=12)
             .map(|i| {
                 let phi = 0.25 * i as f64;
@@ -444,18 +460,11 @@ mod tests {
         let section = Section::try_explicit(3e4, 1e4, 1.0, 0.8, 0.0, 0.0).unwrap();
         let nominal =
             Rod::try_from_nominal(section, &NominalShape::from_points(points), 200).unwrap();
-        let system = System {
-            rods: vec![RodSpec {
-                name: "moulded".into(),
-                start: End::clamped(nominal.start_position(), nominal.start_frame),
-                end: End::clamped(nominal.end_position(), nominal.end_frame),
-                rod: nominal.rod.clone(),
-                route: None,
-            }],
-            bodies: vec![],
-            clips: Vec::new(),
-            gravity: Vector3::zeros(),
-        };
+        let system = clamped_rod(
+            nominal.rod.clone(),
+            End::clamped(nominal.start_position(), nominal.start_frame),
+            End::clamped(nominal.end_position(), nominal.end_frame),
+        );
         let (coarse_system, kept) = coarsen(&system, false).expect("coarsened");
         let coarse = Model::try_new(coarse_system).unwrap();
         let fine_state = SystemState {
@@ -482,7 +491,7 @@ mod tests {
     #[test]
     fn a_sheared_arc_is_prolonged_with_its_shear_and_without_a_wiggle() {
         use strand_rod::Section;
-        use strand_system::{End, Model, RodSpec, System};
+        use strand_system::{End, Model};
         let (radius, shear, length, segments) = (0.5, 0.02, 1.0, 200);
         let section = Section::try_explicit(3e4, 1e4, 1.0, 0.8, 0.0, 0.0).unwrap();
         let rod = Rod::try_straight(section, length, segments).unwrap();
@@ -497,18 +506,11 @@ mod tests {
         // Directors: a3 of the frame at tangent angle 0 is +x.
         let base = UnitQuaternion::rotation_between(&Vector3::z(), &Vector3::x()).unwrap();
         let directors = |s: f64| frame(s) * base;
-        let system = System {
-            rods: vec![RodSpec {
-                name: "arc".into(),
-                start: End::clamped(point(0.0), directors(0.0)),
-                end: End::clamped(point(length), directors(length)),
-                rod,
-                route: None,
-            }],
-            bodies: vec![],
-            clips: Vec::new(),
-            gravity: Vector3::zeros(),
-        };
+        let system = clamped_rod(
+            rod,
+            End::clamped(point(0.0), directors(0.0)),
+            End::clamped(point(length), directors(length)),
+        );
         let (coarse_system, kept) = coarsen(&system, false).expect("coarsened");
         let coarse = Model::try_new(coarse_system).unwrap();
         let fine = Model::try_new(system).unwrap();

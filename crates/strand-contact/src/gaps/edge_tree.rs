@@ -62,26 +62,12 @@ impl EdgeTree {
     /// Calls `found(j)` for every edge `j ≥ from` whose box overlaps `query` (touching
     /// counts), in increasing `j`.
     pub(crate) fn overlapping_from(&self, query: &Aabb, from: usize, mut found: impl FnMut(usize)) {
-        if from >= self.edges {
-            return;
-        }
-        // (node, first leaf, leaf count)
-        let mut stack = vec![(1usize, 0usize, self.size)];
-        while let Some((node, first, count)) = stack.pop() {
-            #[cfg(test)]
-            NODES_VISITED.with(|c| c.set(c.get() + 1));
-            if first + count <= from || first >= self.edges || !self.boxes[node].overlaps(query) {
-                continue;
+        let no_runs = |_: usize, _: usize, _: usize| None::<()>;
+        self.runs_from(query, from, no_runs, |report| {
+            if let Found::Edge(j) = report {
+                found(j);
             }
-            if count == 1 {
-                found(first);
-                continue;
-            }
-            let half = count / 2;
-            // Right child first: the left one is popped, and reported, first.
-            stack.push((2 * node + 1, first + half, half));
-            stack.push((2 * node, first, half));
-        }
+        });
     }
 
     /// As [`EdgeTree::overlapping_from`], but a node of more than one edge that

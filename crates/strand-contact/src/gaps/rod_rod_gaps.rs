@@ -52,15 +52,7 @@ pub fn rod_rod_gaps_of(
 ) -> Result<Vec<Gap>, GapError> {
     validate(rods)?;
     check_margin(margin)?;
-    let mut edges = Vec::new();
-    let mut boxes = Vec::new();
-    for (rod, geometry) in rods.iter().enumerate() {
-        for (edge, ends) in geometry.vertices.windows(2).enumerate() {
-            edges.push((rod, edge));
-            let grow = geometry.radius + 0.5 * margin;
-            boxes.push(Aabb::of_segment(&ends[0], &ends[1], grow));
-        }
-    }
+    let (edges, boxes) = edges_and_boxes(rods, margin);
     let tree = EdgeTree::new(&boxes);
     let mut gaps = Vec::new();
     let mut candidates = Vec::new();
@@ -91,6 +83,24 @@ pub fn rod_rod_gaps_of(
         }
     }
     Ok(gaps)
+}
+
+/// Every edge of `rods` as `(rod, edge)` in that order, with its capsule's box grown by
+/// half of `margin` (two boxes overlap where the capsules may be within `margin`).
+pub(super) fn edges_and_boxes(
+    rods: &[RodGeometry],
+    margin: f64,
+) -> (Vec<(usize, usize)>, Vec<Aabb>) {
+    let mut edges = Vec::new();
+    let mut boxes = Vec::new();
+    for (rod, geometry) in rods.iter().enumerate() {
+        for (edge, ends) in geometry.vertices.windows(2).enumerate() {
+            edges.push((rod, edge));
+            let grow = geometry.radius + 0.5 * margin;
+            boxes.push(Aabb::of_segment(&ends[0], &ends[1], grow));
+        }
+    }
+    (edges, boxes)
 }
 
 /// The gap between edge `edge_a` of rod `rod_a` and edge `edge_b` of rod `rod_b`

@@ -18,11 +18,10 @@
 
 use nalgebra::Point3;
 
-use super::broad_phase::Aabb;
 use super::chain_shape::{ChainShapes, Shape};
 use super::edge_tree::{EdgeTree, Found};
 use super::mesh_gaps::check_margin;
-use super::rod_rod_gaps::{edge_pair_gap, first_partner};
+use super::rod_rod_gaps::{edge_pair_gap, edges_and_boxes, first_partner};
 use super::{Gap, GapError, Obstacle, RodGeometry, validate};
 
 /// Absolute tolerance (m) under which two neighbouring partner gaps count as equal:
@@ -63,18 +62,14 @@ pub fn rod_rod_minima_of(
 ) -> Result<Vec<Gap>, GapError> {
     validate(rods)?;
     check_margin(margin)?;
-    let mut edges = Vec::new();
-    let mut boxes = Vec::new();
-    let mut shapes = Vec::new();
-    for (rod, geometry) in rods.iter().enumerate() {
-        for (edge, ends) in geometry.vertices.windows(2).enumerate() {
-            edges.push((rod, edge));
-            let grow = geometry.radius + 0.5 * margin;
-            boxes.push(Aabb::of_segment(&ends[0], &ends[1], grow));
-            shapes.push(Shape::of_edge(rod, &ends[0], &ends[1]));
-        }
-    }
+    let (edges, boxes) = edges_and_boxes(rods, margin);
     let tree = EdgeTree::new(&boxes);
+    let shapes: Vec<Shape> = (edges.iter())
+        .map(|&(rod, edge)| {
+            let vertices = &rods[rod].vertices;
+            Shape::of_edge(rod, &vertices[edge], &vertices[edge + 1])
+        })
+        .collect();
     let shapes = ChainShapes::new(&shapes);
     // Gaps lie in [−2 r, margin]: the largest tie any comparison can use.
     let largest_radius = rods.iter().map(|r| r.radius).fold(0.0, f64::max);
