@@ -724,7 +724,7 @@ impl<'a> Iteration<'a> {
     /// The QP of the linearised rows with the damped model's factor, from the Newton
     /// step in `work.step` (left as it is).
     fn constrained_step(&mut self) -> Result<crate::sqp::ConstrainedStep, Termination> {
-        let hint = start_of_active_set(&self.rows, &self.multipliers);
+        let (hint, guessed) = start_of_active_set(&self.rows, &self.multipliers);
         let work = &mut *self.work;
         let gradient = work.model_gradient.as_ref().unwrap_or(&work.eval.gradient);
         work.rhs.copy_from_slice(gradient);
@@ -737,6 +737,7 @@ impl<'a> Iteration<'a> {
             &self.rows,
             &work.step,
             &hint,
+            guessed,
         )
         .map_err(|_| Termination::SubproblemFailed)
     }
@@ -920,20 +921,23 @@ fn violation_of(rows: &[Row]) -> f64 {
 /// The set is only a start (rows of negative multiplier leave, violated ones join), but
 /// a good one saves passes: a 2831-segment cable lying in a groove started empty took
 /// 528 passes (each a substitution over the whole band) to hold its 1862 contacts,
-/// 1.4 s of a 1.8 s solve, from the closed rows 21.
-fn start_of_active_set(rows: &[Row], multipliers: &[(RowKey, f64)]) -> Vec<usize> {
+/// 1.4 s of a 1.8 s solve, from the closed rows 21. Whether the start is such a guess
+/// is returned with it (see [`crate::sqp::constrained_step`]).
+fn start_of_active_set(rows: &[Row], multipliers: &[(RowKey, f64)]) -> (Vec<usize>, bool) {
     if multipliers.is_empty() {
-        return (0..rows.len())
+        let closed = (0..rows.len())
             .filter(|&i| rows[i].value <= CLOSED_AT_START)
             .collect();
+        return (closed, true);
     }
-    (0..rows.len())
+    let held = (0..rows.len())
         .filter(|&i| {
             multipliers
                 .binary_search_by(|(k, _)| k.cmp(&rows[i].key))
                 .is_ok()
         })
-        .collect()
+        .collect();
+    (held, false)
 }
 
 /// A row whose value (a gap in m, a joint's distance to its stop in rad or m) is at
@@ -1045,10 +1049,10 @@ mod tests {
             row(5, 1e-2),
         ];
         // First step: the rows closed (or violated) to within a micrometre.
-        assert_eq!(start_of_active_set(&rows, &[]), vec![0, 2]);
+        assert_eq!(start_of_active_set(&rows, &[]), (vec![0, 2], true));
         // After a QP: the rows it held, by key, whatever their value now.
         let held = [(RowKey::Contact(3), 0.5), (RowKey::Contact(5), 0.1)];
-        assert_eq!(start_of_active_set(&rows, &held), vec![1, 3]);
+        assert_eq!(start_of_active_set(&rows, &held), (vec![1, 3], false));
     }
 
     #[test]
