@@ -220,6 +220,53 @@ mod tests {
     }
 
     #[test]
+    fn a_guessed_start_of_dependent_rows_falls_back_to_the_empty_start_and_the_qp_holds_no_open_row()
+     {
+        // g = (−2, 8, −3), free minimiser (1, −2, 3); d0 ≤ 0.5 twice (dependent rows)
+        // and an open row 10 + d1 ≥ 0: the solution is d0 = 0.5 with a force of 1.
+        let (pattern, values, mut cholesky) = diagonal_problem();
+        let gradient = [-2.0, 8.0, -3.0];
+        let newton = [1.0, -2.0, 3.0];
+        let rows = [
+            row(0, 0.5, vec![(0, -1.0)]),
+            row(1, 0.5, vec![(0, -1.0)]),
+            row(2, 10.0, vec![(1, 1.0)]),
+        ];
+        // Both dependent rows as the start: the primal–dual active set fails.
+        assert!(exact_step(&mut cholesky, &rows, &[0, 1], &newton).is_none());
+        let solve = |cholesky: &mut SparseCholesky, guessed: bool| {
+            constrained_step(
+                &pattern,
+                &values,
+                cholesky,
+                &gradient,
+                &rows,
+                &newton,
+                &[0, 1],
+                guessed,
+            )
+            .unwrap()
+        };
+        for guessed in [true, false] {
+            let result = solve(&mut cholesky, guessed);
+            assert!((result.step[0] - 0.5).abs() < 1e-7, "{:?}", result.step);
+            let force = result.multipliers[0] + result.multipliers[1];
+            assert!((force - 1.0).abs() < 1e-6, "{:?}", result.multipliers);
+            // The open row carries no multiplier, not the QP's small interior value.
+            assert_eq!(result.multipliers[2], 0.0, "guessed {guessed}");
+        }
+        // A guess is followed by the empty start: the exact step, one row held.
+        let guessed = solve(&mut cholesky, true);
+        assert_eq!(
+            guessed.multipliers.iter().filter(|&&l| l > 0.0).count(),
+            1,
+            "{:?}",
+            guessed.multipliers
+        );
+        assert!((guessed.step[0] - 0.5).abs() < 1e-14);
+    }
+
+    #[test]
     fn a_step_may_not_carry_a_touching_row_into_violation_by_a_fraction_of_its_approach() {
         let step = [1.0];
         // Touching, approached by 3e-12 m: cut by all of it (far below 1e-10 m).
