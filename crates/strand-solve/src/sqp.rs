@@ -220,8 +220,7 @@ mod tests {
     }
 
     #[test]
-    fn a_guessed_start_of_dependent_rows_falls_back_to_the_empty_start_and_the_qp_holds_no_open_row()
-     {
+    fn a_failed_guess_starts_empty_and_the_qp_holds_no_open_row() {
         // g = (−2, 8, −3), free minimiser (1, −2, 3); d0 ≤ 0.5 twice (dependent rows)
         // and an open row 10 + d1 ≥ 0: the solution is d0 = 0.5 with a force of 1.
         let (pattern, values, mut cholesky) = diagonal_problem();
