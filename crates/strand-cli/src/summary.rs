@@ -91,12 +91,23 @@ pub fn summary(built: &BuiltCase, doc: &ResultDoc, written: &[PathBuf]) -> Strin
     } else {
         format!(", stopped: {}", doc.termination)
     };
+    // A converged residual above the tolerance is one at this model's round-off floor
+    // (the solver accepts a stall within 4 × the floor): say so, or the line reads as a
+    // contradiction.
+    let tolerance = if doc.converged && doc.residual_n > doc.tolerance_n {
+        format!(
+            "above the tolerance {} N but at this model's round-off floor {} N",
+            number(doc.tolerance_n),
+            number(doc.residual_floor_n)
+        )
+    } else {
+        format!("tolerance {} N", number(doc.tolerance_n))
+    };
     let _ = writeln!(
         s,
-        "converged   {} (residual {} N, tolerance {} N, {} iterations{stopped})",
+        "converged   {} (residual {} N, {tolerance}, {} iterations{stopped})",
         yes(doc.converged),
         number(doc.residual_n),
-        number(doc.tolerance_n),
         doc.iterations,
     );
     // Where the iterations went, when not all in one direct solve: the final solve,

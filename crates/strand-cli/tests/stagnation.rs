@@ -13,7 +13,7 @@ fn cases() -> PathBuf {
 }
 
 /// Solves `case` (a bundled case, with `solver` inserted when given) into `out`:
-/// exit code, stderr and `result.json`.
+/// exit code, the terminal's text and `result.json`.
 fn solve(
     dir: &Path,
     case: &str,
@@ -42,8 +42,8 @@ fn solve(
     solve_file(&path, extra)
 }
 
-/// Solves the case file `path` into `out_<name>` next to it: exit code, stderr and
-/// `result.json`.
+/// Solves the case file `path` into `out_<name>` next to it: exit code, the terminal's
+/// text (stdout, then stderr) and `result.json`.
 fn solve_file(path: &Path, extra: &[&str]) -> (Option<i32>, String, serde_json::Value) {
     let name = path.file_name().unwrap().to_string_lossy();
     let out = path.with_file_name(format!("out_{name}"));
@@ -56,11 +56,9 @@ fn solve_file(path: &Path, extra: &[&str]) -> (Option<i32>, String, serde_json::
         .output()
         .unwrap();
     let result = std::fs::read_to_string(out.join("result.json")).expect("results written");
-    (
-        output.status.code(),
-        String::from_utf8(output.stderr).unwrap(),
-        serde_json::from_str(&result).unwrap(),
-    )
+    let terminal = String::from_utf8(output.stdout).unwrap()
+        + &String::from_utf8(output.stderr).unwrap();
+    (output.status.code(), terminal, serde_json::from_str(&result).unwrap())
 }
 
 fn number(doc: &serde_json::Value, key: &str) -> f64 {
@@ -102,27 +100,27 @@ fn a_tolerance_below_the_round_off_floor_converges_to_round_off_at_the_floor() {
     // from the origin, not of the edge) and ended `stagnated`, exit 3. Measured now: 0.14
     // to 0.56 times the floor from 50 to 2000 segments. Before stagnation was detected at
     // all it ran 108 iterations in 89 continuation steps and ended `line_search_failed`.
-    let (code, err, at_floor) = solve(tmp.path(), "harness_clips.ron", below, &[]);
-    assert_converged_to_round_off(code, &err, &at_floor);
+    let (code, terminal, at_floor) = solve(tmp.path(), "harness_clips.ron", below, &[]);
+    assert_converged_to_round_off(code, &terminal, &at_floor);
     // The state it stopped in is the equilibrium the default tolerance converges to.
-    let (code, err, converged) = solve(tmp.path(), "harness_clips.ron", None, &[]);
-    assert_eq!(code, Some(0), "{err}");
+    let (code, terminal, converged) = solve(tmp.path(), "harness_clips.ron", None, &[]);
+    assert_eq!(code, Some(0), "{terminal}");
     assert_eq!(converged["converged"], true);
     let difference = largest_difference(&at_floor, &converged);
     assert!(difference <= 1e-12, "{difference} m");
     for segments in ["100", "300"] {
-        let (code, err, doc) = solve(
+        let (code, terminal, doc) = solve(
             tmp.path(),
             "harness_clips.ron",
             below,
             &["--segments", segments],
         );
-        assert_converged_to_round_off(code, &err, &doc);
+        assert_converged_to_round_off(code, &terminal, &doc);
     }
     // A finer cooler hose (before: 132 iterations in 6 load steps, 10 s), a free
     // T-junction with three ports: 0.11 to 0.53 times the floor up to 2000 segments.
-    let (code, err, ended) = solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
-    assert_converged_to_round_off(code, &err, &ended);
+    let (code, terminal, ended) = solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
+    assert_converged_to_round_off(code, &terminal, &ended);
 }
 
 #[test]
@@ -138,8 +136,8 @@ fn a_stiff_finely_divided_cable_converges_at_its_floor_whatever_the_segments() {
         let text = STIFF_CABLE.replace("TOLERANCE", tolerance);
         let path = tmp.path().join(format!("stiff_{tolerance}_{segments}.ron"));
         std::fs::write(&path, text).unwrap();
-        let (code, err, doc) = solve_file(&path, &["--segments", segments]);
-        assert_eq!(code, Some(0), "{err}");
+        let (code, terminal, doc) = solve_file(&path, &["--segments", segments]);
+        assert_eq!(code, Some(0), "{terminal}");
         assert_eq!(doc["converged"], true);
         let (residual, floor) = (number(&doc, "residual_N"), number(&doc, "residual_floor_N"));
         assert!(residual <= floor, "{residual} N, floor {floor} N");
@@ -169,16 +167,19 @@ const STIFF_CABLE: &str = r#"(
 /// Checks a solve below the floor that ended within the round-off spread: exit 0,
 /// `converged`, the residual above the tolerance but within 4 times the estimated
 /// floor (the solver's `ROUND_OFF_SPREAD`), no continuation, few iterations.
-fn assert_converged_to_round_off(code: Option<i32>, err: &str, doc: &serde_json::Value) {
-    assert_eq!(code, Some(0), "{err}");
+fn assert_converged_to_round_off(code: Option<i32>, terminal: &str, doc: &serde_json::Value) {
+    assert_eq!(code, Some(0), "{terminal}");
     assert_eq!(doc["converged"], true);
-    assert_eq!(doc["termination"], "converged", "{err}");
+    assert_eq!(doc["termination"], "converged", "{terminal}");
     let (residual, floor) = (number(doc, "residual_N"), number(doc, "residual_floor_N"));
     assert!(residual > number(doc, "tolerance_N"));
+    // The terminal says why a residual above the tolerance counts as converged.
+    let line = terminal.lines().find(|l| l.starts_with("converged ")).unwrap();
+    assert!(line.contains("round-off floor"), "{line}");
     assert!(
         residual > 0.0 && residual <= 4.0 * floor,
         "{residual} N, floor {floor} N"
     );
-    assert_eq!(number(doc, "continuation_steps"), 0.0, "{err}");
+    assert_eq!(number(doc, "continuation_steps"), 0.0, "{terminal}");
     assert!(number(doc, "iterations") <= 60.0, "{}", doc["iterations"]);
 }
