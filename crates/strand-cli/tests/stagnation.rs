@@ -56,9 +56,13 @@ fn solve_file(path: &Path, extra: &[&str]) -> (Option<i32>, String, serde_json::
         .output()
         .unwrap();
     let result = std::fs::read_to_string(out.join("result.json")).expect("results written");
-    let terminal = String::from_utf8(output.stdout).unwrap()
-        + &String::from_utf8(output.stderr).unwrap();
-    (output.status.code(), terminal, serde_json::from_str(&result).unwrap())
+    let terminal =
+        String::from_utf8(output.stdout).unwrap() + &String::from_utf8(output.stderr).unwrap();
+    (
+        output.status.code(),
+        terminal,
+        serde_json::from_str(&result).unwrap(),
+    )
 }
 
 fn number(doc: &serde_json::Value, key: &str) -> f64 {
@@ -119,7 +123,8 @@ fn a_tolerance_below_the_round_off_floor_converges_to_round_off_at_the_floor() {
     }
     // A finer cooler hose (before: 132 iterations in 6 load steps, 10 s), a free
     // T-junction with three ports: 0.11 to 0.53 times the floor up to 2000 segments.
-    let (code, terminal, ended) = solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
+    let (code, terminal, ended) =
+        solve(tmp.path(), "cooler_hose.ron", below, &["--segments", "400"]);
     assert_converged_to_round_off(code, &terminal, &ended);
 }
 
@@ -174,7 +179,10 @@ fn assert_converged_to_round_off(code: Option<i32>, terminal: &str, doc: &serde_
     let (residual, floor) = (number(doc, "residual_N"), number(doc, "residual_floor_N"));
     assert!(residual > number(doc, "tolerance_N"));
     // The terminal says why a residual above the tolerance counts as converged.
-    let line = terminal.lines().find(|l| l.starts_with("converged ")).unwrap();
+    let line = terminal
+        .lines()
+        .find(|l| l.starts_with("converged "))
+        .unwrap();
     assert!(line.contains("round-off floor"), "{line}");
     assert!(
         residual > 0.0 && residual <= 4.0 * floor,

@@ -17,7 +17,7 @@ mod kkt_updates_tests;
 #[cfg(test)]
 mod scaling_tests;
 
-pub(crate) use exact::exact_step;
+pub(crate) use exact::{exact_step, exact_step_of_independent_rows};
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
@@ -220,18 +220,57 @@ mod tests {
     }
 
     #[test]
-    fn a_failed_guess_starts_empty_and_the_qp_holds_no_open_row() {
-        // g = (−2, 8, −3), free minimiser (1, −2, 3); d0 ≤ 0.5 twice (dependent rows)
-        // and an open row 10 + d1 ≥ 0: the solution is d0 = 0.5 with a force of 1.
-        let (pattern, values, mut cholesky) = diagonal_problem();
-        let gradient = [-2.0, 8.0, -3.0];
+    fn dependent_rows_in_a_start_are_held_out_and_the_step_is_exact() {
+        // g = (−2, 8, −3), free minimiser (1, −2, 3); d0 ≤ 0.5 twice (the same row: an
+        // edge's row on a face with its vertices' rows) and an open row 10 + d1 ≥ 0:
+        // the solution is d0 = 0.5 with a force of 1, on either row.
+        let (_, _, mut cholesky) = diagonal_problem();
         let newton = [1.0, -2.0, 3.0];
         let rows = [
             row(0, 0.5, vec![(0, -1.0)]),
             row(1, 0.5, vec![(0, -1.0)]),
             row(2, 10.0, vec![(1, 1.0)]),
         ];
-        // Both dependent rows as the start: the primal–dual active set fails.
+        for start in [vec![0, 1], vec![0, 1, 2], vec![]] {
+            let result = exact_step(&mut cholesky, &rows, &start, &newton)
+                .unwrap_or_else(|| panic!("start {start:?}: the step settles"));
+            assert_eq!(result.step, vec![0.5, -2.0, 3.0], "start {start:?}");
+            let held: Vec<f64> = (result.multipliers.iter().copied())
+                .filter(|&l| l > 0.0)
+                .collect();
+            assert!(
+                held.len() == 1 && (held[0] - 1.0).abs() < 1e-14,
+                "start {start:?}: {:?}",
+                result.multipliers
+            );
+        }
+        // A row held out must hold to round-off: one whose gap is 1e-11 m smaller
+        // (within the 1e-10 m an open row may be cut by) comes back, and the start
+        // fails; from the empty start the binding row alone is held.
+        let rows = [
+            row(0, 0.5, vec![(0, -1.0)]),
+            row(1, 0.5 - 1e-11, vec![(0, -1.0)]),
+            row(2, 10.0, vec![(1, 1.0)]),
+        ];
+        assert!(exact_step(&mut cholesky, &rows, &[0, 1], &newton).is_none());
+        let result = exact_step(&mut cholesky, &rows, &[], &newton).unwrap();
+        assert_eq!(result.step[0], 0.5 - 1e-11);
+        assert!(result.multipliers[0] == 0.0 && result.multipliers[1] > 0.0);
+    }
+
+    #[test]
+    fn a_failed_guess_starts_empty_and_the_qp_holds_no_open_row() {
+        // As above, but the second row's gap is 1e-8 smaller: held out as dependent at
+        // the start, it comes back violated, so the start fails (it depends on the
+        // first row, but not consistently). The solution: d0 = 0.5 − 1e-8 on row 1.
+        let (pattern, values, mut cholesky) = diagonal_problem();
+        let gradient = [-2.0, 8.0, -3.0];
+        let newton = [1.0, -2.0, 3.0];
+        let rows = [
+            row(0, 0.5, vec![(0, -1.0)]),
+            row(1, 0.5 - 1e-8, vec![(0, -1.0)]),
+            row(2, 10.0, vec![(1, 1.0)]),
+        ];
         assert!(exact_step(&mut cholesky, &rows, &[0, 1], &newton).is_none());
         let solve = |cholesky: &mut SparseCholesky, guessed: bool| {
             constrained_step(
@@ -262,7 +301,7 @@ mod tests {
             "{:?}",
             guessed.multipliers
         );
-        assert!((guessed.step[0] - 0.5).abs() < 1e-14);
+        assert!((guessed.step[0] - (0.5 - 1e-8)).abs() < 1e-14);
     }
 
     #[test]

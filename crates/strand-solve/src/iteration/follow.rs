@@ -100,7 +100,13 @@ impl Iteration<'_> {
         let step = if free {
             work.rhs.clone()
         } else {
-            crate::sqp::exact_step(&mut work.cholesky, &position_rows, &hint, &work.rhs)?.step
+            crate::sqp::exact_step_of_independent_rows(
+                &mut work.cholesky,
+                &position_rows,
+                &hint,
+                &work.rhs,
+            )?
+            .step
         };
         Some(self.model.retract(trial, &step))
     }

@@ -490,7 +490,12 @@ impl Iteration<'_> {
             return None;
         }
         let zero = vec![0.0; self.work.step.len()];
-        let corrected = crate::sqp::exact_step(&mut self.work.cholesky, rows, &held, &zero)?;
+        let corrected = crate::sqp::exact_step_of_independent_rows(
+            &mut self.work.cholesky,
+            rows,
+            &held,
+            &zero,
+        )?;
         let c = corrected.step;
         let (c_rotation, c_translation) = self.model.step_size(&c);
         let (rotation, translation) = self.model.step_size(&self.work.step);

@@ -43,6 +43,17 @@ pub(super) struct KktInput<'a> {
     pub local: &'a [usize],
 }
 
+/// Why the KKT system of a set of active rows could not be factorised.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum KktFailure {
+    /// The multiplier pivot of this row (an index into all rows) had the wrong sign:
+    /// the row depends on the active rows numbered before it (an edge's row on a
+    /// flat face together with the rows of both its vertices).
+    DependentRow(usize),
+    /// An unknown's pivot was not positive: `H` is not positive definite on the group.
+    NotDefinite,
+}
+
 /// The solution of one group's KKT system (refined once against the unfactorised one).
 pub(super) struct KktSolution {
     /// The multipliers `λ = −μ` of the active rows, in their order.
@@ -60,17 +71,32 @@ impl KktInput<'_> {
     /// by the span of its gradient (a contact reaches two vertices, a rod's
     /// self-contact or a contact between two rods further, at the cost of one solve
     /// over that span).
+    ///
+    /// The factorisation's cost is counted as [`Self::factor`] does it, row by row:
+    /// row `k` takes a dot product with every earlier row `j` of its profile, over
+    /// their common part only. A few long rows (a junction body numbered after its
+    /// rods, whose row reaches back to every rod end it holds) therefore cost their
+    /// length times the band's width, not their length squared: the estimate
+    /// `Σ width² / 2` made the cooler hose at 8000 segments per hose look 2,600 times
+    /// dearer than it is and kept its 164 contacts on the columns (a solve over 144,000
+    /// unknowns per row and a step rebuild per pass: 9 s of a 15 s solve).
     pub(super) fn costs(&self) -> Option<PassCosts> {
-        let (mut profile, mut squares) = (0, 0);
-        for (p, &u) in self.unknowns.iter().enumerate() {
-            let column = &self.row_idx[self.col_ptr[u]..self.col_ptr[u + 1]];
-            let first = column.iter().map(|&r| self.local[r]).min().unwrap_or(p);
-            let width = p + 1 - first.min(p);
-            profile += width;
-            squares += width * width;
+        let first: Vec<usize> = (self.unknowns.iter().enumerate())
+            .map(|(p, &u)| {
+                let column = &self.row_idx[self.col_ptr[u]..self.col_ptr[u + 1]];
+                column.iter().map(|&r| self.local[r]).fold(p, usize::min)
+            })
+            .collect();
+        let (mut profile, mut factorisation) = (0, 0);
+        for (k, &fk) in first.iter().enumerate() {
+            profile += k + 1 - fk;
+            factorisation += k - fk;
+            for (j, &fj) in first.iter().enumerate().take(k).skip(fk) {
+                factorisation += j - fk.max(fj);
+            }
         }
         (profile <= MAX_AVERAGE_WIDTH * self.unknowns.len().max(1)).then_some(PassCosts {
-            kkt_pass: squares / 2 + 3 * profile,
+            kkt_pass: factorisation + 3 * profile,
             solve: 2 * profile,
         })
     }
@@ -86,14 +112,15 @@ impl KktInput<'_> {
 
     /// Factorises the KKT system of the `active` rows (ascending) and solves it for the
     /// right-hand side `rhs` per active row (`−value − a·d_N`), without refinement.
-    /// Adds the multiply–adds to `products`. `None` if a pivot has the wrong sign (the
-    /// active rows are dependent on a leading block, or `H` is not positive definite).
+    /// Adds the multiply–adds to `products`. Fails at the first pivot of the wrong
+    /// sign: a multiplier's names its row, which depends on the active rows numbered
+    /// before it; an unknown's means `H` is not positive definite.
     pub(super) fn factor(
         &self,
         active: &[usize],
         rhs: &[f64],
         products: &mut usize,
-    ) -> Option<KktFactor> {
+    ) -> Result<KktFactor, KktFailure> {
         let n = self.unknowns.len();
         let m = active.len();
         // The numbering: unknowns along the band, each row's multiplier right after the
@@ -118,7 +145,7 @@ impl KktInput<'_> {
             }
         }
         if next.peek().is_some() {
-            return None;
+            return Err(KktFailure::NotDefinite);
         }
         let size = n + m;
         // Per node: the first column of its profile row (unknowns couple to unknowns
@@ -155,9 +182,10 @@ impl KktInput<'_> {
                 l[start[k] + c - first[k]] += a;
             }
         }
-        let mut is_multiplier = vec![false; size];
-        for &k in &multiplier_position {
-            is_multiplier[k] = true;
+        // Per node: the active row whose multiplier it is.
+        let mut multiplier_of = vec![None; size];
+        for (r, &k) in multiplier_position.iter().enumerate() {
+            multiplier_of[k] = Some(active[r]);
         }
         let mut d = vec![0.0; size];
         let mut factorisation_products = 0;
@@ -186,10 +214,16 @@ impl KktInput<'_> {
             }
             factorisation_products += k - fk;
             // Unknowns' pivots are positive, multipliers' negative (NaN fails both).
-            let sign = if is_multiplier[k] { -1.0 } else { 1.0 };
+            let sign = if multiplier_of[k].is_some() {
+                -1.0
+            } else {
+                1.0
+            };
             if pivot.is_nan() || pivot * sign <= 0.0 {
                 *products += factorisation_products;
-                return None;
+                return Err(
+                    multiplier_of[k].map_or(KktFailure::NotDefinite, KktFailure::DependentRow)
+                );
             }
             d[k] = pivot;
         }
@@ -214,7 +248,7 @@ impl KktInput<'_> {
         factor.substitute(&mut x);
         factor.base_solution = x;
         *products += factorisation_products + factor.substitution_products;
-        Some(factor)
+        Ok(factor)
     }
 
     /// The residual of the KKT system of the `active` rows at `(δ, μ)` (`δ` on the
@@ -265,7 +299,7 @@ impl KktInput<'_> {
         rhs: &[f64],
         products: &mut usize,
     ) -> Option<KktSolution> {
-        self.solve_updating(&mut None, active, rhs, products)
+        self.solve_updating(&mut None, active, rhs, products).ok()
     }
 }
 

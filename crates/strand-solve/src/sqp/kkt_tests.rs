@@ -8,6 +8,7 @@ use nalgebra::DVector;
 use strand_system::HessianPattern;
 
 use super::exact::{ExactStepWork, GroupMethod, exact_step_counted};
+use super::kkt::KktInput;
 use super::scaling_tests::{assert_brute_force_step, brute_force, next, random_matrix, row};
 use crate::SparseCholesky;
 use crate::constraints::Row;
@@ -25,12 +26,29 @@ pub(super) struct Chain {
 }
 
 pub(super) fn chain(blocks: usize, seed: u64) -> Chain {
-    let elements: Vec<Vec<usize>> = (0..blocks - 2).map(|b| vec![b, b + 1, b + 2]).collect();
-    let pattern = HessianPattern::new(blocks, elements.iter().map(|e| e.as_slice()));
+    chain_with_body(blocks, seed, false)
+}
+
+/// [`chain`], with one more block after the chain when `body` is set: a junction body
+/// numbered after its rods, coupled to the chain's first, middle and last blocks (three
+/// rod ends meeting at a T), so its profile row reaches back over the whole chain.
+fn chain_with_body(blocks: usize, seed: u64, body: bool) -> Chain {
+    let mut elements: Vec<Vec<usize>> = (0..blocks - 2).map(|b| vec![b, b + 1, b + 2]).collect();
+    if body {
+        elements.extend([
+            vec![0, blocks],
+            vec![blocks / 2, blocks],
+            vec![blocks - 1, blocks],
+        ]);
+    }
+    let pattern = HessianPattern::new(
+        blocks + usize::from(body),
+        elements.iter().map(|e| e.as_slice()),
+    );
     let mut seed = seed;
     let (values, dense) = random_matrix(&pattern, &mut seed);
     let mut cholesky = SparseCholesky::try_new(&pattern).unwrap();
-    assert!(cholesky.is_envelope());
+    assert!(body || cholesky.is_envelope());
     assert!(cholesky.factor(&values));
     let n = pattern.dim();
     let gradient = DVector::from_fn(n, |_, _| next(&mut seed));
@@ -94,7 +112,11 @@ fn the_kkt_step_of_one_rod_with_many_rows_is_the_brute_force_qp_solution() {
 /// from its own active set (one pass), as multiply–adds: solves × the factor's size,
 /// plus the written entries and the KKT products.
 fn settled_work(blocks: usize, method: GroupMethod) -> (usize, usize) {
-    let mut rod = chain(blocks, 5);
+    settled_work_of(chain(blocks, 5), method)
+}
+
+/// [`settled_work`] of a given chain.
+fn settled_work_of(mut rod: Chain, method: GroupMethod) -> (usize, usize) {
     let newton = rod.newton.as_slice().to_vec();
     let (first, _) = exact_step_counted(
         &mut rod.cholesky,
@@ -147,4 +169,123 @@ fn the_kkt_step_grows_like_rows_times_bandwidth_not_rows_times_unknowns() {
     );
     // And the KKT step is the cheaper one already on the short rod.
     assert!(short < short_columns, "{short} vs {short_columns}");
+}
+
+/// The local numbering of the group holding every unknown of `rod`, and its KKT input.
+fn whole_group(rod: &Chain) -> (Vec<usize>, Vec<usize>) {
+    let n = rod.newton.len();
+    ((0..n).collect(), (0..n).collect())
+}
+
+#[test]
+fn a_junction_numbered_after_its_rods_costs_the_kkt_step_its_band_not_its_square() {
+    // The estimate of a KKT pass is the factorisation's own count: a body's long row
+    // costs its length times the band (each earlier row shares a few columns with it),
+    // not its length squared, which kept a hose meeting a T at 8000 segments on the
+    // columns (a solve over all unknowns per contact).
+    for blocks in [101, 401] {
+        let rod = chain_with_body(blocks, 5, true);
+        let (unknowns, local) = whole_group(&rod);
+        let input = KktInput {
+            col_ptr: rod.cholesky.matrix().0,
+            row_idx: rod.cholesky.matrix().1,
+            values: rod.cholesky.matrix().2,
+            rows: &rod.rows,
+            unknowns: &unknowns,
+            local: &local,
+        };
+        let costs = input.costs().expect("a narrow band on average");
+        let mut products = 0;
+        let factor = input
+            .factor(&[], &[], &mut products)
+            .expect("H is definite");
+        let profile = (factor.substitution_products + factor.size()) / 2;
+        assert_eq!(costs.kkt_pass, factor.factorisation_products + 3 * profile);
+    }
+    // The automatic step takes the KKT system: its work grows with the rod, not with
+    // rows × unknowns.
+    let work = |blocks| settled_work_of(chain_with_body(blocks, 5, true), GroupMethod::Automatic);
+    let ((short, short_rows), (long, long_rows)) = (work(101), work(401));
+    assert_eq!((short_rows, long_rows), (50, 200));
+    let ratio = long as f64 / short as f64;
+    assert!(
+        ratio < 5.0,
+        "the step's work grew {ratio:.1}× for 4× the rod"
+    );
+    // From an empty start the kept columns add one row per pass, each pass cheaper than
+    // a KKT pass; they stop once their passes so far cost one (a few solves), not when
+    // the next pass alone would (about 30 here, each a solve over every unknown).
+    for blocks in [101, 401] {
+        let mut rod = chain_with_body(blocks, 5, true);
+        let newton = rod.newton.as_slice().to_vec();
+        let (_, work) = exact_step_counted(
+            &mut rod.cholesky,
+            &rod.rows,
+            &[],
+            &newton,
+            GroupMethod::Automatic,
+        )
+        .expect("the exact step settles");
+        assert!(work.solves <= 4, "{blocks} blocks: {work:?}");
+    }
+}
+
+#[test]
+fn a_row_that_depends_on_the_held_rows_is_held_out_and_the_step_is_the_qp_solution() {
+    // An edge's row on a flat face is its two vertices' rows interpolated: the same
+    // gradient and value combination. Started from every row, such a trio made the
+    // KKT system (or the Schur matrix) singular and the step failed whole.
+    let mut rod = chain(23, 11);
+    let (expected_step, expected_multipliers) = brute_force(&rod.dense, &rod.newton, &rod.rows);
+    let held: Vec<usize> = (0..rod.rows.len())
+        .filter(|&i| expected_multipliers[i] > 0.0)
+        .collect();
+    assert!(held.len() >= 3, "only {} rows held", held.len());
+    let (a, b) = (held[0], held[1]);
+    let mut gradient = Vec::new();
+    for (row, weight) in [(a, 0.3), (b, 0.7)] {
+        gradient.extend(rod.rows[row].gradient.iter().map(|&(u, g)| (u, weight * g)));
+    }
+    let value = 0.3 * rod.rows[a].value + 0.7 * rod.rows[b].value;
+    rod.rows.push(row(99, value, gradient));
+    let all: Vec<usize> = (0..rod.rows.len()).collect();
+    for method in [
+        GroupMethod::Automatic,
+        GroupMethod::Kkt,
+        GroupMethod::Columns,
+    ] {
+        let (result, _) = exact_step_counted(
+            &mut rod.cholesky,
+            &rod.rows,
+            &all,
+            rod.newton.as_slice(),
+            method,
+        )
+        .unwrap_or_else(|| panic!("{method:?}: the exact step settles"));
+        for (x, y) in result.step.iter().zip(expected_step.iter()) {
+            assert!(
+                (x - y).abs() < 1e-12 * (1.0 + y.abs()),
+                "{method:?}: {x} vs {y}"
+            );
+        }
+        // The forces: the same `Aᵀ λ` whichever of the dependent rows carries them.
+        let force = |multipliers: &[f64]| {
+            let mut f = vec![0.0; rod.newton.len()];
+            for (r, &l) in rod.rows.iter().zip(multipliers) {
+                for &(u, g) in &r.gradient {
+                    f[u] += l * g;
+                }
+            }
+            f
+        };
+        let mut expected = expected_multipliers.clone();
+        expected.push(0.0);
+        for (x, y) in force(&result.multipliers).iter().zip(force(&expected)) {
+            assert!(
+                (x - y).abs() < 1e-10 * (1.0 + y.abs()),
+                "{method:?}: {x} vs {y}"
+            );
+        }
+        assert!(result.multipliers.iter().all(|&l| l >= 0.0), "{method:?}");
+    }
 }

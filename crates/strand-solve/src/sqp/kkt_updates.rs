@@ -26,7 +26,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::kkt::{KktFactor, KktInput, KktSolution};
+use super::kkt::{KktFactor, KktFailure, KktInput, KktSolution};
 
 /// Most changes kept against one base factorisation (the dense solve grows as their
 /// cube, the combination of the kept columns as their number × the band).
@@ -94,27 +94,30 @@ impl KktInput<'_> {
     /// same step when the changes since are few (a row keeps its right-hand side within
     /// a step), else factorising afresh into `kept`; one step of iterative refinement
     /// against the unfactorised system either way. Adds the multiply–adds to `products`.
-    /// `None` if the active rows are dependent (a fresh factorisation's pivot has the
-    /// wrong sign) or `H` is not positive definite.
+    /// Fails as a fresh factorisation does ([`KktInput::factor`]): a row that depends on
+    /// the rows before it, or `H` not positive definite.
     pub(super) fn solve_updating(
         &self,
         kept: &mut Option<KktUpdates>,
         active: &[usize],
         rhs: &[f64],
         products: &mut usize,
-    ) -> Option<KktSolution> {
+    ) -> Result<KktSolution, KktFailure> {
         if let Some(updates) = kept.as_mut()
             && updates.follow(self, active, rhs, products)
             && let Some(solution) = updates.solve(self, active, rhs, products)
         {
-            return Some(solution);
+            return Ok(solution);
         }
-        *kept = Some(KktUpdates {
+        let fresh = KktUpdates {
             factor: self.factor(active, rhs, products)?,
             changes: Vec::new(),
             gram: Vec::new(),
-        });
-        kept.as_ref()?.solve(self, active, rhs, products)
+        };
+        // Without changes there is no border to reject: the fresh factor solves.
+        let solution = fresh.solve(self, active, rhs, products);
+        *kept = Some(fresh);
+        solution.ok_or(KktFailure::NotDefinite)
     }
 }
 

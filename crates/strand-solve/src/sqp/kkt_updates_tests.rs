@@ -5,7 +5,7 @@
 
 use nalgebra::DMatrix;
 
-use super::kkt::{KktInput, KktSolution};
+use super::kkt::{KktFailure, KktInput, KktSolution};
 use super::kkt_tests::{Chain, chain};
 use super::kkt_updates::KktUpdates;
 use super::scaling_tests::{next, row};
@@ -138,15 +138,17 @@ fn a_joined_row_dependent_on_the_base_rows_is_refused_as_a_fresh_factorisation_r
     assert!(
         input
             .solve_updating(&mut kept, &[1, 3, 6], &[0.1, 0.2, 0.3], &mut products)
-            .is_some()
+            .is_ok()
     );
     let active = [1, 3, 6, dependent];
     let rhs = [0.1, 0.2, 0.3, 0.4];
     assert!(input.solve(&active, &rhs, &mut products).is_none());
-    assert!(
+    // The row numbered later of the two is named (their supports end together).
+    assert_eq!(
         input
             .solve_updating(&mut kept, &active, &rhs, &mut products)
-            .is_none()
+            .err(),
+        Some(KktFailure::DependentRow(dependent))
     );
     // And the set without row 3 is solved from the kept base again.
     let active = [1, 6, dependent];
