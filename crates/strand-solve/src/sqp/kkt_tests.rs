@@ -7,6 +7,7 @@
 use nalgebra::DVector;
 use strand_system::HessianPattern;
 
+use super::ConstrainedStep;
 use super::exact::{ExactStepWork, GroupMethod, exact_step_counted};
 use super::kkt::KktInput;
 use super::scaling_tests::{assert_brute_force_step, brute_force, next, random_matrix, row};
@@ -115,17 +116,18 @@ fn settled_work(blocks: usize, method: GroupMethod) -> (usize, usize) {
     settled_work_of(chain(blocks, 5), method)
 }
 
+/// The automatic exact step of `rod` from an empty start, and its work.
+fn from_an_empty_start(rod: &mut Chain) -> (ConstrainedStep, ExactStepWork) {
+    let newton = rod.newton.as_slice().to_vec();
+    let method = GroupMethod::Automatic;
+    exact_step_counted(&mut rod.cholesky, &rod.rows, &[], &newton, method)
+        .expect("the exact step settles")
+}
+
 /// [`settled_work`] of a given chain.
 fn settled_work_of(mut rod: Chain, method: GroupMethod) -> (usize, usize) {
     let newton = rod.newton.as_slice().to_vec();
-    let (first, _) = exact_step_counted(
-        &mut rod.cholesky,
-        &rod.rows,
-        &[],
-        &newton,
-        GroupMethod::Automatic,
-    )
-    .expect("the exact step settles");
+    let (first, _) = from_an_empty_start(&mut rod);
     let active: Vec<usize> = (0..rod.rows.len())
         .filter(|&i| first.multipliers[i] > 0.0)
         .collect();
@@ -216,16 +218,7 @@ fn a_junction_numbered_after_its_rods_costs_the_kkt_step_its_band_not_its_square
     // a KKT pass; they stop once their passes so far cost one (a few solves), not when
     // the next pass alone would (about 30 here, each a solve over every unknown).
     for blocks in [101, 401] {
-        let mut rod = chain_with_body(blocks, 5, true);
-        let newton = rod.newton.as_slice().to_vec();
-        let (_, work) = exact_step_counted(
-            &mut rod.cholesky,
-            &rod.rows,
-            &[],
-            &newton,
-            GroupMethod::Automatic,
-        )
-        .expect("the exact step settles");
+        let (_, work) = from_an_empty_start(&mut chain_with_body(blocks, 5, true));
         assert!(work.solves <= 4, "{blocks} blocks: {work:?}");
     }
 }
