@@ -48,13 +48,10 @@ impl Progress {
                 }
                 next += REFRESH;
                 let activity = strand_solve::activity();
+                let iterations = activity.iterations - before;
+                let elapsed_s = started.elapsed().as_secs_f64();
                 // One write per line, without holding the stderr lock in between.
-                let line = format!(
-                    "\r\x1b[2Ksolving {what}: {} iterations, residual {:.2e} N, {:.0} s",
-                    activity.iterations - before,
-                    activity.residual_n,
-                    started.elapsed().as_secs_f64()
-                );
+                let line = line(&what, iterations, activity.residual_n, elapsed_s);
                 let _ = std::io::stderr().write_all(line.as_bytes());
                 drawn = true;
             }
@@ -69,11 +66,39 @@ impl Progress {
     }
 }
 
+/// The progress line (with the escape that clears the previous one). Before the first
+/// iteration there is no residual to show: a fine model's build and coarse levels take
+/// seconds, and `residual 0.00e0 N` there read as converged.
+fn line(what: &str, iterations: u64, residual_n: f64, elapsed_s: f64) -> String {
+    let state = if iterations == 0 {
+        "building the model, no iteration yet".to_string()
+    } else {
+        format!("{iterations} iterations, residual {residual_n:.2e} N")
+    };
+    format!("\r\x1b[2Ksolving {what}: {state}, {elapsed_s:.0} s")
+}
+
 impl Drop for Progress {
     fn drop(&mut self) {
         self.done.store(true, Ordering::Relaxed);
         if let Some(thread) = self.thread.take() {
             let _ = thread.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::line;
+
+    #[test]
+    fn the_line_shows_a_residual_only_after_an_iteration() {
+        let first = line("case.ron", 0, 0.0, 1.2);
+        assert_eq!(
+            first,
+            "\r\x1b[2Ksolving case.ron: building the model, no iteration yet, 1 s"
+        );
+        let later = line("case.ron", 19, 2.09e-9, 2.0);
+        assert!(later.ends_with("case.ron: 19 iterations, residual 2.09e-9 N, 2 s"));
     }
 }
