@@ -64,10 +64,11 @@ pub(crate) fn violation_by(row: &Row, step: &[f64]) -> Option<f64> {
 /// A primal–dual active set started from `hint` (rows active at the previous iterate)
 /// is tried first; clarabel's interior-point QP only when it does not settle. A `hint`
 /// that is only `guessed` (the rows closed at a step without a last QP) that does not
-/// settle is followed by the empty start before the QP: a guess can hold dependent
-/// rows (a hose on a bracket at 8000 segments: 194 closed rows whose KKT pivots
-/// failed), and the interior-point multipliers of the QP, small but positive on every
-/// open row, then made the next step start from all 21,389 rows.
+/// settle is followed by the empty start before the QP: a guess can hold rows that
+/// depend on each other inconsistently (consistent ones are held out by the exact
+/// step; a hose on a bracket at 8000 segments held 194 closed rows with such a trio),
+/// and the interior-point multipliers of the QP, small but positive on every open row,
+/// once made the next step start from all 21,389 rows.
 pub(crate) fn constrained_step(
     pattern: &HessianPattern,
     values: &[f64],

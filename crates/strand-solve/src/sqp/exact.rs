@@ -481,8 +481,12 @@ impl Pass<'_> {
     }
 }
 
+/// Largest cut of a held-out row by the step, relative to the size of its terms
+/// (value and `a·d`), that counts as round-off (see [`cut`]).
+const HELD_OUT_ROUND_OFF: f64 = 1e-12;
+
 /// A held-out row's linearised value after `step` if the step cuts it by more than
-/// round-off of its terms (1e-12 of their size): such a row does not depend on the
+/// round-off of its terms ([`HELD_OUT_ROUND_OFF`] of their size): such a row does not depend on the
 /// held rows consistently (nearly tied ridges of a finely faceted drum: cuts of
 /// 1e-12 m, far below the 1e-10 m an open row may be cut by, turned every trial of the
 /// exact penalty back).
@@ -492,7 +496,7 @@ fn cut(row: &Row, step: &[f64]) -> Option<f64> {
             .map(|&(k, a)| (a * step[k]).abs())
             .sum::<f64>();
     let after = row.linearised(step);
-    (after < -1e-12 * terms).then_some(after)
+    (after < -HELD_OUT_ROUND_OFF * terms).then_some(after)
 }
 
 /// The first of the held rows whose pivot in the Cholesky factor of their Schur matrix
