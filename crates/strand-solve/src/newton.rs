@@ -9,7 +9,7 @@ use strand_system::{EdgeStresses, Model, SystemState};
 use crate::constraints::Constraints;
 use crate::gauge::Gauge;
 use crate::iteration::{Iteration, Workspace, stalled_at_floor};
-use crate::report::Solution;
+use crate::report::{Solution, Termination};
 use crate::{
     InitialStateError, SolveError, SolverSettings, SparseCholesky, continuation, nested, saddle,
     stiffness,
@@ -292,20 +292,19 @@ impl<'m> Solver<'m> {
                 start = prolonged;
             }
         }
-        let mut solution = self.iterate(start, settings);
+        let release_retry = settings.release_retry
+            && self.constraints.is_some()
+            && settings.active_row_penalty
+            && !settings.release_open_rows;
+        // The direct attempt stops where it creeps when the release retry follows.
+        let mut solution = self.iterate_stopping_on_creep(start, settings, release_retry);
         // Stalled at the round-off floor: final (a continuation reaches the same floor).
         let at_floor = stalled_at_floor(&solution.report);
         // Iterations of a direct attempt that continuation replaced still count.
         let mut replaced_iterations = 0;
         let mut continuation_iterations = 0;
         let mut continuation_steps = 0;
-        if settings.release_retry
-            && self.constraints.is_some()
-            && settings.active_row_penalty
-            && !settings.release_open_rows
-            && !solution.report.converged
-            && !at_floor
-        {
+        if release_retry && !solution.report.converged && !at_floor {
             // A cable creeping along a groove under the held rows' pull: go on from
             // where the direct attempt stopped with the open rows released.
             let released = SolverSettings {
@@ -319,6 +318,19 @@ impl<'m> Solver<'m> {
                 solution = retry;
             } else {
                 continuation_iterations += retry.report.iterations;
+                if solution.report.termination == Termination::Creeping {
+                    // The direct attempt goes on where it stopped, with the rest of its
+                    // budget: the path it would have taken without the retry.
+                    let rest = SolverSettings {
+                        max_iterations: settings
+                            .max_iterations
+                            .saturating_sub(solution.report.fine_iterations),
+                        ..settings.clone()
+                    };
+                    let resumed = self.iterate(solution.state.clone(), &rest);
+                    replaced_iterations += solution.report.fine_iterations;
+                    solution = resumed;
+                }
             }
         }
         if settings.load_continuation && !solution.report.converged && !at_floor {
@@ -428,6 +440,17 @@ impl<'m> Solver<'m> {
     /// One Newton/SQP iteration sequence from `initial` on this model (no nested
     /// iteration, no continuation).
     pub(crate) fn iterate(&mut self, initial: SystemState, settings: &SolverSettings) -> Solution {
+        self.iterate_stopping_on_creep(initial, settings, false)
+    }
+
+    /// [`Solver::iterate`], stopping as [`Termination::Creeping`] where it creeps when
+    /// `stop_on_creep`.
+    fn iterate_stopping_on_creep(
+        &mut self,
+        initial: SystemState,
+        settings: &SolverSettings,
+        stop_on_creep: bool,
+    ) -> Solution {
         Iteration::new(
             self.model,
             self.constraints,
@@ -436,6 +459,7 @@ impl<'m> Solver<'m> {
             initial,
             self.initial_stresses.take(),
         )
+        .stopping_on_creep(stop_on_creep)
         .run()
     }
 }

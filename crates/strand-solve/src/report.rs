@@ -24,6 +24,15 @@ pub enum Termination {
     /// returned residual is the floor the iteration reached; within 100 times
     /// [`SolveReport::residual_floor_n`] no continuation is tried after it.
     Stagnated,
+    /// The direct attempt of a solve with contact crept: for
+    /// [`crate::SolverSettings::stagnation_iterations`] iterations every step needed
+    /// damping (the SQP model indefinite) and the residual did not fall by
+    /// [`crate::SolverSettings::stagnation_reduction`] — a cable creeping along a
+    /// groove under the held rows' pull, which converges linearly at the damping's
+    /// rate. It stops there only where the release retry
+    /// ([`crate::SolverSettings::release_retry`]) follows; should that retry fail, the
+    /// direct attempt resumes where it stopped with the rest of its budget.
+    Creeping,
     /// A non-finite number appeared.
     NotFinite,
     /// The QP of a constrained step (joint limits, contact) could not be solved.

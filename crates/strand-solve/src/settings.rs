@@ -141,6 +141,11 @@ pub struct SolverSettings {
     /// (`everyday_s39_013`: 3.2 N after 439 iterations, now converged), while the
     /// cases that converge directly keep the default's path. A coarse level of nested
     /// iteration, which only proposes a start within its own budget, does not retry.
+    /// The direct attempt also ends early where it creeps ([`crate::Termination::Creeping`]:
+    /// [`SolverSettings::stagnation_iterations`] exact steps in a row that still needed
+    /// damping, the residual not falling by [`SolverSettings::stagnation_reduction`]),
+    /// and resumes with the rest of its budget should the retry fail
+    /// (`everyday_s74_001`: 274 → 127 iterations).
     pub release_retry: bool,
     /// When the first trial of a step with contact rows is rejected, try it once more
     /// projected back onto the rows held (the rows' second-order correction: a curved
