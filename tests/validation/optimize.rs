@@ -306,6 +306,50 @@ fn hose2_length_and_the_oil_cooler_height_agree_with_a_2d_sweep() {
     assert_kink_in_fewer_solves(&optimum, sweep.solves);
 }
 
+/// A trial point whose design the case forbids (the pinned cable shortened to 500 mm
+/// between studs 640 mm apart: beyond the 10 % of strain the builder allows) is a
+/// rejected trial that names the point and the rule, not the end of the run (it was
+/// an error naming a variant 'sensitivity' the case does not have): minimising the
+/// peak moment drives the length down, and the run ends converged at a length the
+/// case allows.
+#[test]
+fn a_trial_the_case_forbids_is_rejected_and_the_run_goes_on() {
+    let case = Case::from_path(&cases_dir().join("pinned_cable.ron")).unwrap();
+    let problem = Problem {
+        variables: vec![variable(
+            "cable.length",
+            "rods.cable.length",
+            None,
+            800.0,
+            500.0,
+            900.0,
+        )],
+        objective: Objective::Output("cable.peak_moment_Nm".into()),
+        limits: Vec::new(),
+    };
+    let optimum = optimize(&case, &problem, &OptimizeSettings::default(), &mut |_| {}).unwrap();
+    let rejected: Vec<&str> = optimum
+        .history
+        .iter()
+        .map(|i| i.note.as_str())
+        .filter(|note| note.contains("cannot be built"))
+        .collect();
+    assert!(!rejected.is_empty(), "{:?}", optimum.history);
+    for note in &rejected {
+        assert!(
+            note.contains("the design at rods.cable.length -") && note.contains("apart"),
+            "{note}"
+        );
+        assert!(
+            !note.contains("variant") && !note.contains("hint"),
+            "{note}"
+        );
+    }
+    assert!(optimum.converged, "{}", optimum.message);
+    assert!(optimum.solution.report.converged);
+    assert!(optimum.values[0] >= 640.0 / 1.1, "{:?}", optimum.values);
+}
+
 #[test]
 fn a_hose_kept_10mm_from_the_bracket_ends_on_the_clearance_with_its_multiplier() {
     let case = Case::from_path(cases_dir().join("cooler_hose_contact.ron")).unwrap();

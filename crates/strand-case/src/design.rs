@@ -291,18 +291,26 @@ impl<'c> CaseDesign<'c> {
         self.full_builds.fetch_add(1, Ordering::Relaxed);
         let changes = self.changes(offsets);
         let like = self.base.get().map(|(b, _)| &b.built.model);
-        let built = match self.initial.get() {
-            Some(initial) => self.case.build_with_changes_reusing(
-                "sensitivity",
-                &changes,
-                initial,
-                self.clip_vertices.get().map(Vec::as_slice),
-                like,
-            )?,
-            None if changes.is_empty() => self.case.build(None)?,
-            None => self
+        let built = if changes.is_empty() && self.initial.get().is_none() {
+            self.case.build(None)?
+        } else {
+            // Errors name the point (a design's parameters can make the case invalid,
+            // e.g. a rod shorter than its ends' distance), not a variant.
+            let point = describe(&changes);
+            let in_design = |e| crate::variant::in_design(e, &point);
+            let file = self
                 .case
-                .build_with_changes("sensitivity", &changes, None)?,
+                .file_with_changes("design", &changes)
+                .map_err(in_design)?;
+            let extras = crate::build::BuildExtras {
+                warm: self.initial.get(),
+                clip_vertices: self.clip_vertices.get().map(Vec::as_slice),
+                like: self.initial.get().and(like),
+                ..crate::build::BuildExtras::default()
+            };
+            self.case
+                .build_file(&file, None, extras)
+                .map_err(in_design)?
         };
         let _ = self.initial.get_or_init(|| built.initial.clone());
         let _ = self.clip_vertices.get_or_init(|| {
@@ -347,6 +355,34 @@ impl<'c> CaseDesign<'c> {
             })
             .collect()
     }
+}
+
+/// The changes of a design point, as `item +x` in the items' units (e.g.
+/// `rods.cable.length -300, connectors.a.position +(0, 0, 5)`).
+fn describe(changes: &[VariantChange]) -> String {
+    // Six decimals in the item's unit, trailing zeros dropped.
+    let short = |x: f64| {
+        let text = format!("{x:.6}");
+        let text = text.trim_end_matches('0').trim_end_matches('.');
+        if text == "-0" {
+            "0".to_string()
+        } else {
+            text.to_string()
+        }
+    };
+    let amount = |a: &Amount| match a {
+        Amount::Number(x) if *x >= 0.0 => format!("+{}", short(*x)),
+        Amount::Number(x) => short(*x),
+        Amount::Vector(v) => format!("+({}, {}, {})", short(v[0]), short(v[1]), short(v[2])),
+    };
+    changes
+        .iter()
+        .map(|c| match &c.change {
+            Change::Add(a) => format!("{} {}", c.item, amount(a)),
+            Change::Set(a) => format!("{} = {}", c.item, amount(a)),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// How a design's model moves along one affine parameter
@@ -446,7 +482,10 @@ impl Design for CaseDesign<'_> {
                         return Ok(built);
                     }
                     let (base, reals) = self.base()?;
-                    let built = along(base, reals, direction, offsets[j], &self.case.origin)?;
+                    let built = along(base, reals, direction, offsets[j], &self.case.origin)
+                        .map_err(|e| {
+                            crate::variant::in_design(e, &describe(&self.changes(offsets)))
+                        })?;
                     if self.keep_moved.load(Ordering::Relaxed)
                         && let Ok(mut moved) = self.moved.lock()
                         && moved.len() < MOVED_KEPT

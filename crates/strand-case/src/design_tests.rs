@@ -290,3 +290,33 @@ fn a_kept_moved_design_is_the_one_moved_at_that_parameter_and_offset() {
     let built = fresh.build(&[0.0, h]).unwrap();
     assert_eq!(built.built.model.system().reals(), other.0);
 }
+
+/// A design point whose parameters make the case invalid (the pinned cable 300 mm
+/// shorter: 500 mm between studs 640 mm apart) is an error that names the point and
+/// the rule, not a variant of the case — by the builder, and along the affine path of
+/// an analysed design.
+#[test]
+fn a_design_point_the_case_forbids_is_named_as_that_point() {
+    let pinned = case("pinned_cable.ron");
+    let params = vec![param("rods.cable.length", None, 1000.0)];
+    let fresh = CaseDesign::new(&pinned, params.clone());
+    let analysed = CaseDesign::new(&pinned, params);
+    analysed.analyse().unwrap();
+    for design in [&fresh, &analysed] {
+        let error = design.build(&[-300.0]).err().expect("a rod too short");
+        let text = error.to_string();
+        assert!(
+            text.contains("the design at rods.cable.length -300: rod 'cable' is 0.500000 m long"),
+            "{text}"
+        );
+        assert!(!text.contains("variant"), "{text}");
+        assert!(
+            error.summary().starts_with("the design at"),
+            "{}",
+            error.summary()
+        );
+        assert!(!error.summary().contains("hint"), "{}", error.summary());
+        // Within the 10 % of strain the builder allows, the point builds.
+        design.build(&[-170.0]).unwrap();
+    }
+}

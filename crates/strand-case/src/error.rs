@@ -68,6 +68,23 @@ pub enum CaseError {
 }
 
 impl CaseError {
+    /// What is wrong, on one line, without the file and the hint (e.g. a rejected
+    /// trial's note in an optimisation's history).
+    pub fn summary(&self) -> String {
+        match self {
+            CaseError::Read { source, .. } => format!("cannot read the case file: {source}"),
+            CaseError::Syntax {
+                line,
+                column,
+                message,
+                ..
+            } => format!("{line}:{column}: {message}"),
+            CaseError::Invalid { item, message, .. } => format!("{item}: {message}"),
+            CaseError::Settings { source, .. } => source.to_string(),
+            CaseError::System { source, .. } => source.to_string(),
+        }
+    }
+
     /// The file the error is about, as named by the user.
     pub fn origin(&self) -> &str {
         match self {

@@ -431,6 +431,17 @@ pub(crate) fn in_variant(error: CaseError, name: &str) -> CaseError {
     )
 }
 
+/// Marks an error found while building a design at a point (a sensitivity's
+/// difference step, an optimisation's trial) as that point's: `point` names the
+/// parameters' changes there.
+pub(crate) fn in_design(error: CaseError, point: &str) -> CaseError {
+    error.within(
+        &format!("the design at {point}"),
+        "the parameters there make the case invalid: keep them within what it allows (for `strand optimize`, narrow the bounds of `--vary`)",
+        |item| item.starts_with("variants"),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use nalgebra::Vector3;

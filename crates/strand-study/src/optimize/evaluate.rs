@@ -76,11 +76,24 @@ impl<'c> Evaluator<'c> {
         offsets: &[f64],
         from: Option<&Evaluation>,
     ) -> Result<Result<Evaluation, Unsolved>, OptimizeError> {
-        let design = match &self.last {
-            Some(last) => last.recentred(offsets.to_vec())?,
-            None => self.design(offsets),
+        // A trial point's parameters can make the case invalid (a rod shorter than
+        // its ends' distance): the point is unusable, not the run. At the start (no
+        // `from`) that is the caller's error.
+        let built = match &self.last {
+            Some(last) => last.recentred(offsets.to_vec()),
+            None => Ok(self.design(offsets)),
+        }
+        .and_then(|design| {
+            let built = design.build(&vec![0.0; offsets.len()])?;
+            Ok((design, built))
+        });
+        let (design, built) = match built {
+            Ok(pair) => pair,
+            Err(e) if from.is_some() => {
+                return Ok(Err(format!("the design cannot be built: {}", e.summary())));
+            }
+            Err(e) => return Err(e.into()),
         };
-        let built = design.build(&vec![0.0; offsets.len()])?;
         let solved = match from {
             None => {
                 let b = &built.built;
