@@ -426,7 +426,7 @@ pub(crate) fn apply_changes(
 pub(crate) fn in_variant(error: CaseError, name: &str) -> CaseError {
     error.within(
         &format!("variant '{name}'"),
-        "correct the variant's changes under `variants`",
+        "correct the variant's changes (under `variants` in the case, or the values of `--vary`)",
         |item| item.starts_with("variants"),
     )
 }
