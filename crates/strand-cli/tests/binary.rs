@@ -292,6 +292,40 @@ fn an_optimisation_whose_constraint_no_design_meets_ends_infeasible_without_an_o
 }
 
 #[test]
+fn a_connector_within_the_hose_radius_of_a_part_is_named_with_the_support_to_move() {
+    // The engine stub of `cooler_hose_contact` 15 mm up, into the engine's underside
+    // by less than the hose's radius: the end vertex is outside the part but the hose
+    // at its held end overlaps it whatever the route, so the error says to move the
+    // support (it said to give the rod a route; found by a batch over the stub's
+    // position).
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(case("cooler_hose_contact.ron")).unwrap();
+    let from = r#""engine_stub": (position: (80, 265, 60),"#;
+    assert_eq!(text.matches(from).count(), 1, "the case changed");
+    let assets = std::path::Path::new(&case("cooler_hose_contact.ron"))
+        .parent()
+        .unwrap()
+        .join("../assets");
+    let moved = text
+        .replace(from, r#""engine_stub": (position: (80, 265, 75),"#)
+        .replace("\"../assets/", &format!("\"{}/", assets.display()));
+    let file = tmp.path().join("stub_up.ron");
+    std::fs::write(&file, moved).unwrap();
+    let (code, out, err) = strand(&["check", file.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{out}{err}");
+    assert!(
+        err.contains("rod 'hose3' starts inside mesh 'engine'"),
+        "{err}"
+    );
+    assert!(err.contains("the hose surface overlaps it by"), "{err}");
+    assert!(
+        err.contains("closer to the part than the hose's radius"),
+        "{err}"
+    );
+    assert!(!err.contains("give the rod a `route`"), "{err}");
+}
+
+#[test]
 fn a_connector_inside_a_closed_part_is_named_with_the_support_to_move() {
     // The box of `cable_over_box` moved around connector 'a': no route can help, so
     // the error says the end is held inside the part (it said to give a route).

@@ -97,6 +97,9 @@ pub enum StartHint {
     GiveRoute,
     /// An end of the rod is held inside the part: no route can help.
     MoveSupport,
+    /// An end of the rod is held closer to the part than the hose's radius: its
+    /// surface overlaps the part whatever the route.
+    EndOverlaps,
 }
 
 impl std::fmt::Display for StartHint {
@@ -115,6 +118,11 @@ impl std::fmt::Display for StartHint {
             StartHint::MoveSupport => {
                 "the rod's end is held there, inside the part: move its connector, pin, \
                  clamp or port, or the part, so that the end lies outside it"
+            }
+            StartHint::EndOverlaps => {
+                "the rod's end is held there, closer to the part than the hose's radius, \
+                 so no route clears it: move its connector, pin, clamp or port, or the \
+                 part, so that the hose's end clears the part"
             }
         })
     }
