@@ -261,6 +261,39 @@ fn check_held(
     compared
 }
 
+/// Every output of `sensitivity.json` is named once (other tools read it by name):
+/// a clip's reaction, which the result lists among the reactions and under the clips,
+/// came twice (`grommet.force_N.x`, …, 54 of the harness's 171 outputs), with the same
+/// values. Checked on cases with clips, ports and contacts.
+#[test]
+fn every_output_is_named_once() {
+    for name in [
+        "harness_clips.ron",
+        "cooler_hose.ron",
+        "cooler_hose_contact.ron",
+    ] {
+        let case = Case::from_path(&cases_dir().join(name)).unwrap();
+        let design = CaseDesign::new(&case, Vec::new());
+        let built = design.build(&[]).unwrap();
+        let solution = solve(&built, built.built.initial.clone());
+        let outputs = outputs_at(&built, &solution, None).unwrap();
+        let mut names: Vec<&str> = outputs.iter().map(|o| o.name.as_str()).collect();
+        let count = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), count, "{name}: outputs named twice");
+        if name == "harness_clips.ron" {
+            // Each clip's force, moment and joint value are there.
+            for clip in ["grommet", "hinge", "strain_relief"] {
+                for output in ["force_N.z", "moment_Nm.x", "joint_value"] {
+                    let wanted = format!("{clip}.{output}");
+                    assert!(names.contains(&wanted.as_str()), "{wanted}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn elastica_tip_force_follows_the_prescribed_tip_position() {
     let n = check(

@@ -306,8 +306,9 @@ pub struct ReactionResult {
     /// The connector's name (`"<rod>.start"` or `"<rod>.end"` for an unnamed clamp or
     /// pin) or `"<junction>.<port>"`.
     pub name: String,
-    /// What supplies the reaction: `"connector"` (a clamp or pin fixed in space) or
-    /// `"port"` (a port of a junction).
+    /// What supplies the reaction: `"connector"` (a clamp or pin fixed in space),
+    /// `"port"` (a port of a junction) or `"clip"` (also listed, with its joint, under
+    /// `clips`).
     pub kind: String,
     /// Name of the rod.
     pub rod: String,

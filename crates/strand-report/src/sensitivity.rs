@@ -169,7 +169,9 @@ pub fn design_outputs(doc: &ResultDoc, pins: Option<&[OutputValue]>) -> Vec<Outp
             });
         }
     }
-    for r in &doc.reactions {
+    // A clip's reaction is listed among the reactions too: its outputs come once,
+    // with the clips (which add the joint's value).
+    for r in doc.reactions.iter().filter(|r| r.kind != "clip") {
         push3(&mut out, &format!("{}.force_N", r.name), &r.force_n);
         push3(&mut out, &format!("{}.moment_Nm", r.name), &r.moment_nm);
     }
