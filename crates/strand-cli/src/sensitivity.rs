@@ -103,7 +103,12 @@ fn summary(doc: &SensitivityDoc, solve_s: f64, total_s: f64, dir: &Path) -> Stri
             significant(o.value, 4),
             p.name,
             significant(*d, 4),
-            p.unit,
+            // A compound unit in parentheses: N/(m/s2), not N/m/s2.
+            if p.unit.contains('/') {
+                format!("({})", p.unit)
+            } else {
+                p.unit.clone()
+            },
             if o.one_sided.contains(&p.name) {
                 "  (one-sided)"
             } else {
@@ -160,5 +165,27 @@ mod tests {
         let listed: Vec<&str> = text.lines().filter(|l| l.starts_with("  ")).collect();
         assert!(listed[0].contains("ecu.force_N.z"), "{text}");
         assert!(listed[1].contains("ecu.moment_Nm.y"), "{text}");
+    }
+
+    #[test]
+    fn a_derivative_per_compound_unit_puts_it_in_parentheses() {
+        let doc = SensitivityDoc {
+            case: "pinned_cable".into(),
+            converged: true,
+            residual_n: 1e-12,
+            parameters: vec![SensitivityParameter {
+                name: "gravity.z".into(),
+                unit: "m/s2".into(),
+            }],
+            outputs: vec![SensitivityOutput {
+                name: "stud_left.force_N.z".into(),
+                value: 0.39,
+                d: [("gravity.z".to_string(), -0.04)].into_iter().collect(),
+                one_sided: Vec::new(),
+            }],
+            near_switch: Vec::new(),
+        };
+        let text = summary(&doc, 0.01, 0.02, Path::new("out"));
+        assert!(text.contains("-0.04 N/(m/s2)"), "{text}");
     }
 }
