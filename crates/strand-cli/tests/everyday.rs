@@ -937,6 +937,46 @@ fn a_cable_creeping_in_a_groove_hands_over_to_the_release_retry_before_its_budge
     assert!(replaced < 200, "the direct attempt ran its budget: {line}");
 }
 
+/// Regression: `everyday_s69_002` (seed 69, a limp 3.8 mm cable of 144 segments in a
+/// 60° groove). Its coarse level (141 unknowns, a budget of 40 iterations) ran out of
+/// its budget and then ran the stiffness continuation meant as a solve's last resort:
+/// 40 more iterations of a failed stiffening step (148 in all, 80 on the coarse
+/// level). A coarse level only proposes a start within its budget: each level's
+/// iterations (the solver's trace) are now within it (108 in all).
+#[test]
+fn a_coarse_level_spends_no_more_than_its_budget() {
+    let tmp = tempfile::tempdir().unwrap();
+    let case = replay_up_to(69, 2, 10_000, (144, "groove60"));
+    assert_converges_clear(tmp.path(), &case);
+    let output = Command::new(binary())
+        .arg("solve")
+        .arg(write_case(tmp.path(), &case))
+        .arg("--out")
+        .arg(tmp.path().join("traced"))
+        .env("STRAND_TRACE", "1")
+        .output()
+        .unwrap();
+    let trace = String::from_utf8(output.stderr).unwrap();
+    // "strand-solve: coarse level of 141 unknowns (budget 40): 80 iterations, …"
+    let levels: Vec<(usize, usize)> = trace
+        .lines()
+        .filter_map(|l| l.strip_prefix("strand-solve: coarse level of "))
+        .map(|l| {
+            let budget = l.split("(budget ").nth(1).and_then(|r| r.split(')').next());
+            let spent = l.split("): ").nth(1).and_then(|r| r.split(' ').next());
+            let number = |w: Option<&str>| w.and_then(|w| w.parse().ok()).expect(l);
+            (number(budget), number(spent))
+        })
+        .collect();
+    assert!(!levels.is_empty(), "no coarse level traced");
+    for (budget, spent) in levels {
+        assert!(
+            spent <= budget,
+            "a coarse level spent {spent} of its budget {budget}"
+        );
+    }
+}
+
 /// Regression: `everyday_s6_002` (seed 6, a thin 3.5 mm cable, 1817 segments, in a 90°
 /// groove). A coarse step limited by the advancement may stop with an edge's
 /// centreline on the groove's flank (its tube sunk by its whole radius), and from

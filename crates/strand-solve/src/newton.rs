@@ -359,8 +359,11 @@ impl<'m> Solver<'m> {
         // With contact, stiffness continuation is the last resort (a softened hose may
         // settle into another contact set, but any converged state of the true system
         // beats none): a limp cable draped over an edge (C·h²/EI of 1e7) otherwise
-        // crawls.
+        // crawls. Not on a coarse level of nested iteration, which only proposes a
+        // start within its budget: there it doubled the level's cost
+        // (`everyday_s69_002`: 40 iterations of a failed stiffening step after its 40).
         if settings.stiffness_continuation
+            && self.finest.is_none()
             && self.constraints.is_some()
             && !solution.report.converged
             && !at_floor
