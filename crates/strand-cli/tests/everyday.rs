@@ -830,6 +830,23 @@ fn a_cable_creeping_along_a_groove_converges_within_600_iterations() {
     assert_converges_clear(tmp.path(), &case);
 }
 
+/// The `iterations` line `strand solve` prints for `case` written into `dir`.
+fn iterations_line(dir: &Path, case: &Case) -> String {
+    let output = Command::new(binary())
+        .arg("solve")
+        .arg(write_case(dir, case))
+        .arg("--out")
+        .arg(dir.join("terminal"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    stdout
+        .lines()
+        .find(|l| l.starts_with("iterations"))
+        .expect("an iterations line")
+        .to_string()
+}
+
 /// `case` with `settings` (RON fields of `SolverSettings`) as its `solver`.
 fn with_solver_settings(mut case: Case, settings: &str) -> Case {
     let gravity = "gravity: (0, 0, -9.81),";
@@ -870,18 +887,8 @@ fn a_cable_creeping_along_a_groove_converges_on_a_retry_with_open_rows_released(
     assert_converges_clear(tmp.path(), &case);
     // The terminal says where the iterations went, and its parts add up: the final
     // solve, the coarse level, the retry and the attempt it replaced.
-    let output = Command::new(binary())
-        .arg("solve")
-        .arg(write_case(tmp.path(), &case))
-        .arg("--out")
-        .arg(tmp.path().join("terminal"))
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8(output.stdout).unwrap();
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("iterations"))
-        .expect("an iterations line");
+    let line = iterations_line(tmp.path(), &case);
+    let line = line.as_str();
     let numbers = |text: &str| -> Vec<usize> {
         text.split(|c: char| !c.is_ascii_digit())
             .filter_map(|w| w.parse().ok())
@@ -914,18 +921,7 @@ fn a_cable_creeping_in_a_groove_hands_over_to_the_release_retry_before_its_budge
     let tmp = tempfile::tempdir().unwrap();
     let case = replay_up_to(74, 1, 10_000, (3233, "groove90"));
     assert_converges_clear(tmp.path(), &case);
-    let output = Command::new(binary())
-        .arg("solve")
-        .arg(write_case(tmp.path(), &case))
-        .arg("--out")
-        .arg(tmp.path().join("terminal"))
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8(output.stdout).unwrap();
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("iterations"))
-        .expect("an iterations line");
+    let line = iterations_line(tmp.path(), &case);
     let (before, _) = line
         .split_once(" in attempts that did not converge")
         .unwrap_or_else(|| panic!("a replaced attempt: {line}"));
