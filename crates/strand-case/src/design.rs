@@ -361,15 +361,7 @@ impl<'c> CaseDesign<'c> {
 /// `rods.cable.length -300, connectors.a.position +(0, 0, 5)`).
 fn describe(changes: &[VariantChange]) -> String {
     // Six decimals in the item's unit, trailing zeros dropped.
-    let short = |x: f64| {
-        let text = format!("{x:.6}");
-        let text = text.trim_end_matches('0').trim_end_matches('.');
-        if text == "-0" {
-            "0".to_string()
-        } else {
-            text.to_string()
-        }
-    };
+    let short = |x: f64| crate::canonical_decimal(x, 6);
     let amount = |a: &Amount| match a {
         Amount::Number(x) if *x >= 0.0 => format!("+{}", short(*x)),
         Amount::Number(x) => short(*x),

@@ -73,7 +73,7 @@ pub use limits::ConnectorLimit;
 pub use nominal::NOMINAL_LENGTH_TOLERANCE;
 pub use schema::CaseFile;
 pub use start::Start;
-pub use units::LengthUnit;
+pub use units::{LengthUnit, canonical_decimal};
 pub use variant::{
     BASE_VARIANT, ItemError, ItemQuantity, RodEnd, ShortFormError, VARIANT_ITEMS, VariantItem,
     expand_short,

@@ -60,3 +60,21 @@ mod tests {
         assert_eq!(LengthUnit::Millimetre.to_string(), "mm");
     }
 }
+
+/// `value` in decimal with at most `decimals` decimals, trailing zeros (and a bare
+/// point) dropped, `-0` as `0`: the form batch ids and design points name values in.
+///
+/// ```
+/// assert_eq!(strand_case::canonical_decimal(-249.99999995633672, 6), "-250");
+/// assert_eq!(strand_case::canonical_decimal(0.125, 9), "0.125");
+/// assert_eq!(strand_case::canonical_decimal(-1e-12, 6), "0");
+/// ```
+pub fn canonical_decimal(value: f64, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_string()
+    } else {
+        text.to_string()
+    }
+}

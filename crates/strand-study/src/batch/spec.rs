@@ -158,13 +158,7 @@ pub(super) fn parse_number(
 
 /// The canonical decimal form of `value` (at most 9 decimals, no trailing zeros).
 pub fn canonical(value: f64) -> String {
-    let text = format!("{value:.9}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
-    if text == "-0" {
-        "0".to_string()
-    } else {
-        text.to_string()
-    }
+    strand_case::canonical_decimal(value, 9)
 }
 
 /// The item of `label` (short or full form) and its quantity and component.
