@@ -314,7 +314,7 @@ fn hose2_length_and_the_oil_cooler_height_agree_with_a_2d_sweep() {
 /// case allows.
 #[test]
 fn a_trial_the_case_forbids_is_rejected_and_the_run_goes_on() {
-    let case = Case::from_path(&cases_dir().join("pinned_cable.ron")).unwrap();
+    let case = Case::from_path(cases_dir().join("pinned_cable.ron")).unwrap();
     let problem = Problem {
         variables: vec![variable(
             "cable.length",

@@ -272,7 +272,7 @@ fn every_output_is_named_once() {
         "cooler_hose.ron",
         "cooler_hose_contact.ron",
     ] {
-        let case = Case::from_path(&cases_dir().join(name)).unwrap();
+        let case = Case::from_path(cases_dir().join(name)).unwrap();
         let design = CaseDesign::new(&case, Vec::new());
         let built = design.build(&[]).unwrap();
         let solution = solve(&built, built.built.initial.clone());

@@ -48,19 +48,6 @@ impl fmt::Display for LengthUnit {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn parses_and_scales() {
-        assert_eq!(LengthUnit::parse("mm"), Some(LengthUnit::Millimetre));
-        assert_eq!(LengthUnit::parse("m").map(LengthUnit::metres), Some(1.0));
-        assert_eq!(LengthUnit::parse("cm"), None);
-        assert_eq!(LengthUnit::Millimetre.to_string(), "mm");
-    }
-}
-
 /// `value` in decimal with at most `decimals` decimals, trailing zeros (and a bare
 /// point) dropped, `-0` as `0`: the form batch ids and design points name values in.
 ///
@@ -76,5 +63,18 @@ pub fn canonical_decimal(value: f64, decimals: usize) -> String {
         "0".to_string()
     } else {
         text.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_and_scales() {
+        assert_eq!(LengthUnit::parse("mm"), Some(LengthUnit::Millimetre));
+        assert_eq!(LengthUnit::parse("m").map(LengthUnit::metres), Some(1.0));
+        assert_eq!(LengthUnit::parse("cm"), None);
+        assert_eq!(LengthUnit::Millimetre.to_string(), "mm");
     }
 }
