@@ -137,7 +137,8 @@ pub enum Command {
         #[arg(long = "vary", value_name = "NAME=LO..HI", required = true)]
         vary: Vec<String>,
         /// What to minimise: peak_force (the largest peak |f| of all rods),
-        /// peak_force:<rod>, max_reaction, energy, or an output name of
+        /// peak_force:<rod>, peak_moment (the largest peak |m|), peak_moment:<rod>,
+        /// max_reaction, energy, or an output name of
         /// sensitivity.json.
         #[arg(long, value_name = "OBJECTIVE", default_value = "peak_force")]
         minimize: String,

@@ -2,8 +2,9 @@
 //!
 //! The design variables are parameters of the case (named as in `batch --vary`) with
 //! bounds; the objective is the largest of a few smooth pieces (`peak_force`: the
-//! peak |f| of every rod, a min–max; `max_reaction`: every support's reaction; or one
-//! output: `peak_force:<rod>`, `energy`, any output of `sensitivity.json`); the
+//! peak |f| of every rod, a min–max; `peak_moment`: the same of |m|; `max_reaction`:
+//! every support's reaction; or one output: `peak_force:<rod>`, `peak_moment:<rod>`,
+//! `energy`, any output of `sensitivity.json`); the
 //! constraints bound outputs (`clearance>=10mm`: every rod to every obstacle;
 //! `bend_radius>=min`: each rod's smallest bend radius against its section's
 //! `min_bend_radius`; any output by name).

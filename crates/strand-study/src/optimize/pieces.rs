@@ -126,7 +126,7 @@ pub fn check_names(problem: &Problem, built: &BuiltCase) -> Result<(), OptimizeE
             ))
         }
     };
-    if let Objective::PeakForceOf(rod) = &problem.objective {
+    if let Objective::PeakForceOf(rod) | Objective::PeakMomentOf(rod) = &problem.objective {
         known("--minimize", &problem.objective.name(), rod)?;
     }
     for limit in &problem.limits {
@@ -178,6 +178,13 @@ pub fn objective_pieces(
             .filter_map(|r| piece(at, &format!("{r}.peak_force_N"), 1.0, 0.0))
             .collect(),
         Objective::PeakForceOf(rod) => piece(at, &format!("{rod}.peak_force_N"), 1.0, 0.0)
+            .into_iter()
+            .collect(),
+        Objective::PeakMoment => rod_names(b)
+            .iter()
+            .filter_map(|r| piece(at, &format!("{r}.peak_moment_Nm"), 1.0, 0.0))
+            .collect(),
+        Objective::PeakMomentOf(rod) => piece(at, &format!("{rod}.peak_moment_Nm"), 1.0, 0.0)
             .into_iter()
             .collect(),
         Objective::MaxReaction => supports

@@ -42,6 +42,10 @@ pub enum Objective {
     PeakForce,
     /// `peak_force:<rod>`: one rod's peak |f|.
     PeakForceOf(String),
+    /// `peak_moment`: the largest peak |m| over all rods (a min–max).
+    PeakMoment,
+    /// `peak_moment:<rod>`: one rod's peak |m|.
+    PeakMomentOf(String),
     /// `max_reaction`: the largest reaction force magnitude at a connector or clip (a
     /// min–max).
     MaxReaction,
@@ -57,18 +61,22 @@ impl Objective {
         let text = text.trim();
         Ok(match text {
             "peak_force" => Objective::PeakForce,
+            "peak_moment" => Objective::PeakMoment,
             "max_reaction" => Objective::MaxReaction,
             "energy" => Objective::Energy,
             _ => match text.split_once(':') {
                 Some(("peak_force", rod)) if !rod.is_empty() => {
                     Objective::PeakForceOf(rod.to_string())
                 }
+                Some(("peak_moment", rod)) if !rod.is_empty() => {
+                    Objective::PeakMomentOf(rod.to_string())
+                }
                 Some(_) => {
                     return Err(OptimizeError::input(
                         "--minimize",
                         text,
                         "is not an objective",
-                        "write peak_force, peak_force:<rod>, max_reaction, energy or an output name of sensitivity.json (e.g. hose2.peak_moment_Nm)",
+                        "write peak_force, peak_force:<rod>, peak_moment, peak_moment:<rod>, max_reaction, energy or an output name of sensitivity.json (e.g. hose2.min_bend_radius_m)",
                     ));
                 }
                 None if text.is_empty() || text.contains(char::is_whitespace) => {
@@ -76,7 +84,7 @@ impl Objective {
                         "--minimize",
                         text,
                         "is not an objective",
-                        "write peak_force, peak_force:<rod>, max_reaction, energy or an output name",
+                        "write peak_force, peak_force:<rod>, peak_moment, peak_moment:<rod>, max_reaction, energy or an output name",
                     ));
                 }
                 None => Objective::Output(text.to_string()),
@@ -89,6 +97,8 @@ impl Objective {
         match self {
             Objective::PeakForce => "peak_force".into(),
             Objective::PeakForceOf(rod) => format!("peak_force:{rod}"),
+            Objective::PeakMoment => "peak_moment".into(),
+            Objective::PeakMomentOf(rod) => format!("peak_moment:{rod}"),
             Objective::MaxReaction => "max_reaction".into(),
             Objective::Energy => "energy".into(),
             Objective::Output(name) => name.clone(),
@@ -99,6 +109,7 @@ impl Objective {
     pub fn unit(&self) -> &'static str {
         match self {
             Objective::PeakForce | Objective::PeakForceOf(_) | Objective::MaxReaction => "N",
+            Objective::PeakMoment | Objective::PeakMomentOf(_) => "N·m",
             Objective::Energy => "J",
             Objective::Output(name) => unit_of(name),
         }
