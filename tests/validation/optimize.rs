@@ -111,6 +111,19 @@ impl<'c> Sweep<'c> {
     }
 }
 
+/// Every output at offsets `x + h` and `x − h` of `variable` (its unit), by full
+/// solves warm-started from `x`: `(up, down)`.
+fn either_side(
+    case: &Case,
+    variable: Variable,
+    x: f64,
+    h: f64,
+) -> (BTreeMap<String, f64>, BTreeMap<String, f64>) {
+    let mut sweep = Sweep::new(case, &[variable]);
+    sweep.at(&[x]);
+    (sweep.at(&[x + h]), sweep.at(&[x - h]))
+}
+
 /// The largest peak |f| over the cooler's hoses and which hose carries it.
 fn peak(o: &BTreeMap<String, f64>) -> (f64, &'static str) {
     ["hose1", "hose2", "hose3"]
@@ -382,7 +395,7 @@ fn peak_moment_objectives_minimise_the_rods_peak_moments() {
         assert_eq!(optimum.attained_by, ["cable.peak_moment_Nm"], "{text}");
     }
     let unknown = run(Objective::parse("peak_moment:hose").unwrap());
-    let message = unknown.err().expect("an unknown rod").to_string();
+    let message = unknown.expect_err("an unknown rod").to_string();
     assert!(
         message.contains("there is no rod 'hose'") && message.contains("cable"),
         "{message}"
@@ -425,11 +438,8 @@ fn an_optimum_on_a_bound_reports_it_active_with_the_objectives_slope() {
     let [attained] = optimum.attained_by.as_slice() else {
         panic!("{:?}", optimum.attained_by)
     };
-    let mut sweep = Sweep::new(&case, &[length()]);
-    let (x, h) = (optimum.offsets[0], 0.1);
-    sweep.at(&[x]);
-    let up = sweep.at(&[x + h]);
-    let down = sweep.at(&[x - h]);
+    let h = 0.1;
+    let (up, down) = either_side(&case, length(), optimum.offsets[0], h);
     let slope = (up[attained.as_str()] - down[attained.as_str()]) / (2.0 * h);
     assert!(slope < 0.0, "{attained} falls with the length: {slope}");
     assert!(
@@ -469,12 +479,8 @@ fn a_hose_kept_10mm_from_the_bracket_ends_on_the_clearance_with_its_multiplier()
     );
     // The multiplier against differences of full solves at the optimum: on the
     // constraint, ∇F = μ ∇c, so μ = (dF/dx) / (dc/dx) (N per m of clearance).
-    let mut sweep = Sweep::new(&case, &[length()]);
-    let x = optimum.offsets[0];
     let h = 0.1;
-    sweep.at(&[x]);
-    let up = sweep.at(&[x + h]);
-    let down = sweep.at(&[x - h]);
+    let (up, down) = either_side(&case, length(), optimum.offsets[0], h);
     let d = |name: &str| (up[name] - down[name]) / (2.0 * h);
     let (df, dc) = (d("hose2.peak_force_N"), d("hose3.clearance_m.brackets"));
     assert!(
