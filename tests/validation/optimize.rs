@@ -52,6 +52,18 @@ fn variable(
     }
 }
 
+/// The length of rod `rod` in mm, from `origin` (the case's) between `lo` and `hi`.
+fn rod_length(rod: &str, origin: f64, lo: f64, hi: f64) -> Variable {
+    variable(
+        &format!("{rod}.length"),
+        &format!("rods.{rod}.length"),
+        None,
+        origin,
+        lo,
+        hi,
+    )
+}
+
 fn run(case: &Case, variables: Vec<Variable>, limits: &[&str]) -> Optimum {
     let problem = Problem {
         variables,
@@ -155,16 +167,7 @@ fn assert_kink_in_fewer_solves(optimum: &Optimum, sweep_solves: usize) {
 #[test]
 fn the_best_hose2_length_matches_a_1mm_sweep_with_ten_times_fewer_solves() {
     let case = cooler_with_bend_limit();
-    let length = || {
-        variable(
-            "hose2.length",
-            "rods.hose2.length",
-            None,
-            190.0,
-            150.0,
-            300.0,
-        )
-    };
+    let length = || rod_length("hose2", 190.0, 150.0, 300.0);
     // The reference: every millimetre from 150 to 300 mm.
     let mut sweep = Sweep::new(&case, &[length()]);
     let points: Vec<(f64, BTreeMap<String, f64>)> = (150..=300)
@@ -217,14 +220,7 @@ fn hose2_length_and_the_oil_cooler_height_agree_with_a_2d_sweep() {
     let case = cooler_with_bend_limit();
     let vars = || {
         vec![
-            variable(
-                "hose2.length",
-                "rods.hose2.length",
-                None,
-                190.0,
-                230.0,
-                300.0,
-            ),
+            rod_length("hose2", 190.0, 230.0, 300.0),
             variable(
                 "oil_cooler.position.z",
                 "connectors.oil_cooler.position",
@@ -329,14 +325,7 @@ fn hose2_length_and_the_oil_cooler_height_agree_with_a_2d_sweep() {
 fn a_trial_the_case_forbids_is_rejected_and_the_run_goes_on() {
     let case = Case::from_path(cases_dir().join("pinned_cable.ron")).unwrap();
     let problem = Problem {
-        variables: vec![variable(
-            "cable.length",
-            "rods.cable.length",
-            None,
-            800.0,
-            500.0,
-            900.0,
-        )],
+        variables: vec![rod_length("cable", 800.0, 500.0, 900.0)],
         objective: Objective::Output("cable.peak_moment_Nm".into()),
         limits: Vec::new(),
     };
@@ -372,14 +361,7 @@ fn peak_moment_objectives_minimise_the_rods_peak_moments() {
     let case = Case::from_path(cases_dir().join("pinned_cable.ron")).unwrap();
     let run = |objective: Objective| {
         let problem = Problem {
-            variables: vec![variable(
-                "cable.length",
-                "rods.cable.length",
-                None,
-                800.0,
-                650.0,
-                900.0,
-            )],
+            variables: vec![rod_length("cable", 800.0, 650.0, 900.0)],
             objective,
             limits: Vec::new(),
         };
@@ -411,16 +393,7 @@ fn peak_moment_objectives_minimise_the_rods_peak_moments() {
 #[test]
 fn an_optimum_on_a_bound_reports_it_active_with_the_objectives_slope() {
     let case = Case::from_path(cases_dir().join("cooler_hose.ron")).unwrap();
-    let length = || {
-        variable(
-            "hose2.length",
-            "rods.hose2.length",
-            None,
-            190.0,
-            150.0,
-            300.0,
-        )
-    };
+    let length = || rod_length("hose2", 190.0, 150.0, 300.0);
     let problem = Problem {
         variables: vec![length()],
         objective: Objective::parse("peak_moment").unwrap(),
@@ -453,16 +426,7 @@ fn an_optimum_on_a_bound_reports_it_active_with_the_objectives_slope() {
 #[test]
 fn a_hose_kept_10mm_from_the_bracket_ends_on_the_clearance_with_its_multiplier() {
     let case = Case::from_path(cases_dir().join("cooler_hose_contact.ron")).unwrap();
-    let length = || {
-        variable(
-            "hose3.length",
-            "rods.hose3.length",
-            None,
-            350.0,
-            290.0,
-            350.0,
-        )
-    };
+    let length = || rod_length("hose3", 350.0, 290.0, 350.0);
     // The case rests hose 3 on the bracket (contact): the start is infeasible.
     let optimum = run(&case, vec![length()], &["clearance>=10mm"]);
     assert!(optimum.converged, "{}", optimum.message);

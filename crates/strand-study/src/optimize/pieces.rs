@@ -172,21 +172,19 @@ pub fn objective_pieces(
     supports: &[String],
 ) -> Result<Vec<Piece>, OptimizeError> {
     let b = &at.built.built;
+    // One rod's peak (`output`: `peak_force_N` or `peak_moment_Nm`), or every rod's.
+    let peak = |rod: &str, output: &str| piece(at, &format!("{rod}.{output}"), 1.0, 0.0);
+    let every_rod = |output: &str| -> Vec<Piece> {
+        rod_names(b)
+            .iter()
+            .filter_map(|r| peak(r, output))
+            .collect()
+    };
     let pieces: Vec<Piece> = match objective {
-        Objective::PeakForce => rod_names(b)
-            .iter()
-            .filter_map(|r| piece(at, &format!("{r}.peak_force_N"), 1.0, 0.0))
-            .collect(),
-        Objective::PeakForceOf(rod) => piece(at, &format!("{rod}.peak_force_N"), 1.0, 0.0)
-            .into_iter()
-            .collect(),
-        Objective::PeakMoment => rod_names(b)
-            .iter()
-            .filter_map(|r| piece(at, &format!("{r}.peak_moment_Nm"), 1.0, 0.0))
-            .collect(),
-        Objective::PeakMomentOf(rod) => piece(at, &format!("{rod}.peak_moment_Nm"), 1.0, 0.0)
-            .into_iter()
-            .collect(),
+        Objective::PeakForce => every_rod("peak_force_N"),
+        Objective::PeakForceOf(rod) => peak(rod, "peak_force_N").into_iter().collect(),
+        Objective::PeakMoment => every_rod("peak_moment_Nm"),
+        Objective::PeakMomentOf(rod) => peak(rod, "peak_moment_Nm").into_iter().collect(),
         Objective::MaxReaction => supports
             .iter()
             .filter_map(|s| norm(at, &format!("{s}.force_N")))
