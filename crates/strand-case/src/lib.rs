@@ -37,6 +37,7 @@ mod build;
 pub mod centreline;
 mod clips;
 mod design;
+mod drape;
 mod ends;
 mod environment;
 mod error;

@@ -12,20 +12,26 @@
 //! against the box in 27. The straight start is for a hose held inside a groove (its
 //! bows leave the clamps into the flanks) or one whose bows cross over themselves: of
 //! 80 generated everyday cables (`crates/strand-cli/tests/everyday.rs`, seeds 1 and 2),
-//! 7 were refused before it and the half-way bows, none after.
+//! 7 were refused before it and the half-way bows, none after. Last, a rod dangling
+//! from one held end is draped over the parts ([`crate::drape`]): its free tail leaves
+//! the nozzle towards the part whichever way gravity is turned for the guess, and 9 of
+//! the 60 generated dangling cables of seeds 1–3 (floors as often as grooves) were
+//! refused before it, none after.
 
 use nalgebra::Vector3;
 use strand_rod::RodState;
 use strand_system::{RouteShape, System, SystemState, initial_state, initial_state_with};
 
 use crate::BuiltCase;
+use crate::drape::draped;
 use crate::nominal::use_guesses;
 
 impl BuiltCase {
     /// The first of the hanging guess (`self.initial`, routes smoothed), the routes as
     /// drawn, the guesses bowed sideways, the guess arched upwards, the guesses bowed
-    /// half-way up and the straight start ([`Start::Straight`]) that clears every
-    /// obstacle ([`BuiltCase::check_start`]), with the rods' warm-start `guesses` and
+    /// half-way up, the straight start ([`Start::Straight`]) and the draped start of
+    /// dangling rods ([`Start::Draped`]) that clears every obstacle
+    /// ([`BuiltCase::check_start`]), with the rods' warm-start `guesses` and
     /// routes kept in each. When none clears,
     /// the routes as drawn if there are routes, else `self.initial` unchanged (the
     /// check then names the overlap); unchanged without an environment. Returns which
@@ -100,6 +106,26 @@ impl BuiltCase {
             }
             self.initial = hanging;
         }
+        // A dangling rod (one end held, the other free) draped over the parts below it,
+        // its first heading turned by each right angle in turn.
+        for turn in 0..4 {
+            let Some(draped) = draped(system, &self.initial, &self.environment, turn) else {
+                break;
+            };
+            let mut candidate = initial_state_with(&draped, RouteShape::AsDrawn);
+            // The other rods keep their guess (their routes smoothed).
+            for (r, rod) in candidate.rods.iter_mut().enumerate() {
+                if system.rods[r].route.is_some() || draped.rods[r].route.is_none() {
+                    *rod = self.initial.rods[r].clone();
+                }
+            }
+            use_guesses(&mut candidate, guesses);
+            let hanging = std::mem::replace(&mut self.initial, candidate);
+            if self.check_start().is_ok() {
+                return Start::Draped;
+            }
+            self.initial = hanging;
+        }
         if system.rods.iter().any(|r| r.route.is_some()) {
             // Nothing clears: the check names the overlap of the route as drawn, the
             // geometry the user gave, not of its smoothed curve.
@@ -160,6 +186,10 @@ pub enum Start {
     /// The ends joined by a straight line (leaving each along its clamp for one edge),
     /// the rod compressed onto it: every bowed guess passes through an obstacle.
     Straight,
+    /// A dangling rod's hanging guess kept while it clears the parts, the rest of it
+    /// fallen over them as a chain would ([`crate::drape`]): every other guess passes
+    /// through an obstacle.
+    Draped,
     /// A given state (a warm start from a neighbouring solution, e.g. the previous
     /// pose of a motion): no guess was made.
     Given,
@@ -181,6 +211,9 @@ impl Start {
             ),
             Start::Straight => Some(
                 "straight between the ends, compressed (every hanging, bowed and arched guess passes through an obstacle; give a route to choose)",
+            ),
+            Start::Draped => Some(
+                "draped over the parts below its held end (every hanging, bowed and arched guess passes through an obstacle; give a route to choose)",
             ),
         }
     }
@@ -268,6 +301,67 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A 600 mm cable (6 mm, 0.1 kg/m, 60 segments) dangling from a nozzle 30 mm
+    /// above a floor and pointing straight at it: its hanging guess and every bowed and
+    /// arched one leave the nozzle through the floor. It starts draped: as long as the
+    /// rod, every vertex above the floor by more than the radius, the hanging part kept
+    /// down to the floor and the rest lying along it; and it comes to rest on the
+    /// floor, its weight carried by the connector and the contacts.
+    #[test]
+    fn a_cable_dangling_at_a_floor_starts_draped_over_it_and_rests_on_it() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("floor.obj"),
+            "v -2000 -2000 0\nv 2000 -2000 0\nv 2000 2000 0\nv -2000 2000 0\nf 1 2 3\nf 1 3 4\n",
+        )
+        .unwrap();
+        let path = dir.path().join("dangling.ron");
+        std::fs::write(
+            &path,
+            r#"(
+                units: (length: "mm"),
+                sections: { "s": Explicit(ea: 2e4, ga: 5e3, ei: 5e-3, gj: 4e-3,
+                                          mass_per_length: 0.1, outer_radius: 3) },
+                connectors: { "nozzle": (position: (0, 0, 30), direction: (0, 0, -1),
+                                         normal: (1, 0, 0)) },
+                rods: [(name: "cable", section: "s", length: 600, segments: 60,
+                        start: Connector("nozzle"), end: Free())],
+                environment: [(name: "floor", obj: "floor.obj", unit: "mm")],
+                gravity: (0, 0, -9.81),
+            )"#,
+        )
+        .unwrap();
+        let built = Case::from_path(&path).unwrap().build(None).unwrap();
+        assert_eq!(built.start, Start::Draped);
+        built.check_start().unwrap();
+        let p = &built.initial.rods[0].positions;
+        let length: f64 = p.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        assert!((length - 0.6).abs() < 1e-9, "start length {length} m");
+        assert!(p.iter().all(|v| v.z > 0.003), "a vertex within the radius");
+        // Draped, not hanging: most of it lies low along the floor.
+        let low = p.iter().filter(|v| v.z < 0.01).count();
+        assert!(low > p.len() / 2, "{low} of {} vertices low", p.len());
+        let solution = built
+            .solve_from(built.initial.clone(), &built.settings)
+            .unwrap();
+        let report = &solution.report;
+        assert!(report.converged, "{report:?}");
+        let contact = built.contact().unwrap();
+        let forces = contact
+            .forces(&built.model, &solution.state, &solution.constraints)
+            .unwrap();
+        assert!(forces.iter().any(|f| f.force_n > 0.0), "no contact");
+        let weight = 0.1 * 0.6 * 9.81;
+        let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
+        for f in &forces {
+            total += f.force_n * f.gap.normal.into_inner();
+        }
+        for r in built.model.reactions(&solution.state) {
+            total += r.force;
+        }
+        assert!(total.norm() <= 1e-8 * weight, "imbalance {total:?}");
     }
 
     #[test]

@@ -92,8 +92,9 @@ pub enum ConstraintError {
 pub enum StartHint {
     /// The rod has a route: move it (or the supports, or the obstacle).
     MoveRoute,
-    /// The rod has no route: the start is the solver's guess (hanging, bowed, arched or
-    /// straight between the ends), none of which clears; a route chooses the way.
+    /// The rod has no route: the start is the solver's guess (hanging, bowed, arched,
+    /// straight between the ends or, dangling, draped), none of which clears; a route
+    /// chooses the way.
     GiveRoute,
     /// An end of the rod is held inside the part: no route can help.
     MoveSupport,
@@ -111,7 +112,8 @@ impl std::fmt::Display for StartHint {
             }
             StartHint::GiveRoute => {
                 "the rod has no `route`, and no start the solver guesses (hanging, bowed \
-                 sideways or up, straight between the ends) clears the obstacles: give the \
+                 sideways or up, straight between the ends, a dangling end draped over the \
+                 parts) clears the obstacles: give the \
                  rod a `route` (a list of points, or `route_file`) that passes clear of \
                  them, or move its supports or the obstacle"
             }

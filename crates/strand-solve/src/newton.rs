@@ -253,43 +253,60 @@ impl<'m> Solver<'m> {
             let mut coarse_solver = Solver::try_new(&coarse_model)?;
             coarse_solver.constraints = self.constraints;
             coarse_solver.finest = Some(finest);
-            let coarse =
-                coarse_solver.solve(nested::restrict(&initial, &kept), &coarse_settings)?;
-            coarse_iterations = coarse.report.iterations;
-            if std::env::var_os("STRAND_TRACE").is_some() {
-                eprintln!(
-                    "strand-solve: coarse level of {} unknowns (budget {}): {} iterations, converged {}, stable {} at {:.3} s",
-                    coarse_model.dofs().len(),
-                    coarse_settings.max_iterations,
-                    coarse.report.iterations,
-                    coarse.report.converged,
-                    coarse.report.stable,
-                    started.elapsed().as_secs_f64()
-                );
-            }
-            // A prolonged state is a start only where the fine iteration can move from
-            // it: its new vertices interpolate the coarse ones, and with contact they
-            // can put a fine edge's centreline through a mesh the coarse capsules
-            // cleared. The fine iteration would then reject every trial and end on
-            // that state (everyday_s1_017: a cable over a floor, reported as exit 1
-            // because its contacts could not be evaluated).
-            let admissible = |state: &SystemState| {
-                self.constraints.is_none_or(|c| {
-                    let mut rows = Vec::new();
-                    c.rows(self.model, state, &mut rows).is_ok()
-                })
+            // A start that clears the parts may not once coarsened: a coarse edge
+            // joins vertices the fine polyline bent around a part's corner (a cable
+            // draped off the end of a groove). The fine level then starts as given.
+            let coarse = match coarse_solver
+                .solve(nested::restrict(&initial, &kept), &coarse_settings)
+            {
+                Err(SolveError::StartsInside(e)) => {
+                    if std::env::var_os("STRAND_TRACE").is_some() {
+                        eprintln!(
+                            "strand-solve: coarse level of {} unknowns not solved: its start {e}",
+                            coarse_model.dofs().len()
+                        );
+                    }
+                    None
+                }
+                other => Some(other?),
             };
-            let prolonged = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
-            // Only a stable coarse equilibrium is a good start (an unstable branch, a
-            // straight rod beyond buckling, would be carried into the fine solve).
-            // A coarse level that ran out of budget may still have come most of the
-            // way: its state is the better start when its energy on the fine model is
-            // lower than the initial state's.
-            let better = coarse.report.stable
-                || (!coarse.report.converged
-                    && self.model.energy(&prolonged) < self.model.energy(&initial));
-            if better && admissible(&prolonged) {
-                start = prolonged;
+            if let Some(coarse) = coarse {
+                coarse_iterations = coarse.report.iterations;
+                if std::env::var_os("STRAND_TRACE").is_some() {
+                    eprintln!(
+                        "strand-solve: coarse level of {} unknowns (budget {}): {} iterations, converged {}, stable {} at {:.3} s",
+                        coarse_model.dofs().len(),
+                        coarse_settings.max_iterations,
+                        coarse.report.iterations,
+                        coarse.report.converged,
+                        coarse.report.stable,
+                        started.elapsed().as_secs_f64()
+                    );
+                }
+                // A prolonged state is a start only where the fine iteration can move from
+                // it: its new vertices interpolate the coarse ones, and with contact they
+                // can put a fine edge's centreline through a mesh the coarse capsules
+                // cleared. The fine iteration would then reject every trial and end on
+                // that state (everyday_s1_017: a cable over a floor, reported as exit 1
+                // because its contacts could not be evaluated).
+                let admissible = |state: &SystemState| {
+                    self.constraints.is_none_or(|c| {
+                        let mut rows = Vec::new();
+                        c.rows(self.model, state, &mut rows).is_ok()
+                    })
+                };
+                let prolonged = nested::prolong(self.model, &coarse_model, &coarse.state, &kept);
+                // Only a stable coarse equilibrium is a good start (an unstable branch, a
+                // straight rod beyond buckling, would be carried into the fine solve).
+                // A coarse level that ran out of budget may still have come most of the
+                // way: its state is the better start when its energy on the fine model is
+                // lower than the initial state's.
+                let better = coarse.report.stable
+                    || (!coarse.report.converged
+                        && self.model.energy(&prolonged) < self.model.energy(&initial));
+                if better && admissible(&prolonged) {
+                    start = prolonged;
+                }
             }
         }
         let release_retry = settings.release_retry
