@@ -8,7 +8,10 @@
 //! edge lying on a face slides by nearly two radii per sample. Two rod edges `c` apart
 //! (beyond the excluded near neighbours) may approach each other by half of
 //! `max(margin, c)`: their relative move, not their own, counts. A hose falling through
-//! free space thus moves by about its clearance per step, not by half the margin.
+//! free space thus moves by about its clearance per step, not by half the margin. Edges
+//! of two different rods may move further where their path, sampled like the meshes',
+//! keeps their centrelines apart ([`pair_path`]): two touching hoses slide past each
+//! other.
 
 use nalgebra::{Point3, Vector3};
 use strand_contact::Obstacle;
@@ -33,8 +36,9 @@ impl Contact {
     /// The largest multiple `t` of the straight move of every vertex from `state` to
     /// `target` such that no edge's centreline passes through a mesh on the way
     /// ([`Contact::mesh_advancement`]) and no two rod edges approach each other by more
-    /// than half of `max(margin, gap)` (m), the gap measured at `state` (`t` above 1 is
-    /// a lower bound).
+    /// than half of `max(margin, gap)` (m), the gap measured at `state`, or, for edges
+    /// of two different rods, farther where their centrelines stay apart along the
+    /// sampled path ([`pair_path`]) (`t` above 1 is a lower bound).
     pub(crate) fn advancement(
         &self,
         model: &Model,
@@ -93,7 +97,29 @@ impl Contact {
                 }
             }
             if relative > 0.0 {
-                fraction = fraction.min(0.5 * gap.gap.max(self.margin_m) / relative);
+                let approach = 0.5 * gap.gap.max(self.margin_m) / relative;
+                // Between two rods only: along one rod the parts near each other
+                // move together, and the longer steps cost the dropped hoses of
+                // `tests/validation/drop.rs` (median 23 → 29 iterations).
+                let allowed = if self.sampled_advancement && rod != gap.rod {
+                    let edge_of = |r: usize, e: usize| {
+                        [
+                            (centrelines[r][e], deltas[r][e]),
+                            (centrelines[r][e + 1], deltas[r][e + 1]),
+                        ]
+                    };
+                    let radius = |r: usize| model.system().rods[r].rod.section().outer_radius;
+                    let kept = KEPT_CENTRELINE_DEPTH * (radius(gap.rod) + radius(rod));
+                    approach.max(pair_path(
+                        edge_of(gap.rod, gap.edge),
+                        edge_of(rod, edge),
+                        relative,
+                        kept,
+                    ))
+                } else {
+                    approach
+                };
+                fraction = fraction.min(allowed);
             }
         }
         for edges in &moves {
@@ -188,6 +214,47 @@ impl Contact {
     }
 }
 
+/// The largest multiple `t` of the step (up to [`PATH_SAMPLES`] samples; above 1 a
+/// lower bound) for which the centrelines of two edges of different rods, each given
+/// as its two vertices (m) with their moves at the full step (m), stay at least `kept`
+/// (m) apart: their distance `D` changes by at most their largest relative move
+/// `relative` (m at the full step), so between two samples where they are `D₀` and
+/// `D₁ ≥ kept` apart and move relative to each other by `D₀ − kept` it stays above
+/// `(D₁ + kept) / 2 ≥ kept` (as for the meshes, [`Contact::mesh_advancement`]). Two
+/// touching hoses slide past each other by nearly the sum of their radii per sample,
+/// however close they lie, where half the margin would hold them back (a cable
+/// swinging down across another crept 2.5 mm per iteration and did not converge in
+/// 2000). A trial that ends with them overlapping is seen by their own row.
+fn pair_path(
+    first: [(Point3<f64>, Vector3<f64>); 2],
+    second: [(Point3<f64>, Vector3<f64>); 2],
+    relative: f64,
+    kept: f64,
+) -> f64 {
+    let at = |edge: &[(Point3<f64>, Vector3<f64>); 2], t: f64| {
+        [edge[0].0 + edge[0].1 * t, edge[1].0 + edge[1].1 * t]
+    };
+    let distance = |t: f64| {
+        let ([p0, p1], [q0, q1]) = (at(&first, t), at(&second, t));
+        strand_contact::closest_segment_segment(&p0, &p1, &q0, &q1).distance
+    };
+    let mut t = 0.0;
+    let mut d = distance(0.0);
+    for _ in 0..PATH_SAMPLES {
+        if t >= 1.0 || d <= kept {
+            break;
+        }
+        let next = t + (d - kept) / relative;
+        let d_next = distance(next);
+        // A move straight at the other edge lands on `kept` itself, up to round-off.
+        if d_next < kept * (1.0 - 1e-9) {
+            break;
+        }
+        (t, d) = (next, d_next);
+    }
+    t
+}
+
 /// The larger move of each edge's two ends (m), per rod, from the moves of the
 /// vertices (m).
 pub(super) fn edge_moves(deltas: &[Vec<Vector3<f64>>]) -> Vec<Vec<f64>> {
@@ -235,6 +302,56 @@ mod tests {
     /// distances `d0` and `d1` can reach when the distance is 1-Lipschitz in the move.
     fn lowest_on_path(d0: f64, d1: f64, moved: f64) -> f64 {
         0.5 * (d0 + d1 - moved)
+    }
+
+    /// Two edges crossing at right angles, the second `gap` (m) above the first,
+    /// moved by `moves` (m, both vertices of the second edge alike).
+    fn crossing(gap: f64, moves: Vector3<f64>) -> [[(Point3<f64>, Vector3<f64>); 2]; 2] {
+        let still = Vector3::zeros();
+        [
+            [
+                (Point3::new(-0.1, 0.0, 0.0), still),
+                (Point3::new(0.1, 0.0, 0.0), still),
+            ],
+            [
+                (Point3::new(0.0, -0.1, gap), moves),
+                (Point3::new(0.0, 0.1, gap), moves),
+            ],
+        ]
+    }
+
+    #[test]
+    fn a_hose_sliding_across_another_moves_a_stride_of_their_distance_per_sample() {
+        // 5 mm apart (two touching hoses of 2.5 mm), the upper sliding 0.3 m along
+        // the lower: the distance stays 5 mm, so every sample moves 4.5 mm.
+        let (gap, kept) = (5e-3, 0.5e-3);
+        let [first, second] = crossing(gap, Vector3::new(0.3, 0.0, 0.0));
+        let t = pair_path(first, second, 0.3, kept);
+        let expected = PATH_SAMPLES as f64 * (gap - kept) / 0.3;
+        assert!((t - expected).abs() < 1e-12, "{t} vs {expected}");
+        // Half the margin (5 mm) would allow 2.5 mm in all.
+        assert!(t * 0.3 > 10.0 * 2.5e-3);
+    }
+
+    #[test]
+    fn a_hose_moving_through_another_stops_before_their_centrelines_meet() {
+        // Straight down through the lower edge: the centrelines would meet at a move
+        // of `gap`. Sampled densely, the path up to the bound keeps `kept` between them.
+        for (gap, kept, down) in [
+            (5e-3, 0.5e-3, 0.3),
+            (2e-2, 1e-3, 0.05),
+            (3e-3, 0.3e-3, 3e-3),
+        ] {
+            let moves = Vector3::new(0.0, 0.0, -down);
+            let [first, second] = crossing(gap, moves);
+            let t = pair_path(first, second, down, kept);
+            assert!(t > 0.0);
+            for k in 0..=1000 {
+                let s = t * k as f64 / 1000.0;
+                let distance = gap - down * s;
+                assert!(distance.abs() >= kept * (1.0 - 1e-9), "{gap} {down}: {s}");
+            }
+        }
     }
 
     #[test]
