@@ -246,6 +246,24 @@ mod tests {
         (dir, path)
     }
 
+    /// The force left over on the rod of `built` at `solution`: its `weight` (N, down
+    /// along z), the contact `forces` and the supports' reactions.
+    fn imbalance(
+        built: &crate::BuiltCase,
+        solution: &strand_solve::Solution,
+        forces: &[strand_solve::contact::ContactForce],
+        weight: f64,
+    ) -> nalgebra::Vector3<f64> {
+        let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
+        for f in forces {
+            total += f.force_n * f.gap.normal.into_inner();
+        }
+        for r in built.model.reactions(&solution.state) {
+            total += r.force;
+        }
+        total
+    }
+
     #[test]
     fn a_cable_whose_hanging_guess_passes_through_a_part_starts_beside_it_and_rests_against_it() {
         for top in [-30.0, 20.0] {
@@ -280,13 +298,7 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert!(deepest >= -1e-9, "top {top}: penetrates by {deepest:e} m");
             let weight = 0.1 * 0.5 * 9.81;
-            let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
-            for f in &forces {
-                total += f.force_n * f.gap.normal.into_inner();
-            }
-            for r in built.model.reactions(&solution.state) {
-                total += r.force;
-            }
+            let total = imbalance(&built, &solution, &forces, weight);
             assert!(
                 total.norm() <= 1e-8 * weight,
                 "top {top}: imbalance {total:?}"
@@ -354,13 +366,7 @@ mod tests {
             .unwrap();
         assert!(forces.iter().any(|f| f.force_n > 0.0), "no contact");
         let weight = 0.1 * 0.6 * 9.81;
-        let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
-        for f in &forces {
-            total += f.force_n * f.gap.normal.into_inner();
-        }
-        for r in built.model.reactions(&solution.state) {
-            total += r.force;
-        }
+        let total = imbalance(&built, &solution, &forces, weight);
         assert!(total.norm() <= 1e-8 * weight, "imbalance {total:?}");
     }
 
