@@ -63,9 +63,10 @@ pub(crate) fn draped(
     any.then_some(out)
 }
 
-/// Whether segment `[a, b]` keeps at least `clearance` (m) from every mesh (a segment
-/// from a point outside a closed part that touches none of its faces stays outside;
-/// the start check tests the held end).
+/// Whether segment `[a, b]` keeps at least `clearance` (m) from every mesh, or, where
+/// `a` itself is closer (a nozzle a hose's radius from a flank), no less than `a` is:
+/// a segment from a point outside a closed part that touches none of its faces stays
+/// outside; the start check tests the held end.
 fn clear(
     environment: &[Arc<ObstacleMesh>],
     a: &Vector3<f64>,
@@ -73,9 +74,14 @@ fn clear(
     clearance: f64,
 ) -> bool {
     let (a, b) = (Point3::from(*a), Point3::from(*b));
+    let here = environment
+        .iter()
+        .filter_map(|mesh| mesh.segment_distance(&a, &a, clearance))
+        .fold(clearance, f64::min);
+    let needed = clearance.min(here * (1.0 - 1e-9));
     environment
         .iter()
-        .all(|mesh| mesh.segment_distance(&a, &b, clearance).is_none())
+        .all(|mesh| mesh.segment_distance(&a, &b, needed).is_none())
 }
 
 /// The route of one rod from its held end (`hang[0]`, the hanging guess ordered from

@@ -95,8 +95,10 @@ impl Contact {
     }
 
     /// `Err` naming the first held rod end (a connector, pin, clamp or port) that lies
-    /// inside a closed mesh at `state`: no start of the rod clears the part then, and
-    /// the fix is the support, not a route.
+    /// inside a closed mesh at `state`, or closer to a mesh than the rod's radius: no
+    /// start of the rod clears the part then, and the fix is the support, not a route.
+    /// Checked before any other overlap, whose check would first name a guess's
+    /// centreline through the part (with the hint to give a route).
     pub(super) fn check_held_ends(
         &self,
         model: &Model,
@@ -119,6 +121,21 @@ impl Contact {
                         mesh,
                         StartHint::MoveSupport,
                     ));
+                }
+                let radius = spec.rod.section().outer_radius;
+                for (index, mesh) in self.meshes.iter().enumerate() {
+                    let Some(near) = mesh.point_proximity(&p, radius - START_OVERLAP_M) else {
+                        continue;
+                    };
+                    return Err(ConstraintError::StartsOverlapping {
+                        rod: spec.name.clone(),
+                        kind: "mesh",
+                        obstacle: self.obstacle_name(model, &Obstacle::Mesh(index)),
+                        overlap_mm: (radius - near.distance) * 1e3,
+                        s_mm: spec.rod.arc_lengths()[j] * 1e3,
+                        point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
+                        hint: StartHint::EndOverlaps,
+                    });
                 }
             }
         }
