@@ -63,22 +63,27 @@ pub(crate) fn draped(
     any.then_some(out)
 }
 
-/// Whether segment `[a, b]` keeps at least `clearance` (m) from every mesh, or, where
-/// `a` itself is closer (a nozzle a hose's radius from a flank), no less than `a` is:
-/// a segment from a point outside a closed part that touches none of its faces stays
-/// outside; the start check tests the held end.
-fn clear(
-    environment: &[Arc<ObstacleMesh>],
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    clearance: f64,
-) -> bool {
-    let (a, b) = (Point3::from(*a), Point3::from(*b));
+/// The clearance (m) a step from `a` keeps: `clearance`, or, where `a` itself is
+/// closer to a mesh (a nozzle a hose's radius from a flank), no less than `a` is.
+fn needed_from(environment: &[Arc<ObstacleMesh>], a: &Vector3<f64>, clearance: f64) -> f64 {
+    let a = Point3::from(*a);
     let here = environment
         .iter()
         .filter_map(|mesh| mesh.segment_distance(&a, &a, clearance))
         .fold(clearance, f64::min);
-    let needed = clearance.min(here * (1.0 - 1e-9));
+    clearance.min(here * (1.0 - 1e-9))
+}
+
+/// Whether segment `[a, b]` keeps at least `needed` (m) from every mesh (a segment from
+/// a point outside a closed part that touches none of its faces stays outside; the
+/// start check tests the held end).
+fn clear(
+    environment: &[Arc<ObstacleMesh>],
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    needed: f64,
+) -> bool {
+    let (a, b) = (Point3::from(*a), Point3::from(*b));
     environment
         .iter()
         .all(|mesh| mesh.segment_distance(&a, &b, needed).is_none())
@@ -104,7 +109,8 @@ fn drape(
     let mut route = vec![hang[0]];
     let mut walked = 0.0;
     for w in hang.windows(2) {
-        if !clear(environment, &w[0], &w[1], clearance) {
+        let needed = needed_from(environment, &w[0], clearance);
+        if !clear(environment, &w[0], &w[1], needed) {
             break;
         }
         walked += (w[1] - w[0]).norm();
@@ -149,14 +155,10 @@ fn drape(
             candidates.push(slope(h, FRAC_PI_4));
             candidates.push(slope(h, 1.4));
         }
+        let needed = needed_from(environment, &position, clearance);
         let chosen = candidates.into_iter().find(|d| {
             d.dot(&previous) > -0.3
-                && clear(
-                    environment,
-                    &position,
-                    &(position + d * this_step),
-                    clearance,
-                )
+                && clear(environment, &position, &(position + d * this_step), needed)
         })?;
         let h = horizontal(chosen);
         if h.norm() > 1e-6 {

@@ -56,20 +56,12 @@ impl Contact {
         let gaps = self
             .gaps(model, state, 0.0)
             .map_err(|e| at_start(model, e))?;
-        let overlapping = || gaps.iter().filter(|g| g.gap < -START_OVERLAP_M);
-        // An overlap at a held end vertex comes first: no start clears it, and the fix
-        // is the support, not a route.
-        let at_held_end = |g: &&strand_contact::Gap| {
-            let spec = &model.system().rods[g.rod];
-            let last = spec.rod.segments() - 1;
-            matches!(g.with, Obstacle::Mesh(_))
-                && ((g.edge == 0 && g.s == 0.0 && spec.start.support != Support::Free)
-                    || (g.edge == last && g.s == 1.0 && spec.end.support != Support::Free))
-        };
-        let held = overlapping()
-            .filter(at_held_end)
+        // (A held end vertex overlapping a mesh was named before, by
+        // [`Contact::check_held_ends`].)
+        let deepest = gaps
+            .iter()
+            .filter(|g| g.gap < -START_OVERLAP_M)
             .min_by(|a, b| a.gap.total_cmp(&b.gap));
-        let deepest = held.or_else(|| overlapping().min_by(|a, b| a.gap.total_cmp(&b.gap)));
         let Some(g) = deepest else {
             return Ok(());
         };
@@ -86,11 +78,7 @@ impl Contact {
             overlap_mm: -g.gap * 1e3,
             s_mm: at * 1e3,
             point_mm: [g.point.x * 1e3, g.point.y * 1e3, g.point.z * 1e3],
-            hint: if held.is_some() {
-                StartHint::EndOverlaps
-            } else {
-                start_hint(model, &rod.name)
-            },
+            hint: start_hint(model, &rod.name),
         })
     }
 
