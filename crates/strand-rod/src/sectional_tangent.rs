@@ -16,6 +16,9 @@ use crate::sectional::{BoundaryFrames, vertex_frames};
 use crate::sectional_at::VertexSectional;
 use crate::{Rod, RodState};
 
+mod size_rates;
+pub use size_rates::{SectionalSize, SizeRates};
+
 /// A tangent of a rod's configuration and reference data (per unit of whatever moves
 /// them, e.g. a design parameter): each frame `q` moves as `q ⊗ exp(t ω)` (material
 /// increment `ω`, rad), each vertex `r` as `r + t dr`, each reference number `x` as
@@ -254,21 +257,6 @@ impl SectionalLinearisation {
         let n = self.segments();
         let edges = [j.wrapping_sub(1), j].map(|e| (e < n).then(|| self.edge_force(e, tangent)));
         self.vertex_with_edges(j, tangent, edges)
-    }
-
-    /// The changes of every vertex's sectional quantities along `tangent` (the
-    /// derivatives of [`SectionalLinearisation::vertex_tangent`], each edge's force
-    /// computed once).
-    pub fn tangents(&self, tangent: &RodTangent) -> Vec<VertexSectional> {
-        let n = self.segments();
-        let forces: Vec<(Vector3<f64>, Vector3<f64>)> =
-            (0..n).map(|e| self.edge_force(e, tangent)).collect();
-        (0..=n)
-            .map(|j| {
-                let edges = [j.wrapping_sub(1), j].map(|e| forces.get(e).copied());
-                self.vertex_with_edges(j, tangent, edges).1
-            })
-            .collect()
     }
 
     /// [`SectionalLinearisation::vertex_tangent`] with the forces `(f, df)` of the

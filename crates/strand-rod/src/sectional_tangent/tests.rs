@@ -141,10 +141,8 @@ fn vertex_changes_match_differences_of_sectional_at() {
         }
         let (rod, state, boundary) = moved(&base, 0.0);
         let lin = SectionalLinearisation::new(&rod, &state, &boundary).unwrap();
-        let all = lin.tangents(&base.5);
         for j in 0..=rod.segments() {
             let (value, d) = lin.vertex_tangent(j, &base.5);
-            assert_eq!(all[j], d, "every vertex at once differs at {j}");
             let at = |t: f64| {
                 let (rod, state, boundary) = moved(&base, t);
                 sectional_at(&rod, &state, &boundary, j)
@@ -235,4 +233,53 @@ fn clips_are_not_linearised() {
     let (rod, state, mut boundary) = moved(&base, 0.0);
     boundary.clips.push((3, UnitQuaternion::identity()));
     assert!(SectionalLinearisation::new(&rod, &state, &boundary).is_none());
+}
+
+/// Every vertex's size rate from its coefficients equals the rate of the full change
+/// (force, moment, bending curvature; with boundary frames and without; along the
+/// tangent that moves everything and along one that moves only the configuration).
+#[test]
+fn size_rates_equal_the_rates_of_the_full_changes() {
+    let base = configuration();
+    let configuration_only = {
+        let mut t = base.5.clone();
+        let n = t.frames.len();
+        t.edge_lengths = vec![0.0; n];
+        t.rest_strains = vec![Vector3::zeros(); n];
+        t.rest_curvatures = vec![Vector3::zeros(); n + 1];
+        t.strain_stiffness = Vector3::zeros();
+        t.curvature_stiffness = Vector3::zeros();
+        t.end_loads = [Vector3::zeros(); 2];
+        t
+    };
+    for attached in [true, false] {
+        let mut base = base.clone();
+        if !attached {
+            base.4.start = None;
+            base.4.end = None;
+        }
+        let (rod, state, boundary) = moved(&base, 0.0);
+        let lin = SectionalLinearisation::new(&rod, &state, &boundary).unwrap();
+        let values = lin.values();
+        for size in [
+            SectionalSize::Force,
+            SectionalSize::Moment,
+            SectionalSize::Curvature,
+        ] {
+            let rates = lin.size_rates(size, &values);
+            for tangent in [&base.5, &configuration_only] {
+                let fast = rates.rates(&lin, tangent);
+                for (j, &(rate, exact)) in fast.iter().enumerate() {
+                    let (value, d) = lin.vertex_tangent(j, tangent);
+                    let (full, full_exact) = size.rate(&value, &d);
+                    assert_eq!(exact, full_exact, "{size:?} at {j}");
+                    let scale = size.vector(&d).norm().max(1e-300);
+                    assert!(
+                        (rate - full).abs() <= 1e-12 * scale,
+                        "{size:?} at {j} (attached {attached}): {rate} against {full}"
+                    );
+                }
+            }
+        }
+    }
 }

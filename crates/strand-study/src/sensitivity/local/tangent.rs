@@ -24,7 +24,7 @@ use strand_contact::{Gap, Obstacle};
 use strand_report::{LeastClearance, ties};
 use strand_rod::sectional::BoundaryFrames;
 use strand_rod::sectional_at::VertexSectional;
-use strand_rod::sectional_tangent::{RodTangent, SectionalLinearisation};
+use strand_rod::sectional_tangent::{RodTangent, SectionalLinearisation, SectionalSize, SizeRates};
 use strand_rod::so3;
 use strand_solve::RowKey;
 use strand_solve::sensitivity::OutputDerivative;
@@ -53,6 +53,9 @@ pub struct LocalTangents<'a> {
     rods: Vec<SectionalLinearisation>,
     /// Per rod, the base values of every vertex's sectional quantities.
     values: Vec<Vec<VertexSectional>>,
+    /// Per rod, the rate coefficients of the sizes its peaks compare (force, moment,
+    /// curvature; `None` for a size no peak of the rod reads).
+    sizes: Vec<[Option<SizeRates>; 3]>,
     /// Per rod, its boundary frames at the base (a line that turns one is not carried).
     frames: Vec<[Option<UnitQuaternion<f64>>; 2]>,
     /// The base system, moved along a parameter's line and back for its model's part.
@@ -85,15 +88,18 @@ impl<'a> LocalTangents<'a> {
         let system = model.system();
         let mut rods = Vec::with_capacity(system.rods.len());
         let mut values = Vec::with_capacity(system.rods.len());
+        let mut sizes = Vec::with_capacity(system.rods.len());
         for r in 0..system.rods.len() {
             let frames = model.boundary_frames(r, base);
             let lin = SectionalLinearisation::new(&system.rods[r].rod, &base.rods[r], &frames)?;
-            let zero = RodTangent::zero(lin.segments());
-            values.push(
-                (0..=lin.segments())
-                    .map(|j| lin.vertex_tangent(j, &zero).0)
-                    .collect(),
-            );
+            let rod_values = lin.values();
+            sizes.push(Quantity::ALL.map(|quantity| {
+                plan.readings
+                    .iter()
+                    .any(|reading| Quantity::of(reading) == Some((r, quantity)))
+                    .then(|| lin.size_rates(quantity.size(), &rod_values))
+            }));
+            values.push(rod_values);
             rods.push(lin);
         }
         let bodies = poses(system, &base.bodies);
@@ -106,6 +112,7 @@ impl<'a> LocalTangents<'a> {
             base,
             rods,
             values,
+            sizes,
             frames,
             system: system.clone(),
             rivals: vec![None; plan.clearances.len()],
@@ -136,7 +143,6 @@ impl<'a> LocalTangents<'a> {
         multipliers: (&[RowKey], &[f64]),
         step: f64,
     ) -> Result<Option<ExactDerivatives>, SystemError> {
-        let system = self.model.system();
         let Some(rod_tangents) = self.tangents(line, tangent, step)? else {
             return Ok(None);
         };
@@ -156,20 +162,9 @@ impl<'a> LocalTangents<'a> {
             .iter()
             .map(|least| clearance_rate(least, &tangents, &radius_rates))
             .collect();
-        // Per rod with a peak, every vertex's value and derivative.
-        let peaks_of = |rod: usize| {
-            self.plan.readings.iter().any(|r| {
-                matches!(*r, Reading::Force { rod: x, .. } | Reading::Moment { rod: x, .. } | Reading::BendRadius { rod: x, .. } if x == rod)
-            })
-        };
-        let changes: Vec<Vec<VertexSectional>> = (0..system.rods.len())
-            .map(|r| {
-                if !peaks_of(r) {
-                    return Vec::new();
-                }
-                self.rods[r].tangents(&tangents[r])
-            })
-            .collect();
+        // The change of a peak's vertex.
+        let change =
+            |rod: usize, vertex: usize| self.rods[rod].vertex_tangent(vertex, &tangents[rod]).1;
         let dofs = self.model.dofs();
         let mut outputs = Vec::with_capacity(self.plan.readings.len());
         // Each reaction's terms once for its six components.
@@ -177,20 +172,20 @@ impl<'a> LocalTangents<'a> {
         for (reading, &arg) in self.plan.readings.iter().zip(&self.plan.args) {
             let derivative = match *reading {
                 Reading::Force { rod, vertex } => {
-                    let (v, d) = (&self.values[rod][vertex].force, &changes[rod][vertex].force);
+                    let (v, d) = (&self.values[rod][vertex].force, &change(rod, vertex).force);
                     v.dot(d) / v.norm()
                 }
                 Reading::Moment { rod, vertex } => {
                     let (v, d) = (
                         &self.values[rod][vertex].moment,
-                        &changes[rod][vertex].moment,
+                        &change(rod, vertex).moment,
                     );
                     v.dot(d) / v.norm()
                 }
                 Reading::BendRadius { rod, vertex } => {
                     let (k, d) = (
                         &self.values[rod][vertex].curvature,
-                        &changes[rod][vertex].curvature,
+                        &change(rod, vertex).curvature,
                     );
                     let squared = k.x * k.x + k.y * k.y;
                     -(k.x * d.x + k.y * d.y) / (squared * squared.sqrt())
@@ -243,7 +238,7 @@ impl<'a> LocalTangents<'a> {
                 one_sided: false,
             });
         }
-        let outer_vertices = self.mark_one_sided(line, tangent, step, &changes, &mut outputs)?;
+        let outer_vertices = self.mark_one_sided(line, tangent, step, &tangents, &mut outputs)?;
         self.mark_least_clearances(step, &clearance_rates, &mut outputs);
         let moving = self.clearance_rivals(step, &tangents, &radius_rates, &clearance_rates);
         // A clearance set by the exclusion of near pairs holds on one side only.
@@ -277,7 +272,7 @@ impl<'a> LocalTangents<'a> {
         line: &AffineLine<'_>,
         tangent: &[f64],
         step: f64,
-        changes: &[Vec<VertexSectional>],
+        tangents: &[RodTangent],
         outputs: &mut [OutputDerivative],
     ) -> Result<usize, SystemError> {
         let outer = 2.0 * step;
@@ -285,17 +280,21 @@ impl<'a> LocalTangents<'a> {
         // Per peak output: its rod and its candidates.
         let mut peaks: Vec<(usize, usize, Quantity, Vec<usize>)> = Vec::new();
         let mut wanted: Vec<Vec<usize>> = vec![Vec::new(); rods];
+        // Per rod and size, every vertex's rate (from the size's coefficients) and
+        // whether it is one (a zero size has only a bound of its growth).
+        let mut rates: Vec<[Option<VertexRates>; 3]> = vec![[None, None, None]; rods];
         for (k, (reading, &arg)) in self.plan.readings.iter().zip(&self.plan.args).enumerate() {
-            let (rod, quantity) = match *reading {
-                Reading::Force { rod, .. } => (rod, Quantity::Force),
-                Reading::Moment { rod, .. } => (rod, Quantity::Moment),
-                Reading::BendRadius { rod, .. } => (rod, Quantity::BendRadius),
-                _ => continue,
+            let Some((rod, quantity)) = Quantity::of(reading) else {
+                continue;
             };
-            let size = |j: usize| quantity.size(&self.values[rod][j]);
-            // Per vertex, the rate of its size and whether it is one (a zero size has
-            // only a bound of its growth).
-            let rate = |j: usize| quantity.rate(&self.values[rod][j], &changes[rod][j]);
+            let coefficients = self.sizes[rod][quantity as usize]
+                .as_ref()
+                .expect("the plan's peaks have coefficients");
+            let sizes = coefficients.sizes();
+            let size = |j: usize| sizes[j];
+            let rod_rates = rates[rod][quantity as usize]
+                .get_or_insert_with(|| coefficients.rates(&self.rods[rod], &tangents[rod]));
+            let rate = |j: usize| rod_rates[j];
             let peak = size(arg);
             let (peak_rate, _) = rate(arg);
             let all_finite =
@@ -593,41 +592,36 @@ impl<'a> LocalTangents<'a> {
 /// 1.8e-18, where it is 0, once the solve's rows were made in another order).
 const RATE_ROUNDING: f64 = 1e-12;
 
-/// Which sectional quantity a peak reads.
+/// Per vertex, the rate of a size and whether it is one ([`SizeRates::rates`]).
+type VertexRates = Vec<(f64, bool)>;
+
+/// Which sectional quantity a peak reads (the index of its size's coefficients).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Quantity {
-    Force,
-    Moment,
-    BendRadius,
+    Force = 0,
+    Moment = 1,
+    BendRadius = 2,
 }
 
 impl Quantity {
-    /// The size compared between vertices (largest wins): `|f̄|`, `|m|`, `|K_⊥|`.
-    fn size(self, s: &VertexSectional) -> f64 {
-        match self {
-            Self::Force => norm(&s.force),
-            Self::Moment => norm(&s.moment),
-            Self::BendRadius => s.curvature.x.hypot(s.curvature.y),
+    const ALL: [Self; 3] = [Self::Force, Self::Moment, Self::BendRadius];
+
+    /// The rod and quantity of a peak's reading; `None` for any other reading.
+    fn of(reading: &Reading) -> Option<(usize, Self)> {
+        match *reading {
+            Reading::Force { rod, .. } => Some((rod, Self::Force)),
+            Reading::Moment { rod, .. } => Some((rod, Self::Moment)),
+            Reading::BendRadius { rod, .. } => Some((rod, Self::BendRadius)),
+            _ => None,
         }
     }
 
-    /// The rate of [`Quantity::size`] per unit at `value` along the change `d` of the
-    /// sectional quantities, and whether it is one: at a zero size, where the size
-    /// is not differentiable, a bound of its growth (`||a + b| − |a|| ≤ |b|`).
-    fn rate(self, value: &VertexSectional, d: &VertexSectional) -> (f64, bool) {
-        let (v, dv) = match self {
-            Self::Force => (value.force, d.force),
-            Self::Moment => (value.moment, d.moment),
-            Self::BendRadius => (
-                Vector3::new(value.curvature.x, value.curvature.y, 0.0),
-                Vector3::new(d.curvature.x, d.curvature.y, 0.0),
-            ),
-        };
-        let size = v.norm();
-        if size > 0.0 {
-            (v.dot(&dv) / size, true)
-        } else {
-            (dv.norm(), false)
+    /// The size compared between vertices (largest wins): `|f̄|`, `|m|`, `|K_⊥|`.
+    fn size(self) -> SectionalSize {
+        match self {
+            Self::Force => SectionalSize::Force,
+            Self::Moment => SectionalSize::Moment,
+            Self::BendRadius => SectionalSize::Curvature,
         }
     }
 }
