@@ -11,9 +11,11 @@
 use std::f64::consts::FRAC_PI_4;
 use std::sync::Arc;
 
-use nalgebra::{Point3, Rotation3, Unit, Vector3};
+use nalgebra::{Rotation3, Unit, Vector3};
 use strand_contact::ObstacleMesh;
 use strand_system::{RodSpec, System, SystemState};
+
+use crate::clearance::{clear, needed_from};
 
 /// Steps of a drape per rod at most (the step is the rod's mean edge length, or its
 /// length over this many steps when that is longer).
@@ -61,32 +63,6 @@ pub(crate) fn draped(
         any = true;
     }
     any.then_some(out)
-}
-
-/// The clearance (m) a step from `a` keeps: `clearance`, or, where `a` itself is
-/// closer to a mesh (a nozzle a hose's radius from a flank), no less than `a` is.
-fn needed_from(environment: &[Arc<ObstacleMesh>], a: &Vector3<f64>, clearance: f64) -> f64 {
-    let a = Point3::from(*a);
-    let here = environment
-        .iter()
-        .filter_map(|mesh| mesh.segment_distance(&a, &a, clearance))
-        .fold(clearance, f64::min);
-    clearance.min(here * (1.0 - 1e-9))
-}
-
-/// Whether segment `[a, b]` keeps at least `needed` (m) from every mesh (a segment from
-/// a point outside a closed part that touches none of its faces stays outside; the
-/// start check tests the held end).
-fn clear(
-    environment: &[Arc<ObstacleMesh>],
-    a: &Vector3<f64>,
-    b: &Vector3<f64>,
-    needed: f64,
-) -> bool {
-    let (a, b) = (Point3::from(*a), Point3::from(*b));
-    environment
-        .iter()
-        .all(|mesh| mesh.segment_distance(&a, &b, needed).is_none())
 }
 
 /// The route of one rod from its held end (`hang[0]`, the hanging guess ordered from

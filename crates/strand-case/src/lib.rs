@@ -35,8 +35,10 @@
 mod attach;
 mod build;
 pub mod centreline;
+mod clearance;
 mod clips;
 mod design;
+mod detour;
 mod drape;
 mod ends;
 mod environment;

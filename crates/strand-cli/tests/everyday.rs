@@ -23,6 +23,10 @@
 //!   the centreline passes through a triangle (the connectors are outside the
 //!   geometry, so a rod inside the box or under a sheet must cross it).
 //!
+//! The same properties hold for the same cables dangling from connector `a`, and for
+//! the engine-bay family (`everyday/engine_bay.rs`): cables between random faces of
+//! the bundled engine bay's five parts, against all of them.
+//!
 //! Knobs (environment variables): `EVERYDAY_CASES` (default 12), `EVERYDAY_SEED`
 //! (default 1), `EVERYDAY_MAX_SEGMENTS` (default 300), `EVERYDAY_TIMEOUT_S` (default
 //! 120), `EVERYDAY_STRAND` (another `strand` binary with the same CLI, to measure it),
@@ -35,6 +39,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+#[path = "everyday/engine_bay.rs"]
+mod engine_bay;
 #[path = "common/triangle.rs"]
 mod triangle;
 
@@ -129,6 +135,8 @@ enum Environment {
     Box,
     Groove90,
     Groove60,
+    /// The bundled engine bay's five parts ([`engine_bay`]).
+    EngineBay,
 }
 
 impl Environment {
@@ -138,6 +146,7 @@ impl Environment {
             Environment::Box => "box",
             Environment::Groove90 => "groove90",
             Environment::Groove60 => "groove60",
+            Environment::EngineBay => "bay",
         }
     }
 }
@@ -358,6 +367,7 @@ fn generate_with(seed: u64, index: usize, max_segments: usize, ends: Ends) -> Ca
             }
             out
         }
+        Environment::EngineBay => unreachable!("the engine bay has its own generator"),
     };
     // Nozzle directions: random, but the first stretch (one edge, at least 20 mm)
     // must stay clear of the geometry, or the case would be infeasible by
@@ -690,9 +700,24 @@ fn dangling_cables_over_floors_boxes_and_grooves_are_solved_honestly() {
     solve_family(Ends::Dangling);
 }
 
+/// Cables between random faces of the bundled engine bay's parts, clamped, pinned or
+/// dangling ([`engine_bay`]): the same honesty properties against all five meshes.
+#[test]
+fn engine_bay_cables_between_random_faces_are_solved_honestly() {
+    solve_family_of("engine bay", engine_bay::generate_bay);
+}
+
 /// Generates the cases the knobs ask for, held as `ends` says, solves each with the
 /// binary and asserts the honesty properties of every one.
 fn solve_family(ends: Ends) {
+    solve_family_of(&format!("{ends:?}"), |seed, index, max_segments| {
+        generate_with(seed, index, max_segments, ends)
+    });
+}
+
+/// [`solve_family`] of the cases `generate(seed, index, max_segments)` makes,
+/// `family` naming them in the table.
+fn solve_family_of(family: &str, generate: impl Fn(u64, usize, usize) -> Case) {
     let cases: usize = env_or("EVERYDAY_CASES", 12);
     let first: usize = env_or("EVERYDAY_FIRST", 0);
     let seed: u64 = env_or("EVERYDAY_SEED", 1);
@@ -706,7 +731,7 @@ fn solve_family(ends: Ends) {
     std::fs::create_dir_all(&dir).unwrap();
 
     let mut table = format!(
-        "everyday ({ends:?}): {cases} cases, seed {seed}, <= {max_segments} segments, {}\n{}\n",
+        "everyday ({family}): {cases} cases, seed {seed}, <= {max_segments} segments, {}\n{}\n",
         binary.display(),
         header()
     );
@@ -715,7 +740,7 @@ fn solve_family(ends: Ends) {
     let mut iterations = Vec::new();
     let mut worst_time = 0f64;
     for index in first..first + cases {
-        let case = generate_with(seed, index, max_segments, ends);
+        let case = generate(seed, index, max_segments);
         let outcome = solve_and_check(&binary, &dir, &case, timeout);
         match outcome.exit {
             Some(0) => converged += 1,

@@ -113,9 +113,10 @@ impl std::fmt::Display for StartHint {
             StartHint::GiveRoute => {
                 "the rod has no `route`, and no start the solver guesses (hanging, bowed \
                  sideways or up, straight between the ends, a dangling end draped over the \
-                 parts) clears the obstacles: give the \
-                 rod a `route` (a list of points, or `route_file`) that passes clear of \
-                 them, or move its supports or the obstacle"
+                 parts, the shortest way around the parts within the rod's length) clears \
+                 the obstacles: give the rod a `route` (a list of points, or `route_file`) \
+                 that passes clear of them, or move its supports or the obstacle (a longer \
+                 rod may find a way around them)"
             }
             StartHint::MoveSupport => {
                 "the rod's end is held there, inside the part: move its connector, pin, \

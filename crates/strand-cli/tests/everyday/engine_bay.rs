@@ -1,0 +1,173 @@
+//! The engine-bay family of the everyday inputs: one cable between random faces of
+//! the bundled engine bay's parts (`assets/engine_bay`: radiator, fan shroud, engine,
+//! oil cooler, brackets; closed solids with chamfers, cylinders, a thin ring), all
+//! five meshes in the case. Each connector stands off a random point of a part's
+//! surface (picked by area) along its outward normal by the hose's radius and 3–40
+//! mm, its nozzle the normal tilted by up to 60°; the cable is 1.05–1.8 × the
+//! connectors' distance, clamped or pinned at each end, or (one in four) clamped at
+//! `a` and dangling 150–900 mm. Real CAD at real size: the hanging guess passes
+//! through a part between the connectors as often as not, and a connector may stand
+//! inside another part or too close to one (an input error the check must name).
+
+use super::{Case, Environment, Rng, V, cross, fmt_v, norm, perpendicular, section, sub, unit};
+
+/// The bundled engine bay's parts: (name, OBJ path, triangles in mm).
+fn parts() -> Vec<(&'static str, String, Vec<[V; 3]>)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/engine_bay");
+    ["radiator", "fan_shroud", "engine", "oil_cooler", "brackets"]
+        .into_iter()
+        .map(|name| {
+            let path = dir.join(format!("{name}.obj"));
+            let text = std::fs::read_to_string(&path).unwrap();
+            let mut vertices: Vec<V> = Vec::new();
+            let mut triangles = Vec::new();
+            for line in text.lines() {
+                let mut words = line.split_whitespace();
+                match words.next() {
+                    Some("v") => {
+                        let x: Vec<f64> = words.take(3).map(|w| w.parse().unwrap()).collect();
+                        vertices.push([x[0], x[1], x[2]]);
+                    }
+                    Some("f") => {
+                        let corners: Vec<usize> = words
+                            .map(|w| w.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                            .collect();
+                        for k in 1..corners.len() - 1 {
+                            triangles.push(
+                                [corners[0], corners[k], corners[k + 1]].map(|i| vertices[i]),
+                            );
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            (name, path.display().to_string(), triangles)
+        })
+        .collect()
+}
+
+/// A point standing `offset` mm off a random point of `triangles` (picked by area)
+/// along its outward normal, and a nozzle direction: the normal tilted by up to 60°.
+fn stand_off(rng: &mut Rng, triangles: &[[V; 3]], offset: f64) -> (V, V) {
+    let area = |t: &[V; 3]| 0.5 * norm(cross(sub(t[1], t[0]), sub(t[2], t[0])));
+    let total: f64 = triangles.iter().map(area).sum();
+    let mut pick = rng.uniform(0.0, total);
+    let t = triangles
+        .iter()
+        .find(|t| {
+            pick -= area(t);
+            pick <= 0.0
+        })
+        .unwrap_or(&triangles[triangles.len() - 1]);
+    let (mut u, mut v) = (rng.unit(), rng.unit());
+    if u + v > 1.0 {
+        (u, v) = (1.0 - u, 1.0 - v);
+    }
+    let normal = unit(cross(sub(t[1], t[0]), sub(t[2], t[0])));
+    let point = [0, 1, 2]
+        .map(|i| t[0][i] + u * (t[1][i] - t[0][i]) + v * (t[2][i] - t[0][i]) + offset * normal[i]);
+    let side = unit(cross(normal, rng.direction()));
+    let tilt = rng.uniform(0.0, 60f64.to_radians());
+    let nozzle = [0, 1, 2].map(|i| tilt.cos() * normal[i] + tilt.sin() * side[i]);
+    (point, nozzle)
+}
+
+/// Case `index` of `seed` of the engine-bay family, 10 to `max_segments` segments,
+/// named `bay_s{seed}_{index}`.
+pub(super) fn generate_bay(seed: u64, index: usize, max_segments: usize) -> Case {
+    let mut rng = Rng(seed.wrapping_mul(0x2000_0003).wrapping_add(index as u64));
+    let parts = parts();
+    let (diameter_mm, youngs, density, ei, mass_per_length) = section(&mut rng);
+    let radius_mm = 0.5 * diameter_mm;
+    let segments =
+        (rng.log_uniform(10.0, max_segments as f64 + 1.0).floor() as usize).clamp(10, max_segments);
+    let first = (rng.next() % parts.len() as u64) as usize;
+    let second = (first + 1 + (rng.next() % (parts.len() as u64 - 1)) as usize) % parts.len();
+    let offset = |rng: &mut Rng| radius_mm + rng.uniform(3.0, 40.0);
+    let (a, da) = {
+        let off = offset(&mut rng);
+        stand_off(&mut rng, &parts[first].2, off)
+    };
+    let (b, db) = {
+        let off = offset(&mut rng);
+        stand_off(&mut rng, &parts[second].2, off)
+    };
+    let dangling = rng.unit() < 0.25;
+    let kind = |rng: &mut Rng| {
+        if rng.unit() < 0.3 {
+            "ConnectorPin"
+        } else {
+            "Connector"
+        }
+    };
+    let start = format!("{}(\"a\")", kind(&mut rng));
+    let distance = norm(sub(b, a));
+    let slack = rng.uniform(1.05, 1.8);
+    let (length, end, connector_b) = if dangling {
+        (
+            rng.uniform(150.0, 900.0),
+            "Free()".to_string(),
+            String::new(),
+        )
+    } else {
+        (
+            slack * distance,
+            format!("{}(\"b\")", kind(&mut rng)),
+            format!(
+                "\x20       \"b\": (position: {}, direction: {}, normal: {}),\n",
+                fmt_v(b),
+                fmt_v(db),
+                fmt_v(perpendicular(db))
+            ),
+        )
+    };
+    let name = format!("bay_s{seed}_{index:03}");
+    let environment: String = parts
+        .iter()
+        .map(|(part, path, _)| {
+            format!("\x20       (name: \"{part}\", obj: \"{path}\", unit: \"mm\"),\n")
+        })
+        .collect();
+    let ron = format!(
+        "// {name}: generated by crates/strand-cli/tests/everyday/engine_bay.rs (seed {seed}, \
+         case {index})\n\
+         // {from} -> {to} · D = {diameter_mm:.2} mm · EI = {ei:.3e} N·m² · \
+         {mass_per_length:.3} kg/m · L = {length:.1} mm · {segments} segments\n\
+         (\n\
+         \x20   units: (length: \"mm\"),\n\
+         \x20   sections: {{\n\
+         \x20       \"round\": Tube(youngs_modulus: {youngs:.6e}, poisson_ratio: 0.4, density: {density:.6}, \
+         inner_radius: 0, outer_radius: {radius_mm:.6}),\n\
+         \x20   }},\n\
+         \x20   connectors: {{\n\
+         \x20       \"a\": (position: {pa}, direction: {da}, normal: {na}),\n\
+         {connector_b}\
+         \x20   }},\n\
+         \x20   rods: [\n\
+         \x20       (name: \"cable\", section: \"round\", length: {length:.6}, segments: {segments},\n\
+         \x20        start: {start}, end: {end}),\n\
+         \x20   ],\n\
+         \x20   environment: [\n\
+         {environment}\
+         \x20   ],\n\
+         \x20   gravity: (0, 0, -9.81),\n\
+         )\n",
+        from = parts[first].0,
+        to = if dangling { "free" } else { parts[second].0 },
+        pa = fmt_v(a),
+        da = fmt_v(da),
+        na = fmt_v(perpendicular(da)),
+    );
+    Case {
+        name,
+        environment: Environment::EngineBay,
+        segments,
+        ei,
+        diameter_mm,
+        mass_per_length,
+        slack: length / distance,
+        radius_mm,
+        triangles: parts.into_iter().flat_map(|(_, _, t)| t).collect(),
+        ron,
+    }
+}
