@@ -61,6 +61,9 @@ pub struct BuiltCase {
     /// Which default guess `initial` is: hanging, or (when that passes through an
     /// obstacle) bowed sideways or arched up.
     pub start: Start,
+    /// Free junctions the start moved away from their given `position` (a hose's end
+    /// at a port was inside or against a part there), in body order.
+    pub moved_bodies: Vec<crate::placement::BodyMove>,
     /// Clips placed by `at_point`: their names and the distance (m) from the given point
     /// to the nominal centreline it was projected onto, in file order.
     pub clip_projections: Vec<(String, f64)>,
@@ -242,6 +245,7 @@ pub(crate) fn build(
             .collect(),
         environment,
         start: Start::Hanging,
+        moved_bodies: Vec::new(),
         clip_projections: projections,
     };
     built.start = if extras.warm.is_some() {

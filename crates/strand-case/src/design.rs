@@ -630,6 +630,7 @@ fn along(
         sections: b.sections.clone(),
         environment: b.environment.clone(),
         start: b.start,
+        moved_bodies: b.moved_bodies.clone(),
         clip_projections: b.clip_projections.clone(),
     }))
 }

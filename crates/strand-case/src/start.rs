@@ -19,7 +19,10 @@
 //! refused before it, none after. Last of all, a rod held at both ends is routed
 //! around the parts between its nozzles ([`crate::detour`]): of 200 generated cables
 //! between random faces of the bundled engine bay, 28 were refused before it, 8 after
-//! (none of which fits a way around the parts in its length).
+//! (none of which fits a way around the parts in its length). When nothing clears and
+//! a free junction's given position holds a hose's end inside or against a part, the
+//! junction is moved to the nearest clear place ([`crate::placement`]) and every start
+//! is tried again from there.
 
 use nalgebra::Vector3;
 use strand_rod::RodState;
@@ -29,6 +32,7 @@ use crate::BuiltCase;
 use crate::detour::detoured;
 use crate::drape::draped;
 use crate::nominal::use_guesses;
+use crate::placement::placed_bodies;
 
 impl BuiltCase {
     /// The first of the hanging guess (`self.initial`, routes smoothed), the routes as
@@ -44,14 +48,49 @@ impl BuiltCase {
         if self.environment.is_empty() || self.check_start().is_ok() {
             return Start::Hanging;
         }
-        let system = self.model.system();
+        let system = self.model.system().clone();
+        if let Some(start) = self.first_clear(&system, guesses) {
+            return start;
+        }
+        // A free junction whose given position holds a hose's end inside or against a
+        // part: every start again from the nearest clear place.
+        if let Some((placed, moves)) = placed_bodies(&system, &self.environment) {
+            let mut moved = initial_state(&placed);
+            use_guesses(&mut moved, guesses);
+            let given = std::mem::replace(&mut self.initial, moved);
+            let start = if self.check_start().is_ok() {
+                Some(Start::Hanging)
+            } else {
+                self.first_clear(&placed, guesses)
+            };
+            if let Some(start) = start {
+                self.moved_bodies = moves;
+                return start;
+            }
+            self.initial = given;
+        }
+        if system.rods.iter().any(|r| r.route.is_some()) {
+            // Nothing clears: the check names the overlap of the route as drawn, the
+            // geometry the user gave, not of its smoothed curve.
+            let mut as_drawn = initial_state_with(&system, RouteShape::AsDrawn);
+            use_guesses(&mut as_drawn, guesses);
+            self.initial = as_drawn;
+            return Start::RouteAsDrawn;
+        }
+        Start::Hanging
+    }
+
+    /// The first start after the hanging guess (`self.initial`, of `system`) that
+    /// clears every obstacle, `self.initial` set to it; `None` (and `self.initial`
+    /// unchanged) when none does.
+    fn first_clear(&mut self, system: &System, guesses: &[Option<RodState>]) -> Option<Start> {
         if system.rods.iter().any(|r| r.route.is_some()) {
             // A route drawn around a part: its smoothed corners may cut into it.
             let mut candidate = initial_state_with(system, RouteShape::AsDrawn);
             use_guesses(&mut candidate, guesses);
             let smoothed = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
-                return Start::RouteAsDrawn;
+                return Some(Start::RouteAsDrawn);
             }
             self.initial = smoothed;
         }
@@ -94,7 +133,7 @@ impl BuiltCase {
             use_guesses(&mut candidate, guesses);
             let hanging = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
-                return kind;
+                return Some(kind);
             }
             self.initial = hanging;
         }
@@ -106,7 +145,7 @@ impl BuiltCase {
             use_guesses(&mut candidate, guesses);
             let hanging = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
-                return Start::Straight;
+                return Some(Start::Straight);
             }
             self.initial = hanging;
         }
@@ -126,7 +165,7 @@ impl BuiltCase {
             use_guesses(&mut candidate, guesses);
             let hanging = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
-                return Start::Draped;
+                return Some(Start::Draped);
             }
             self.initial = hanging;
         }
@@ -146,19 +185,11 @@ impl BuiltCase {
             use_guesses(&mut candidate, guesses);
             let hanging = std::mem::replace(&mut self.initial, candidate);
             if self.check_start().is_ok() {
-                return Start::Detour;
+                return Some(Start::Detour);
             }
             self.initial = hanging;
         }
-        if system.rods.iter().any(|r| r.route.is_some()) {
-            // Nothing clears: the check names the overlap of the route as drawn, the
-            // geometry the user gave, not of its smoothed curve.
-            let mut as_drawn = initial_state_with(system, RouteShape::AsDrawn);
-            use_guesses(&mut as_drawn, guesses);
-            self.initial = as_drawn;
-            return Start::RouteAsDrawn;
-        }
-        Start::Hanging
+        None
     }
 }
 
@@ -421,6 +452,108 @@ mod tests {
             for p in &solution.state.rods[0].positions {
                 assert!(!mesh.encloses(&nalgebra::Point3::from(*p)), "{p} inside");
             }
+        }
+    }
+
+    /// A T-junction (0.2 kg) given at the middle of a closed box (200 × 200 × 200 mm,
+    /// top at z = 0) that its three hoses (8 mm, 320 mm each) from connectors at
+    /// z = 300 mm would hang it above: every guess leaves its ports inside the box.
+    /// The start moves it to the nearest clear place (up through the top, 112 mm on
+    /// its 8 mm lattice, rather than as far down through the bottom: of places as
+    /// near, the one nearest to its connectors), its hoses' ends outside and clear of
+    /// the box by their radius; the case converges with the T hanging above the box.
+    /// Given clear of the box, the T is not moved; given deep inside a far larger part,
+    /// beyond every place the search tests, the error names the junction's position.
+    #[test]
+    fn a_junction_given_inside_a_part_starts_at_the_nearest_clear_place_and_converges() {
+        let dir = tempfile::tempdir().unwrap();
+        let corners = "v -100 -100 -200\nv 100 -100 -200\nv -100 100 -200\nv 100 100 -200\n\
+                       v -100 -100 0\nv 100 -100 0\nv -100 100 0\nv 100 100 0\n";
+        let faces = "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n\
+                     f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+        std::fs::write(dir.path().join("box.obj"), format!("{corners}{faces}")).unwrap();
+        let path = dir.path().join("tee.ron");
+        let text = r#"(
+            units: (length: "mm"),
+            sections: { "s": Explicit(ea: 2e4, ga: 5e3, ei: 5e-3, gj: 4e-3,
+                                      mass_per_length: 0.1, outer_radius: 4) },
+            connectors: {
+                "a": (position: (-250, 0, 300), direction: (0, 0, -1), normal: (1, 0, 0)),
+                "b": (position: (125, 216.5, 300), direction: (0, 0, -1), normal: (1, 0, 0)),
+                "c": (position: (125, -216.5, 300), direction: (0, 0, -1), normal: (1, 0, 0)),
+            },
+            junctions: {
+                "tee": (mass: 0.2, position: (0, 0, -100), ports: {
+                    "pa": (position: (-35, 0, 0), direction: (-1, 0, 0), normal: (0, 0, 1)),
+                    "pb": (position: (17.5, 30.3, 0), direction: (0.5, 0.866, 0), normal: (0, 0, 1)),
+                    "pc": (position: (17.5, -30.3, 0), direction: (0.5, -0.866, 0), normal: (0, 0, 1)),
+                }),
+            },
+            rods: [
+                (name: "ha", section: "s", length: 320, segments: 32, start: Connector("a"), end: Port("tee", "pa")),
+                (name: "hb", section: "s", length: 320, segments: 32, start: Connector("b"), end: Port("tee", "pb")),
+                (name: "hc", section: "s", length: 320, segments: 32, start: Connector("c"), end: Port("tee", "pc")),
+            ],
+            environment: [(name: "box", obj: "box.obj", unit: "mm")],
+            gravity: (0, 0, -9.81),
+        )"#;
+        std::fs::write(&path, text).unwrap();
+        let built = Case::from_path(&path).unwrap().build(None).unwrap();
+        built.check_start().unwrap();
+        assert_eq!(built.moved_bodies.len(), 1, "{:?}", built.moved_bodies);
+        let moved = &built.moved_bodies[0];
+        assert_eq!(moved.name, "tee");
+        let step = moved.to - moved.from;
+        assert!(
+            step.z > 0.09 && step.z < 0.13 && step.x.hypot(step.y) < 0.02,
+            "moved by {step:?} m"
+        );
+        let pose = &built.initial.bodies[0];
+        assert_eq!(pose.position, moved.to);
+        let system = built.model.system();
+        for port in &system.bodies[0].ports {
+            let p = pose.position + pose.orientation * port.position;
+            let outside = (p.x.abs() - 0.1)
+                .max(p.y.abs() - 0.1)
+                .max(-p.z)
+                .max(p.z + 0.2);
+            assert!(outside >= 0.004 * 1.05, "port {} at {p} m", port.name);
+        }
+        let solution = built
+            .solve_from(built.initial.clone(), &built.settings)
+            .unwrap();
+        let report = &solution.report;
+        assert!(report.converged && report.stable, "{report:?}");
+        let tee = solution.state.bodies[0].position;
+        assert!(tee.z > 0.0, "the T hangs at {tee} m");
+        // Given clear of the box, it starts where it is given.
+        std::fs::write(&path, text.replace("(0, 0, -100)", "(0, 0, 50)")).unwrap();
+        let built = Case::from_path(&path).unwrap().build(None).unwrap();
+        assert!(built.moved_bodies.is_empty(), "{:?}", built.moved_bodies);
+        assert_eq!(built.initial.bodies[0].position.z, 0.05);
+        // Given 1 m deep inside a part 2 m wide, beyond the places the search tests
+        // (16 spacings of 32 mm): the error names the junction's position to move.
+        let deep = format!("{corners}{faces}")
+            .replace("100", "1000")
+            .replace("-200", "-2000");
+        std::fs::write(dir.path().join("box.obj"), deep).unwrap();
+        std::fs::write(&path, text.replace("(0, 0, -100)", "(0, 0, -1000)")).unwrap();
+        let built = Case::from_path(&path).unwrap().build(None).unwrap();
+        match built.check_start() {
+            Err(strand_solve::SolveError::StartsInside(error)) => {
+                assert!(
+                    error.to_string().contains("rod 'ha'")
+                        && matches!(
+                            error,
+                            strand_solve::ConstraintError::StartsEnclosed {
+                                hint: strand_solve::StartHint::MoveJunction,
+                                ..
+                            }
+                        ),
+                    "{error:?}"
+                );
+            }
+            other => panic!("{other:?}"),
         }
     }
 

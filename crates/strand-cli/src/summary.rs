@@ -56,6 +56,19 @@ pub(crate) fn projection_lines(built: &BuiltCase) -> String {
             number(distance / unit.metres())
         );
     }
+    for moved in &built.moved_bodies {
+        let at = moved.to / unit.metres();
+        let _ = writeln!(
+            s,
+            "junction    '{}': its `position` holds a hose's end inside or against a part; \
+             the start puts it {} {unit} away, at ({}, {}, {}) {unit} (give a `position` clear of the parts to choose)",
+            moved.name,
+            number((moved.to - moved.from).norm() / unit.metres()),
+            number(at.x),
+            number(at.y),
+            number(at.z),
+        );
+    }
     s
 }
 

@@ -101,6 +101,10 @@ pub enum StartHint {
     /// An end of the rod is held closer to the part than the hose's radius: its
     /// surface overlaps the part whatever the route.
     EndOverlaps,
+    /// An end of the rod is held at a port of a free junction whose given `position`
+    /// (only the guess of where it hangs) puts the end inside the part or within the
+    /// hose's radius of it, and no start from a clear place nearby cleared either.
+    MoveJunction,
 }
 
 impl std::fmt::Display for StartHint {
@@ -126,6 +130,12 @@ impl std::fmt::Display for StartHint {
                 "the rod's end is held there, closer to the part than the hose's radius, \
                  so no route clears it: move its connector, pin, clamp or port, or the \
                  part, so that the hose's end clears the part"
+            }
+            StartHint::MoveJunction => {
+                "the rod's end is held there by a port of a free junction, whose \
+                 `position` (the guess of where it hangs) puts it inside or against the \
+                 part, and no start from a clear place near it clears the obstacles: give \
+                 the junction a `position` clear of the parts, or the rods a `route`"
             }
         })
     }

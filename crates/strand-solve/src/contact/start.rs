@@ -100,15 +100,16 @@ impl Contact {
                     continue;
                 }
                 let p = nalgebra::Point3::from(rod_state.positions[j]);
+                // A free junction's port is where its given position puts it.
+                let at_junction = matches!(end.support, Support::Port { body, .. }
+                    if !model.system().bodies[body.0].fixed);
+                let (inside, overlaps) = if at_junction {
+                    (StartHint::MoveJunction, StartHint::MoveJunction)
+                } else {
+                    (StartHint::MoveSupport, StartHint::EndOverlaps)
+                };
                 if let Some(mesh) = self.closed_meshes().find(|m| m.encloses(&p)) {
-                    return Err(starts_enclosed(
-                        model,
-                        state,
-                        r,
-                        j,
-                        mesh,
-                        StartHint::MoveSupport,
-                    ));
+                    return Err(starts_enclosed(model, state, r, j, mesh, inside));
                 }
                 let radius = spec.rod.section().outer_radius;
                 for (index, mesh) in self.meshes.iter().enumerate() {
@@ -122,7 +123,7 @@ impl Contact {
                         overlap_mm: (radius - near.distance) * 1e3,
                         s_mm: spec.rod.arc_lengths()[j] * 1e3,
                         point_mm: [p.x * 1e3, p.y * 1e3, p.z * 1e3],
-                        hint: StartHint::EndOverlaps,
+                        hint: overlaps,
                     });
                 }
             }
