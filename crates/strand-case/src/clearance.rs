@@ -6,6 +6,10 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 use strand_contact::ObstacleMesh;
 
+/// Clearance a generated start keeps beyond a hose's radius, as a fraction of the
+/// radius (a drape's steps, a detour's way, a moved junction's ports).
+pub(crate) const RADIUS_SLACK: f64 = 0.05;
+
 /// The clearance (m) a segment from `a` keeps: `clearance`, or, where `a` itself is
 /// closer to a mesh, no less than `a` is.
 pub(crate) fn needed_from(

@@ -25,7 +25,7 @@ use nalgebra::Vector3;
 use strand_contact::ObstacleMesh;
 use strand_system::{Support, System, SystemState};
 
-use crate::clearance::{clear, needed_from};
+use crate::clearance::{RADIUS_SLACK, clear, needed_from};
 
 /// Lattice nodes a search expands at most, per rod and lattice.
 pub(crate) const MAX_EXPANSIONS: usize = 40_000;
@@ -45,9 +45,6 @@ const LATTICE_ALLOWANCE: f64 = 1.1;
 
 /// Lattices tried per rod, each half the spacing of the one before.
 const LATTICES: usize = 3;
-
-/// Clearance of the way beyond the rod's radius, as a fraction of the radius.
-const RADIUS_SLACK: f64 = 0.05;
 
 /// Of `system`, with every rod held at both ends (no route, no clip) whose `hanging`
 /// guess passes within its radius of a mesh given a route around the `environment`

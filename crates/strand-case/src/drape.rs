@@ -15,14 +15,11 @@ use nalgebra::{Rotation3, Unit, Vector3};
 use strand_contact::ObstacleMesh;
 use strand_system::{RodSpec, System, SystemState};
 
-use crate::clearance::{clear, needed_from};
+use crate::clearance::{RADIUS_SLACK, clear, needed_from};
 
 /// Steps of a drape per rod at most (the step is the rod's mean edge length, or its
 /// length over this many steps when that is longer).
 const MAX_STEPS: f64 = 2000.0;
-
-/// Clearance of a draped edge beyond the rod's radius, as a fraction of the radius.
-const RADIUS_SLACK: f64 = 0.05;
 
 /// Of `system`, with every dangling rod (one end held, the other free, no route, no
 /// clip) given a route draped from its held end over the `environment`: the hanging

@@ -14,7 +14,7 @@ use nalgebra::{Point3, Vector3};
 use strand_contact::ObstacleMesh;
 use strand_system::{Support, System};
 
-use crate::clearance::clear;
+use crate::clearance::{RADIUS_SLACK, clear};
 
 /// The radius, in lattice spacings, of the ball of places a placement search tests
 /// per lattice (about 17,000 places).
@@ -26,9 +26,6 @@ const COARSENING: [f64; 2] = [1.0, 4.0];
 
 /// The finest placement lattice's spacing at least, m.
 const FINEST_SPACING: f64 = 0.005;
-
-/// Clearance of a port's hose end beyond the hose's radius, as a fraction of it.
-const RADIUS_SLACK: f64 = 0.05;
 
 /// A free body moved away from its given position for the starts.
 #[derive(Clone, Debug, PartialEq)]

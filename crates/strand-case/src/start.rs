@@ -155,19 +155,9 @@ impl BuiltCase {
             let Some(draped) = draped(system, &self.initial, &self.environment, turn) else {
                 break;
             };
-            let mut candidate = initial_state_with(&draped, RouteShape::AsDrawn);
-            // The other rods keep their guess (their routes smoothed).
-            for (r, rod) in candidate.rods.iter_mut().enumerate() {
-                if system.rods[r].route.is_some() || draped.rods[r].route.is_none() {
-                    *rod = self.initial.rods[r].clone();
-                }
-            }
-            use_guesses(&mut candidate, guesses);
-            let hanging = std::mem::replace(&mut self.initial, candidate);
-            if self.check_start().is_ok() {
+            if self.routed_clears(system, &draped, guesses) {
                 return Some(Start::Draped);
             }
-            self.initial = hanging;
         }
         // A rod held at both ends routed around the parts between its nozzles, its way
         // clear of them by half an edge beyond the radius (the rod's edges cut its
@@ -176,20 +166,36 @@ impl BuiltCase {
             let Some(detoured) = detoured(system, &self.initial, &self.environment, corners) else {
                 continue;
             };
-            let mut candidate = initial_state_with(&detoured, RouteShape::AsDrawn);
-            for (r, rod) in candidate.rods.iter_mut().enumerate() {
-                if system.rods[r].route.is_some() || detoured.rods[r].route.is_none() {
-                    *rod = self.initial.rods[r].clone();
-                }
-            }
-            use_guesses(&mut candidate, guesses);
-            let hanging = std::mem::replace(&mut self.initial, candidate);
-            if self.check_start().is_ok() {
+            if self.routed_clears(system, &detoured, guesses) {
                 return Some(Start::Detour);
             }
-            self.initial = hanging;
         }
         None
+    }
+
+    /// Whether the start with the rods `routed` gave a route (and `system` did not)
+    /// laid along it as drawn, the other rods keeping their guess in `self.initial`
+    /// (their routes smoothed), clears every obstacle: `self.initial` set to it if so,
+    /// unchanged if not.
+    fn routed_clears(
+        &mut self,
+        system: &System,
+        routed: &System,
+        guesses: &[Option<RodState>],
+    ) -> bool {
+        let mut candidate = initial_state_with(routed, RouteShape::AsDrawn);
+        for (r, rod) in candidate.rods.iter_mut().enumerate() {
+            if system.rods[r].route.is_some() || routed.rods[r].route.is_none() {
+                *rod = self.initial.rods[r].clone();
+            }
+        }
+        use_guesses(&mut candidate, guesses);
+        let hanging = std::mem::replace(&mut self.initial, candidate);
+        if self.check_start().is_ok() {
+            return true;
+        }
+        self.initial = hanging;
+        false
     }
 }
 

@@ -114,6 +114,19 @@ fn moved(base: &Configuration, t: f64) -> (Rod, RodState, BoundaryFrames) {
     (rod, RodState::new(positions, frames), boundary)
 }
 
+/// [`configuration`] with its boundary frames (`attached`) or without, its rod and
+/// its linearisation.
+fn linearised(attached: bool) -> (Configuration, Rod, SectionalLinearisation) {
+    let mut base = configuration();
+    if !attached {
+        base.4.start = None;
+        base.4.end = None;
+    }
+    let (rod, state, boundary) = moved(&base, 0.0);
+    let lin = SectionalLinearisation::new(&rod, &state, &boundary).unwrap();
+    (base, rod, lin)
+}
+
 /// Richardson-extrapolated central difference of `f` (error `O(t⁴)`).
 fn difference(f: impl Fn(f64) -> Vector3<f64>, t: f64) -> Vector3<f64> {
     let d = |h: f64| (f(h) - f(-h)) / (2.0 * h);
@@ -132,15 +145,8 @@ fn assert_close(exact: &Vector3<f64>, fd: &Vector3<f64>, scale: f64, what: &str)
 /// [`sectional_at`] along the tangent, with boundary frames and without.
 #[test]
 fn vertex_changes_match_differences_of_sectional_at() {
-    let base = configuration();
     for attached in [true, false] {
-        let mut base = base.clone();
-        if !attached {
-            base.4.start = None;
-            base.4.end = None;
-        }
-        let (rod, state, boundary) = moved(&base, 0.0);
-        let lin = SectionalLinearisation::new(&rod, &state, &boundary).unwrap();
+        let (base, rod, lin) = linearised(attached);
         for j in 0..=rod.segments() {
             let (value, d) = lin.vertex_tangent(j, &base.5);
             let at = |t: f64| {
@@ -253,13 +259,7 @@ fn size_rates_equal_the_rates_of_the_full_changes() {
         t
     };
     for attached in [true, false] {
-        let mut base = base.clone();
-        if !attached {
-            base.4.start = None;
-            base.4.end = None;
-        }
-        let (rod, state, boundary) = moved(&base, 0.0);
-        let lin = SectionalLinearisation::new(&rod, &state, &boundary).unwrap();
+        let (base, _, lin) = linearised(attached);
         let values = lin.values();
         for size in [
             SectionalSize::Force,
