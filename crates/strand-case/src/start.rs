@@ -37,13 +37,15 @@ use crate::placement::placed_bodies;
 impl BuiltCase {
     /// The first of the hanging guess (`self.initial`, routes smoothed), the routes as
     /// drawn, the guesses bowed sideways, the guess arched upwards, the guesses bowed
-    /// half-way up, the straight start ([`Start::Straight`]) and the draped start of
-    /// dangling rods ([`Start::Draped`]) that clears every obstacle
-    /// ([`BuiltCase::check_start`]), with the rods' warm-start `guesses` and
-    /// routes kept in each. When none clears,
-    /// the routes as drawn if there are routes, else `self.initial` unchanged (the
-    /// check then names the overlap); unchanged without an environment. Returns which
-    /// start was taken.
+    /// half-way up, the straight start ([`Start::Straight`]), the draped start of
+    /// dangling rods ([`Start::Draped`]) and the start routed around the parts of rods
+    /// held at both ends ([`Start::Detour`]) that clears every obstacle
+    /// ([`BuiltCase::check_start`]), with the rods' warm-start `guesses` and routes kept
+    /// in each; when none does and a free junction's given position holds a hose's end
+    /// inside or against a part, the same from the junction moved to the nearest clear
+    /// place (recorded in `self.moved_bodies`). When none clears, the routes as drawn
+    /// if there are routes, else `self.initial` unchanged (the check then names the
+    /// overlap); unchanged without an environment. Returns which start was taken.
     pub(crate) fn clear_start(&mut self, guesses: &[Option<RodState>]) -> Start {
         if self.environment.is_empty() || self.check_start().is_ok() {
             return Start::Hanging;
