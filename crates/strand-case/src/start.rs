@@ -316,22 +316,52 @@ mod tests {
         (dir, path)
     }
 
-    /// The force left over on the rod of `built` at `solution`: its `weight` (N, down
-    /// along z), the contact `forces` and the supports' reactions.
-    fn imbalance(
-        built: &crate::BuiltCase,
-        solution: &strand_solve::Solution,
-        forces: &[strand_solve::contact::ContactForce],
-        weight: f64,
-    ) -> nalgebra::Vector3<f64> {
-        let mut total = nalgebra::Vector3::new(0.0, 0.0, -weight);
-        for f in forces {
+    /// `built` solved from its start: converged, its rod resting on the parts (a
+    /// loaded contact, no penetration beyond 1e-9 m, every vertex outside every closed
+    /// mesh) and its weight (its vertices' masses under gravity) carried by the
+    /// contacts and the supports' reactions to 1e-8 of it; `what` names the case in
+    /// the messages.
+    fn assert_at_rest(built: &crate::BuiltCase, what: &str) -> strand_solve::Solution {
+        let solution = built
+            .solve_from(built.initial.clone(), &built.settings)
+            .unwrap();
+        let report = &solution.report;
+        assert!(report.converged, "{what}: {report:?}");
+        let contact = built.contact().unwrap();
+        let forces = contact
+            .forces(&built.model, &solution.state, &solution.constraints)
+            .unwrap();
+        assert!(forces.iter().any(|f| f.force_n > 0.0), "{what}: no contact");
+        let deepest = forces
+            .iter()
+            .map(|f| f.gap.gap)
+            .fold(f64::INFINITY, f64::min);
+        assert!(deepest >= -1e-9, "{what}: penetrates by {deepest:e} m");
+        let system = built.model.system();
+        let rod = &system.rods[0].rod;
+        let mass: f64 = (0..=rod.segments()).map(|j| rod.vertex_mass(j)).sum();
+        let weight = mass * system.gravity;
+        let mut total = weight;
+        for f in &forces {
             total += f.force_n * f.gap.normal.into_inner();
         }
         for r in built.model.reactions(&solution.state) {
             total += r.force;
         }
-        total
+        assert!(
+            total.norm() <= 1e-8 * weight.norm(),
+            "{what}: imbalance {total:?} of {} N",
+            weight.norm()
+        );
+        for mesh in &built.environment {
+            for p in &solution.state.rods[0].positions {
+                assert!(
+                    !mesh.encloses(&nalgebra::Point3::from(*p)),
+                    "{what}: {p} inside"
+                );
+            }
+        }
+        solution
     }
 
     #[test]
@@ -349,39 +379,11 @@ mod tests {
             // The start taken clears it: `check` and `solve` accept the case.
             assert_eq!(built.start, Start::Sideways, "top {top}");
             built.check_start().unwrap();
-            let solution = built
-                .solve_from(built.initial.clone(), &built.settings)
-                .unwrap();
-            let report = &solution.report;
-            assert!(report.converged && report.stable, "top {top}: {report:?}");
             // It comes to rest against the box (around its side: lower than across its
-            // top): loaded contacts, no penetration, and the box and the connectors
-            // together carry the weight.
-            let forces = contact
-                .forces(&built.model, &solution.state, &solution.constraints)
-                .unwrap();
-            let loaded: Vec<_> = forces.iter().filter(|f| f.force_n > 0.0).collect();
-            assert!(!loaded.is_empty(), "top {top}: no contact");
-            let deepest = forces
-                .iter()
-                .map(|f| f.gap.gap)
-                .fold(f64::INFINITY, f64::min);
-            assert!(deepest >= -1e-9, "top {top}: penetrates by {deepest:e} m");
-            let weight = 0.1 * 0.5 * 9.81;
-            let total = imbalance(&built, &solution, &forces, weight);
-            assert!(
-                total.norm() <= 1e-8 * weight,
-                "top {top}: imbalance {total:?}"
-            );
-            // Every vertex is outside the closed box.
-            for mesh in &built.environment {
-                for p in &solution.state.rods[0].positions {
-                    assert!(
-                        !mesh.encloses(&nalgebra::Point3::from(*p)),
-                        "top {top}: {p}"
-                    );
-                }
-            }
+            // top): loaded contacts, no penetration, every vertex outside the box, and
+            // the box and the connectors together carry the weight.
+            let solution = assert_at_rest(&built, &format!("top {top}"));
+            assert!(solution.report.stable, "top {top}: unstable");
         }
     }
 
@@ -431,36 +433,8 @@ mod tests {
         let p = &built.initial.rods[0].positions;
         let laid: f64 = p.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         assert!(laid <= 0.907 + 1e-12, "laid along {laid} m");
-        let solution = built
-            .solve_from(built.initial.clone(), &built.settings)
-            .unwrap();
-        let report = &solution.report;
-        assert!(report.converged && report.stable, "{report:?}");
-        let contact = built.contact().unwrap();
-        let forces = contact
-            .forces(&built.model, &solution.state, &solution.constraints)
-            .unwrap();
-        assert!(forces.iter().any(|f| f.force_n > 0.0), "no contact");
-        let deepest = forces
-            .iter()
-            .map(|f| f.gap.gap)
-            .fold(f64::INFINITY, f64::min);
-        assert!(deepest >= -1e-9, "penetrates by {deepest:e} m");
-        let rod = &built.model.system().rods[0].rod;
-        let weight: f64 = (0..=rod.segments())
-            .map(|j| rod.vertex_mass(j))
-            .sum::<f64>()
-            * 9.81;
-        let total = imbalance(&built, &solution, &forces, weight);
-        assert!(
-            total.norm() <= 1e-8 * weight,
-            "imbalance {total:?} of {weight} N"
-        );
-        for mesh in &built.environment {
-            for p in &solution.state.rods[0].positions {
-                assert!(!mesh.encloses(&nalgebra::Point3::from(*p)), "{p} inside");
-            }
-        }
+        let solution = assert_at_rest(&built, "engine bay");
+        assert!(solution.report.stable, "unstable");
     }
 
     /// A T-junction (0.2 kg) given at the middle of a closed box (200 × 200 × 200 mm,
@@ -654,25 +628,7 @@ mod tests {
             "{height} mm: {low} of {} vertices low",
             p.len()
         );
-        let solution = built
-            .solve_from(built.initial.clone(), &built.settings)
-            .unwrap();
-        let report = &solution.report;
-        assert!(report.converged, "{height} mm: {report:?}");
-        let contact = built.contact().unwrap();
-        let forces = contact
-            .forces(&built.model, &solution.state, &solution.constraints)
-            .unwrap();
-        assert!(
-            forces.iter().any(|f| f.force_n > 0.0),
-            "{height} mm: no contact"
-        );
-        let weight = 0.1 * 0.6 * 9.81;
-        let total = imbalance(&built, &solution, &forces, weight);
-        assert!(
-            total.norm() <= 1e-8 * weight,
-            "{height} mm: imbalance {total:?}"
-        );
+        assert_at_rest(&built, &format!("{height} mm"));
     }
 
     #[test]

@@ -14,33 +14,7 @@ use std::path::Path;
 
 use common::{case, read_json, strand};
 
-use triangle::{V, closest_on_triangle, dot, sub};
-
-/// Every triangle of an OBJ file (global 1-based indices), mm.
-fn triangles(path: &Path) -> Vec<[V; 3]> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut vertices = Vec::new();
-    let mut out = Vec::new();
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let v: Vec<f64> = words.map(|t| t.parse().unwrap()).collect();
-                vertices.push([v[0], v[1], v[2]]);
-            }
-            Some("f") => {
-                let i: Vec<usize> = words
-                    .map(|t| t.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
-                    .collect();
-                for k in 1..i.len() - 1 {
-                    out.push([vertices[i[0]], vertices[i[k]], vertices[i[k + 1]]]);
-                }
-            }
-            _ => {}
-        }
-    }
-    out
-}
+use triangle::{V, closest_on_triangle, dot, obj_triangles as triangles, sub};
 
 #[test]
 fn vertex_clearances_match_a_brute_force_distance_to_every_triangle() {

@@ -9,6 +9,7 @@
 //! through a part between the connectors as often as not, and a connector may stand
 //! inside another part or too close to one (an input error the check must name).
 
+use super::triangle::obj_triangles;
 use super::{
     Case, Environment, Rng, V, cable_case_body, cross, fmt_v, norm, perpendicular, section, sub,
     unit,
@@ -21,29 +22,7 @@ fn parts() -> Vec<(&'static str, String, Vec<[V; 3]>)> {
         .into_iter()
         .map(|name| {
             let path = dir.join(format!("{name}.obj"));
-            let text = std::fs::read_to_string(&path).unwrap();
-            let mut vertices: Vec<V> = Vec::new();
-            let mut triangles = Vec::new();
-            for line in text.lines() {
-                let mut words = line.split_whitespace();
-                match words.next() {
-                    Some("v") => {
-                        let x: Vec<f64> = words.take(3).map(|w| w.parse().unwrap()).collect();
-                        vertices.push([x[0], x[1], x[2]]);
-                    }
-                    Some("f") => {
-                        let corners: Vec<usize> = words
-                            .map(|w| w.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
-                            .collect();
-                        for k in 1..corners.len() - 1 {
-                            triangles.push(
-                                [corners[0], corners[k], corners[k + 1]].map(|i| vertices[i]),
-                            );
-                        }
-                    }
-                    _ => {}
-                }
-            }
+            let triangles = obj_triangles(&path);
             (name, path.display().to_string(), triangles)
         })
         .collect()
