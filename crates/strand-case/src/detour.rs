@@ -16,6 +16,17 @@
 //! rod is none. The rod is laid compressed along it, as the straight start is, and
 //! the solve settles it.
 //!
+//! A clipped rod is routed from station to station (its held ends and clips, in
+//! arc-length order): each stretch whose hanging guess passes through a part gets
+//! its own way within its own length (leaving a clip along the cable's direction
+//! through it for one edge, as from a clamp), the others keep the hanging guess, and
+//! each way keeps twice its clearance from the stretches laid before it (else the
+//! hose would start inside itself where a way doubles back past a clip). Where no
+//! way fits from one edge along the clamps (long edges turned away from each other
+//! eat the length), the way leaves the stations themselves. Of 120 clipped cables
+//! generated between random faces of the engine bay (seeds 2–4), 34 converged before
+//! (every other guess through a part), 71 with the ways from clip to clip.
+//!
 //! A clear way stays outside every closed part: it starts at a nozzle outside them
 //! (the start check names a held end inside or too close first) and no segment of
 //! it comes within the hose's radius of a face, so none crosses one.
@@ -24,9 +35,10 @@ use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::Arc;
 
-use nalgebra::Vector3;
-use strand_contact::ObstacleMesh;
-use strand_system::{Support, System, SystemState};
+use nalgebra::{Point3, Vector3};
+use strand_contact::{ObstacleMesh, closest_segment_segment};
+use strand_rod::RodState;
+use strand_system::{RodSpec, Station, System, SystemState, rod_state_along, rod_stations};
 
 use crate::clearance::{RADIUS_SLACK, clear, needed_from};
 
@@ -49,94 +61,125 @@ const LATTICE_ALLOWANCE: f64 = 1.1;
 /// Lattices tried per rod, each half the spacing of the one before.
 const LATTICES: usize = 3;
 
-/// Of `system`, with every rod held at both ends (no route, no clip) whose `hanging`
-/// guess passes within its radius of a mesh given a route around the `environment`
-/// ([`detour`]): from a clamped end one reference edge along the clamp, from a pinned
-/// one straight on. The way keeps the radius and 5 % from the meshes, and with
-/// `corners` half a reference edge more (the rod's edges cut the way's corners by up
-/// to that). `None` when no rod needs one or one finds no clear way within its
-/// length.
+/// Segments of a laid piece a later way is kept apart from, at most.
+const LAID_SEGMENTS: usize = 128;
+
+/// How far (in hose radii) a way leaves a clip and reaches it along the cable's
+/// direction through it, at least: a way that reached a clip's back from its front
+/// would double back past it, and the hose would start inside itself.
+const CLIP_LEAD_RADII: f64 = 4.0;
+
+/// The rods of `system` held at both ends (no route) whose `hanging` guess passes
+/// within their radius of a mesh, each laid along ways around the `environment`
+/// ([`detour`]) between its stations (held ends and clips, [`rod_stations`]) where
+/// the hanging guess between them is not clear, and along the hanging guess where it
+/// is: from a clamped end or a clip one reference edge along its direction, from a
+/// pinned end straight on. The ways keep the radius and 5 % from the meshes, and with
+/// `corners` half a reference edge more (the rod's edges cut the ways' corners by up
+/// to that). `None` when no rod needs one or one finds no clear way within its length
+/// between two stations.
 pub(crate) fn detoured(
     system: &System,
     hanging: &SystemState,
     environment: &[Arc<ObstacleMesh>],
     corners: bool,
-) -> Option<System> {
+) -> Option<Vec<(usize, RodState)>> {
     if environment.is_empty() {
         return None;
     }
-    let mut out = system.clone();
-    let mut any = false;
-    for (r, spec) in out.rods.iter_mut().enumerate() {
-        if spec.route.is_some()
-            || !spec.start.support.is_held()
-            || !spec.end.support.is_held()
-            || system.clips.iter().any(|c| c.rod.0 == r)
-        {
+    let mut laid = Vec::new();
+    for (r, spec) in system.rods.iter().enumerate() {
+        if spec.route.is_some() || !spec.start.support.is_held() || !spec.end.support.is_held() {
             continue;
         }
         let p = &hanging.rods[r].positions;
         let radius = spec.rod.section().outer_radius;
-        let through = p
-            .windows(2)
-            .any(|w| !clear(environment, &w[0], &w[1], radius));
-        if !through {
+        let clear_between = |from: usize, to: usize| {
+            p[from..=to]
+                .windows(2)
+                .all(|w| clear(environment, &w[0], &w[1], radius))
+        };
+        if clear_between(0, p.len() - 1) {
             continue;
         }
-        let n = p.len() - 1;
-        let (a, b) = (p[0], p[n]);
-        let clamped = |s: &Support| {
-            matches!(
-                s,
-                Support::Clamped { .. } | Support::Port { clamped: true, .. }
-            )
-        };
-        let stub = |s: &Support, e: usize| {
-            if clamped(s) {
-                spec.rod.edge_length(e)
-            } else {
-                0.0
-            }
-        };
-        let (first, last) = (stub(&spec.start.support, 0), stub(&spec.end.support, n - 1));
-        let (ta, tb) = ((p[1] - a).normalize(), (b - p[n - 1]).normalize());
-        let (from, to) = (a + ta * first, b - tb * last);
         let edge = spec.rod.length() / spec.rod.segments() as f64;
         let corner = if corners { 0.5 * edge } else { 0.0 };
         let clearance = radius * (1.0 + RADIUS_SLACK) + corner;
-        let available = spec.rod.length() - first - last;
-        let way = detour(environment, &from, &to, clearance, available)?;
-        let mut route = vec![a];
-        route.extend(way);
-        route.push(b);
-        route.dedup();
-        if route.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
-            return None;
+        let stations = rod_stations(system, r, &hanging.bodies);
+        let leads = Leads::of(spec, &stations, environment);
+        let mut pieces: Vec<Vec<Vector3<f64>>> = Vec::with_capacity(stations.len() - 1);
+        for (k, pair) in stations.windows(2).enumerate() {
+            let (a, b) = (&pair[0], &pair[1]);
+            if b.vertex <= a.vertex {
+                return None;
+            }
+            if clear_between(a.vertex, b.vertex) {
+                pieces.push(p[a.vertex..=b.vertex].to_vec());
+                continue;
+            }
+            // The stretches laid before and, leading out of their stations, those to
+            // come: the way keeps apart from them.
+            let mut apart = Laid {
+                segments: Vec::new(),
+                separation: 2.0 * clearance,
+            };
+            for piece in &pieces {
+                apart.extend(piece);
+            }
+            let way = |from, to, available, apart: &Laid| {
+                let way = detour(environment, apart, &from, &to, clearance, available)?;
+                let mut piece = vec![a.position];
+                piece.extend(way);
+                piece.push(b.position);
+                piece.dedup();
+                Some(piece)
+            };
+            // Leave a clamp or a clip along its direction, arrive at the next the
+            // same way; where no way fits from there (long edges turned away from each
+            // other eat the length), from the stations themselves.
+            let (from, to) = (leads.from(k), leads.to(k + 1));
+            let mut led = apart.clone();
+            led.segments.extend(leads.others(k));
+            let available = b.s - a.s - (from - a.position).norm() - (b.position - to).norm();
+            let piece = way(from, to, available, &led)
+                .or_else(|| way(a.position, b.position, b.s - a.s, &apart))?;
+            if piece.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
+                return None;
+            }
+            pieces.push(piece);
         }
-        spec.route = Some(route);
-        any = true;
+        laid.push((r, rod_state_along(system, r, &hanging.bodies, &pieces)?));
     }
-    any.then_some(out)
+    (!laid.is_empty()).then_some(laid)
 }
 
 /// The shortest way found from `from` to `to` (both included) whose segments keep
-/// `clearance` (m) from every mesh (or, next to an end closer than that, no less than
-/// the end itself) and whose length is at most `length` (m), pulled taut; `None` when
-/// no lattice finds one.
+/// `clearance` (m) from every mesh and `laid`'s separation from its segments (or, next
+/// to an end closer than that, no less than the end itself) and whose length is at
+/// most `length` (m), pulled taut; `None` when no lattice finds one.
 pub(crate) fn detour(
     environment: &[Arc<ObstacleMesh>],
+    laid: &Laid,
     from: &Vector3<f64>,
     to: &Vector3<f64>,
     clearance: f64,
     length: f64,
 ) -> Option<Vec<Vector3<f64>>> {
     if (to - from).norm() > length || !(length.is_finite() && clearance.is_finite()) {
+        if std::env::var_os("STRAND_TRACE").is_some() {
+            eprintln!(
+                "detour: {:.1} mm apart, longer than the {:.1} mm between them",
+                (to - from).norm() * 1e3,
+                length * 1e3
+            );
+        }
         return None;
     }
     let mut spacing = length * COARSE_SPACING;
     for _ in 0..LATTICES {
         let search = Search {
             environment,
+            laid,
             origin: *from,
             to: *to,
             spacing,
@@ -157,7 +200,7 @@ pub(crate) fn detour(
             );
         }
         // Pulled taut, the way must fit the length itself.
-        if let Some(way) = found.map(|way| taut(environment, way, clearance)) {
+        if let Some(way) = found.map(|way| taut(environment, laid, way, clearance)) {
             let taut_length: f64 = way.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
             if taut_length <= length {
                 return Some(way);
@@ -171,6 +214,7 @@ pub(crate) fn detour(
 /// One A* search over the lattice `origin + spacing · (i, j, k)`.
 struct Search<'a> {
     environment: &'a [Arc<ObstacleMesh>],
+    laid: &'a Laid,
     origin: Vector3<f64>,
     to: Vector3<f64>,
     spacing: f64,
@@ -277,22 +321,21 @@ impl Search<'_> {
         (None, expansions)
     }
 
+    /// Whether `node` keeps `needed` (m) from every mesh and, beyond that, what the
+    /// clearance asks more of the laid pieces' separation.
     fn node_clear(&self, cache: &mut HashMap<Node, bool>, node: Node, needed: f64) -> bool {
+        let apart = self.laid.separation + needed - self.clearance;
         *cache.entry(node).or_insert_with(|| {
             let p = self.at(node);
-            clear(self.environment, &p, &p, needed)
+            clear(self.environment, &p, &p, needed) && self.laid.apart(&p, &p, apart)
         })
     }
 
-    /// Whether segment `[a, b]` keeps the clearance, or, next to an end closer than
-    /// that (a nozzle a hose's radius from a flank), no less than that end does.
+    /// Whether segment `[a, b]` keeps the clearance (and the laid pieces'
+    /// separation), or, next to an end closer than that (a nozzle a hose's radius from
+    /// a flank), no less than that end does.
     fn leg_clear(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
-        let needed = needed_from(self.environment, a, self.clearance).min(needed_from(
-            self.environment,
-            b,
-            self.clearance,
-        ));
-        clear(self.environment, a, b, needed)
+        leg_clear(self.environment, self.laid, a, b, self.clearance)
     }
 
     fn way_to(&self, last: Node, best: &HashMap<Node, (f64, Node)>) -> Vec<Vector3<f64>> {
@@ -315,25 +358,161 @@ impl Search<'_> {
 /// the farthest point reachable from each kept one).
 fn taut(
     environment: &[Arc<ObstacleMesh>],
+    laid: &Laid,
     way: Vec<Vector3<f64>>,
     clearance: f64,
 ) -> Vec<Vector3<f64>> {
     let mut kept = vec![way[0]];
     let mut i = 0;
     while i + 1 < way.len() {
-        let needed = needed_from(environment, &way[i], clearance);
         let mut j = way.len() - 1;
-        while j > i + 1 {
-            let needed = needed.min(needed_from(environment, &way[j], clearance));
-            if clear(environment, &way[i], &way[j], needed) {
-                break;
-            }
+        while j > i + 1 && !leg_clear(environment, laid, &way[i], &way[j], clearance) {
             j -= 1;
         }
         kept.push(way[j]);
         i = j;
     }
     kept
+}
+
+/// Whether segment `[a, b]` keeps `clearance` (m) from every mesh and `laid`'s
+/// separation from its segments, or, next to an end closer than that, no less than
+/// that end does.
+fn leg_clear(
+    environment: &[Arc<ObstacleMesh>],
+    laid: &Laid,
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    clearance: f64,
+) -> bool {
+    let needed = needed_from(environment, a, clearance).min(needed_from(environment, b, clearance));
+    let apart = laid.needed_from(a).min(laid.needed_from(b));
+    clear(environment, a, b, needed) && laid.apart(a, b, apart)
+}
+
+/// Where the ways of a rod leave and reach its stations: along the cable's direction
+/// through a clamp or a clip, one edge from a clamped end, at least
+/// [`CLIP_LEAD_RADII`] radii (and one edge) from a clip where that stretch clears the
+/// parts by the radius (else one edge); a pinned end directly.
+struct Leads {
+    /// Per station, the lead segment arriving at it and the one leaving it (m).
+    segments: Vec<[Option<[Vector3<f64>; 2]>; 2]>,
+    positions: Vec<Vector3<f64>>,
+}
+
+impl Leads {
+    fn of(spec: &RodSpec, stations: &[Station], environment: &[Arc<ObstacleMesh>]) -> Self {
+        let radius = spec.rod.section().outer_radius;
+        let last = stations.len() - 1;
+        let segments = stations
+            .iter()
+            .enumerate()
+            .map(|(k, station)| {
+                let Some(t) = station.tangent else {
+                    return [None, None];
+                };
+                let p = station.position;
+                // From a clip the longer lead where it clears the parts.
+                let lead = |edge: f64, along: Vector3<f64>| {
+                    let long = p + along * edge.max(CLIP_LEAD_RADII * radius);
+                    if k == 0 || k == last || !clear(environment, &p, &long, radius) {
+                        p + along * edge
+                    } else {
+                        long
+                    }
+                };
+                let behind =
+                    (k > 0).then(|| [lead(spec.rod.edge_length(station.vertex - 1), -t), p]);
+                let ahead = (k < last).then(|| [p, lead(spec.rod.edge_length(station.vertex), t)]);
+                [behind, ahead]
+            })
+            .collect();
+        Leads {
+            segments,
+            positions: stations.iter().map(|s| s.position).collect(),
+        }
+    }
+
+    /// Where a way leaves station `k`.
+    fn from(&self, k: usize) -> Vector3<f64> {
+        self.segments[k][1].map_or(self.positions[k], |[_, tip]| tip)
+    }
+
+    /// Where a way reaches station `k`.
+    fn to(&self, k: usize) -> Vector3<f64> {
+        self.segments[k][0].map_or(self.positions[k], |[tip, _]| tip)
+    }
+
+    /// The leads the way from station `k` to the next keeps apart from: all but the
+    /// two it joins.
+    fn others(&self, k: usize) -> impl Iterator<Item = [Vector3<f64>; 2]> + '_ {
+        self.segments
+            .iter()
+            .enumerate()
+            .flat_map(move |(j, [behind, ahead])| {
+                let behind = behind.filter(|_| j != k + 1);
+                let ahead = ahead.filter(|_| j != k);
+                behind.into_iter().chain(ahead)
+            })
+    }
+}
+
+/// The pieces of a rod laid before the one searched (their centrelines' segments, m),
+/// and how far (m) a way keeps from them so that the hose does not start inside
+/// itself.
+#[derive(Clone)]
+pub(crate) struct Laid {
+    segments: Vec<[Vector3<f64>; 2]>,
+    separation: f64,
+}
+
+impl Laid {
+    /// Nothing laid yet.
+    #[cfg(test)]
+    pub(crate) fn nothing() -> Self {
+        Laid {
+            segments: Vec::new(),
+            separation: 0.0,
+        }
+    }
+
+    /// `piece`'s segments added, at most [`LAID_SEGMENTS`] of them (a long hanging
+    /// piece by every so many of its points).
+    fn extend(&mut self, piece: &[Vector3<f64>]) {
+        let stride = piece.len().div_ceil(LAID_SEGMENTS).max(1);
+        let mut points: Vec<Vector3<f64>> = piece.iter().step_by(stride).copied().collect();
+        if let Some(last) = piece.last().filter(|_| !(piece.len() - 1).is_multiple_of(stride)) {
+            points.push(*last);
+        }
+        self.segments
+            .extend(points.windows(2).map(|w| [w[0], w[1]]));
+    }
+
+    /// The least distance (m) from segment `[a, b]` to a laid segment (infinite when
+    /// nothing is laid).
+    fn distance(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+        let (a, b) = (Point3::from(*a), Point3::from(*b));
+        self.segments
+            .iter()
+            .map(|[p, q]| {
+                closest_segment_segment(&a, &b, &Point3::from(*p), &Point3::from(*q)).distance
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether segment `[a, b]` keeps `needed` (m) from every laid segment.
+    fn apart(&self, a: &Vector3<f64>, b: &Vector3<f64>, needed: f64) -> bool {
+        self.segments.is_empty() || self.distance(a, b) >= needed
+    }
+
+    /// The separation a segment from `a` keeps: the whole, or where `a` itself is
+    /// closer, no less than `a` is.
+    fn needed_from(&self, a: &Vector3<f64>) -> f64 {
+        if self.segments.is_empty() {
+            return 0.0;
+        }
+        self.separation.min(self.distance(a, a) * (1.0 - 1e-9))
+    }
 }
 
 #[cfg(test)]
@@ -388,7 +567,8 @@ mod tests {
         let wall = [closed_box(WALL_MIN, WALL_MAX)];
         let (from, to) = (Vector3::new(-0.15, 0.0, 0.0), Vector3::new(0.15, 0.0, 0.0));
         let clearance = 0.01;
-        let way = detour(&wall, &from, &to, clearance, 1.0).expect("a way around the wall");
+        let way = detour(&wall, &Laid::nothing(), &from, &to, clearance, 1.0)
+            .expect("a way around the wall");
         assert_eq!((way[0], way[way.len() - 1]), (from, to));
         let length: f64 = way.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let around = 2.0 * (0.1f64.powi(2) + 0.3f64.powi(2)).sqrt();
@@ -404,7 +584,37 @@ mod tests {
                 assert!(d >= clearance * (1.0 - 1e-6), "{p} is {d} m from the wall");
             }
         }
-        assert!(detour(&wall, &from, &to, clearance, 0.6).is_none());
+        assert!(detour(&wall, &Laid::nothing(), &from, &to, clearance, 0.6).is_none());
+    }
+
+    /// The way between two clips keeps apart from the piece of the same rod laid
+    /// before it: across a laid segment lying between its ends it passes at no less
+    /// than the separation (the hose would otherwise start inside itself), where with
+    /// nothing laid it is the straight chord.
+    #[test]
+    fn a_way_keeps_the_separation_from_the_pieces_laid_before_it() {
+        let (from, to) = (Vector3::new(-0.15, 0.0, 0.0), Vector3::new(0.15, 0.0, 0.0));
+        let chord = detour(&[], &Laid::nothing(), &from, &to, 0.01, 1.0).unwrap();
+        assert_eq!(chord, vec![from, to]);
+        let (p, q) = (Vector3::new(0.0, -0.3, 0.0), Vector3::new(0.0, 0.3, 0.0));
+        let separation = 0.05;
+        let laid = Laid {
+            segments: vec![[p, q]],
+            separation,
+        };
+        let way = detour(&[], &laid, &from, &to, 0.01, 1.0).expect("a way over the piece");
+        assert_eq!((way[0], way[way.len() - 1]), (from, to));
+        for w in way.windows(2) {
+            for k in 0..=1000 {
+                let x = Point3::from(w[0] + (w[1] - w[0]) * (k as f64 / 1000.0));
+                let d =
+                    closest_segment_segment(&x, &x, &Point3::from(p), &Point3::from(q)).distance;
+                assert!(
+                    d >= separation * (1.0 - 1e-6),
+                    "{x} is {d} m from the laid piece"
+                );
+            }
+        }
     }
 
     /// A goal inside a closed box cannot be reached: the search ends within its
@@ -416,6 +626,7 @@ mod tests {
         let shut = [closed_box(min, max)];
         let search = Search {
             environment: &shut,
+            laid: &Laid::nothing(),
             origin: Vector3::new(-0.5, 0.0, 0.0),
             to: Vector3::new(0.2, 0.0, 0.0),
             spacing: 0.005,

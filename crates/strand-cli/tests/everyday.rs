@@ -736,6 +736,14 @@ fn engine_bay_cables_between_random_faces_are_solved_honestly() {
     solve_family_of("engine bay", engine_bay::generate_bay);
 }
 
+/// The engine-bay cables held at both ends, each through one or two clips on random
+/// faces of the parts ([`engine_bay::generate_clipped_bay`]): the same honesty
+/// properties.
+#[test]
+fn clipped_engine_bay_cables_are_solved_honestly() {
+    solve_family_of("clipped engine bay", engine_bay::generate_clipped_bay);
+}
+
 /// Generates the cases the knobs ask for, held as `ends` says, solves each with the
 /// binary and asserts the honesty properties of every one.
 fn solve_family(ends: Ends) {

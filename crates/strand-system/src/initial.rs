@@ -92,11 +92,7 @@ impl Loading {
 fn initial_rod_state(system: &System, rod: usize, poses: &[Pose], routes: RouteShape) -> RodState {
     let spec = &system.rods[rod];
     let length = spec.rod.length();
-    let place = |end, at_end| {
-        let (position, frame) = system.end_placement(end, at_end, poses);
-        Placement { position, frame }
-    };
-    let (start, end) = (place(&spec.start, false), place(&spec.end, true));
+    let (start, end) = placements(system, rod, poses);
     let arc = spec.rod.arc_lengths();
     let section = spec.rod.section();
     let stiffness = section.curvature_stiffness();
@@ -122,6 +118,20 @@ fn initial_rod_state(system: &System, rod: usize, poses: &[Pose], routes: RouteS
         ),
     };
     let positions = resample(&polyline, &arc, length);
+    framed(system, rod, &start, &end, positions)
+}
+
+/// Rod `rod` at `positions` (m, one per vertex) with frames carried along by parallel
+/// transport from the start's boundary frame (from the first edge at an unclamped
+/// start) and the twist to the end's boundary frame spread linearly along the rod.
+fn framed(
+    system: &System,
+    rod: usize,
+    start: &Placement,
+    end: &Placement,
+    positions: Vec<Vector3<f64>>,
+) -> RodState {
+    let spec = &system.rods[rod];
     let first_frame = start.frame().unwrap_or_else(|| {
         let t = positions[1] - positions[0];
         frame_with_tangent(&t, &UnitQuaternion::identity())
@@ -137,15 +147,72 @@ fn initial_rod_state(system: &System, rod: usize, poses: &[Pose], routes: RouteS
     }
     if let Some(end_frame) = end.frame() {
         let turns = i64::from(spec.end.twist_turns) - i64::from(spec.start.twist_turns);
-        distribute_twist(&mut frames, &end_frame, &arc, turns);
+        distribute_twist(&mut frames, &end_frame, &spec.rod.arc_lengths(), turns);
     }
     RodState::new(positions, frames)
 }
 
-/// A point the rod must pass: arc length (m), position (m), tangent if known.
-pub(crate) struct Station {
+/// The held ends and clips of rod `rod` at the bodies' `poses` (clips' joints at
+/// rest), in arc-length order: the points its guesses pass.
+pub fn rod_stations(system: &System, rod: usize, poses: &[Pose]) -> Vec<Station> {
+    let spec = &system.rods[rod];
+    let (start, end) = placements(system, rod, poses);
+    held_stations(system, rod, &start, &end, &spec.rod.arc_lengths(), poses)
+}
+
+/// Rod `rod` held at both ends laid along `pieces`, one polyline (m) from each of its
+/// stations ([`rod_stations`]) to the next: the vertices between two stations spread
+/// over the piece in proportion to their arc length (a piece shorter than the rod
+/// between them compresses it), frames as the initial guess carries them. `None`
+/// unless there is one piece of at least two points per pair of stations, the
+/// first starting at the start and the last ending at the end.
+pub fn rod_state_along(
+    system: &System,
+    rod: usize,
+    poses: &[Pose],
+    pieces: &[Vec<Vector3<f64>>],
+) -> Option<RodState> {
+    let spec = &system.rods[rod];
+    let (start, end) = placements(system, rod, poses);
+    let arc = spec.rod.arc_lengths();
+    let stations = held_stations(system, rod, &start, &end, &arc, poses);
+    let held = spec.start.support.is_held() && spec.end.support.is_held();
+    if !held || pieces.len() + 1 != stations.len() || pieces.iter().any(|p| p.len() < 2) {
+        return None;
+    }
+    let mut positions = Vec::with_capacity(arc.len());
+    positions.push(pieces[0][0]);
+    let mut vertex = 1;
+    for (piece, pair) in pieces.iter().zip(stations.windows(2)) {
+        let (from, to) = (pair[0].vertex, pair[1].vertex);
+        let local: Vec<f64> = arc[from..=to].iter().map(|s| s - arc[from]).collect();
+        let laid = resample(piece, &local, arc[to] - arc[from]);
+        positions.extend_from_slice(&laid[1..]);
+        vertex = to + 1;
+    }
+    (vertex == arc.len()).then(|| framed(system, rod, &start, &end, positions))
+}
+
+/// Where rod `rod`'s ends are held at the bodies' `poses`.
+fn placements(system: &System, rod: usize, poses: &[Pose]) -> (Placement, Placement) {
+    let spec = &system.rods[rod];
+    let place = |end, at_end| {
+        let (position, frame) = system.end_placement(end, at_end, poses);
+        Placement { position, frame }
+    };
+    (place(&spec.start, false), place(&spec.end, true))
+}
+
+/// A point a rod must pass: a held end or a clip.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Station {
+    /// Arc length (m) from the rod's start.
     pub s: f64,
+    /// The vertex held there.
+    pub vertex: usize,
+    /// Where it is held (m).
     pub position: Vector3<f64>,
+    /// The rod's unit tangent there where the support fixes it (a clamp, a clip).
     pub tangent: Option<Vector3<f64>>,
 }
 
@@ -163,6 +230,7 @@ fn held_stations(
     if let Some(position) = start.position() {
         stations.push(Station {
             s: 0.0,
+            vertex: 0,
             position,
             tangent: tangent_of(start.frame()),
         });
@@ -177,6 +245,7 @@ fn held_stations(
         let output = system.clip_output(c, &joints, poses);
         stations.push(Station {
             s: arc[clip.vertex],
+            vertex: clip.vertex,
             position: output.position,
             tangent: Some(output.orientation * Vector3::z()),
         });
@@ -184,6 +253,7 @@ fn held_stations(
     if let Some(position) = end.position() {
         stations.push(Station {
             s: *arc.last().expect("vertices"),
+            vertex: arc.len() - 1,
             position,
             tangent: tangent_of(end.frame()),
         });
@@ -743,6 +813,7 @@ mod tests {
     fn station(s: f64, position: Vector3<f64>, tangent: Option<Vector3<f64>>) -> Station {
         Station {
             s,
+            vertex: 0,
             position,
             tangent,
         }

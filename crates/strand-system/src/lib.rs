@@ -24,7 +24,7 @@ mod system;
 mod translate;
 
 pub use dofs::{BlockKind, ClipIndex, Dofs};
-pub use initial::{initial_state, initial_state_with};
+pub use initial::{Station, initial_state, initial_state_with, rod_state_along, rod_stations};
 pub use model::{EdgeStresses, Evaluation, GradientDifference, Model, Residual};
 pub use pattern::HessianPattern;
 pub use reactions::{Reaction, ReactionKind};

@@ -542,6 +542,55 @@ fn validation_rejects_a_clip_out_of_reach_of_its_neighbours_along_the_rod() {
     ));
 }
 
+/// A rod held at both ends and by three clips laid along four given pieces (each
+/// bent once sideways between its stations): every station's vertex at the station,
+/// every vertex between two stations at its share of the rod's arc length along its
+/// piece (the point at that fraction of the piece's own length, found here
+/// independently), frames along the edges; a wrong number of pieces or a free end
+/// lays nothing.
+#[test]
+fn a_rod_laid_along_pieces_between_its_stations_keeps_its_stations_and_spreads_its_vertices() {
+    let mut system = clipped_system();
+    let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    system.rods[0].end = End::clamped(Vector3::new(1.1, 0.1, 0.0), along_x);
+    let poses = system.body_poses();
+    let stations = rod_stations(&system, 0, &poses);
+    assert_eq!(
+        stations.iter().map(|s| s.vertex).collect::<Vec<_>>(),
+        [0, 2, 4, 6, 8]
+    );
+    let pieces: Vec<Vec<Vector3<f64>>> = stations
+        .windows(2)
+        .map(|w| {
+            let bend = (w[0].position + w[1].position) / 2.0 + Vector3::new(0.0, 0.05, 0.03);
+            vec![w[0].position, bend, w[1].position]
+        })
+        .collect();
+    let state = rod_state_along(&system, 0, &poses, &pieces).expect("laid");
+    let arc = system.rods[0].rod.arc_lengths();
+    for (pair, piece) in stations.windows(2).zip(&pieces) {
+        let (a, b) = (&pair[0], &pair[1]);
+        let legs = [(piece[1] - piece[0]).norm(), (piece[2] - piece[1]).norm()];
+        for v in a.vertex..=b.vertex {
+            let along = (arc[v] - a.s) / (b.s - a.s) * (legs[0] + legs[1]);
+            let expected = if along <= legs[0] {
+                piece[0] + (piece[1] - piece[0]) * (along / legs[0])
+            } else {
+                piece[1] + (piece[2] - piece[1]) * ((along - legs[0]) / legs[1])
+            };
+            let error = (state.positions[v] - expected).norm();
+            assert!(error < 1e-12, "vertex {v}: {error} m from its place");
+        }
+    }
+    for (e, q) in state.frames.iter().enumerate() {
+        let t = (state.positions[e + 1] - state.positions[e]).normalize();
+        assert!(((q * Vector3::z()) - t).norm() < 1e-9, "edge {e}");
+    }
+    assert!(rod_state_along(&system, 0, &poses, &pieces[1..]).is_none());
+    system.rods[0].end = End::free();
+    assert!(rod_state_along(&system, 0, &poses, &pieces).is_none());
+}
+
 #[test]
 fn initial_guess_meets_held_ends_with_the_rod_length() {
     let mut system = test_system();
