@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use nalgebra::{Rotation3, Unit, Vector3};
 use strand_contact::ObstacleMesh;
-use strand_system::{RodSpec, System, SystemState};
+use strand_system::{System, SystemState};
 
 use crate::clearance::{RADIUS_SLACK, clear, needed_from};
 
@@ -52,7 +52,13 @@ pub(crate) fn draped(
         if end_held {
             hang.reverse();
         }
-        let mut route = drape(spec, &hang, down, environment, turn)?;
+        let length = spec.rod.length();
+        let shape = [
+            spec.rod.section().outer_radius,
+            length / spec.rod.segments() as f64,
+            length,
+        ];
+        let mut route = drape(shape, &hang, down, environment, turn)?;
         if end_held {
             route.reverse();
         }
@@ -62,18 +68,16 @@ pub(crate) fn draped(
     any.then_some(out)
 }
 
-/// The route of one rod from its held end (`hang[0]`, the hanging guess ordered from
-/// the held end), `None` when no clear way is found.
-fn drape(
-    spec: &RodSpec,
+/// The route of a dangling stretch of `length` (m) of a rod of `radius` and mean
+/// `edge` (m) from where it is held (`hang[0]`, its hanging guess ordered from there),
+/// `None` when no clear way is found or the hanging guess clears.
+pub(crate) fn drape(
+    [radius, edge, length]: [f64; 3],
     hang: &[Vector3<f64>],
     down: Vector3<f64>,
     environment: &[Arc<ObstacleMesh>],
     turn: usize,
 ) -> Option<Vec<Vector3<f64>>> {
-    let length = spec.rod.length();
-    let radius = spec.rod.section().outer_radius;
-    let edge = length / spec.rod.segments() as f64;
     let step = edge.max(length / MAX_STEPS);
     // A rod edge cuts a corner of the draped polyline by up to about half its length;
     // the hanging part keeps the same clearance, so that the drape can leave it.

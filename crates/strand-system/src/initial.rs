@@ -160,12 +160,12 @@ pub fn rod_stations(system: &System, rod: usize, poses: &[Pose]) -> Vec<Station>
     held_stations(system, rod, &start, &end, &spec.rod.arc_lengths(), poses)
 }
 
-/// Rod `rod` held at both ends laid along `pieces`, one polyline (m) from each of its
-/// stations ([`rod_stations`]) to the next: the vertices between two stations spread
-/// over the piece in proportion to their arc length (a piece shorter than the rod
-/// between them compresses it), frames as the initial guess carries them. `None`
-/// unless there is one piece of at least two points per pair of stations, the
-/// first starting at the start and the last ending at the end.
+/// Rod `rod` laid along `pieces`, one polyline (m) per stretch between consecutive
+/// knots: its two ends and its stations ([`rod_stations`]: held ends and clips), in
+/// arc-length order. The vertices of a stretch spread over its piece in proportion
+/// to their arc length (a piece shorter than the rod between its knots compresses
+/// it), frames as the initial guess carries them. `None` unless there is one piece of
+/// at least two points per stretch.
 pub fn rod_state_along(
     system: &System,
     rod: usize,
@@ -176,21 +176,22 @@ pub fn rod_state_along(
     let (start, end) = placements(system, rod, poses);
     let arc = spec.rod.arc_lengths();
     let stations = held_stations(system, rod, &start, &end, &arc, poses);
-    let held = spec.start.support.is_held() && spec.end.support.is_held();
-    if !held || pieces.len() + 1 != stations.len() || pieces.iter().any(|p| p.len() < 2) {
+    let mut knots = vec![0];
+    knots.extend(stations.iter().map(|s| s.vertex));
+    knots.push(arc.len() - 1);
+    knots.dedup();
+    if pieces.len() + 1 != knots.len() || pieces.iter().any(|p| p.len() < 2) {
         return None;
     }
     let mut positions = Vec::with_capacity(arc.len());
     positions.push(pieces[0][0]);
-    let mut vertex = 1;
-    for (piece, pair) in pieces.iter().zip(stations.windows(2)) {
-        let (from, to) = (pair[0].vertex, pair[1].vertex);
+    for (piece, pair) in pieces.iter().zip(knots.windows(2)) {
+        let (from, to) = (pair[0], pair[1]);
         let local: Vec<f64> = arc[from..=to].iter().map(|s| s - arc[from]).collect();
         let laid = resample(piece, &local, arc[to] - arc[from]);
         positions.extend_from_slice(&laid[1..]);
-        vertex = to + 1;
     }
-    (vertex == arc.len()).then(|| framed(system, rod, &start, &end, positions))
+    (positions.len() == arc.len()).then(|| framed(system, rod, &start, &end, positions))
 }
 
 /// Where rod `rod`'s ends are held at the bodies' `poses`.

@@ -546,8 +546,9 @@ fn validation_rejects_a_clip_out_of_reach_of_its_neighbours_along_the_rod() {
 /// bent once sideways between its stations): every station's vertex at the station,
 /// every vertex between two stations at its share of the rod's arc length along its
 /// piece (the point at that fraction of the piece's own length, found here
-/// independently), frames along the edges; a wrong number of pieces or a free end
-/// lays nothing.
+/// independently), frames along the edges; a wrong number of pieces lays nothing.
+/// With its end free, its last stretch runs from the last clip to the free end: the
+/// same pieces lay it the same way.
 #[test]
 fn a_rod_laid_along_pieces_between_its_stations_keeps_its_stations_and_spreads_its_vertices() {
     let mut system = clipped_system();
@@ -588,7 +589,9 @@ fn a_rod_laid_along_pieces_between_its_stations_keeps_its_stations_and_spreads_i
     }
     assert!(rod_state_along(&system, 0, &poses, &pieces[1..]).is_none());
     system.rods[0].end = End::free();
-    assert!(rod_state_along(&system, 0, &poses, &pieces).is_none());
+    let free = rod_state_along(&system, 0, &poses, &pieces).expect("laid to the free end");
+    assert_eq!(free.positions, state.positions);
+    assert!(rod_state_along(&system, 0, &poses, &pieces[1..]).is_none());
 }
 
 #[test]

@@ -96,10 +96,11 @@ pub(super) fn generate_bay(seed: u64, index: usize, max_segments: usize) -> Case
 
 /// Case `index` of `seed` of the clipped engine-bay family, named
 /// `clipped_s{seed}_{index}`: the connectors, section and discretisation of the same
-/// case of the engine-bay family, never dangling, the cable held between them by one
-/// or two clips on random faces ([`clip_on`]), each at the arc length its share of
-/// the way `a` → clips → `b` (in the order of their projections on the chord) gives
-/// at the cable's slack, 1.05–1.8 × that way.
+/// case of the engine-bay family, the cable held between them by one or two clips on
+/// random faces ([`clip_on`]), each at the arc length its share of the way `a` →
+/// clips → `b` (in the order of their projections on the chord) gives at the cable's
+/// slack, 1.05–1.8 × that way; one in four ends at its last clip and dangles
+/// 150–900 mm beyond it.
 pub(super) fn generate_clipped_bay(seed: u64, index: usize, max_segments: usize) -> Case {
     bay_case(seed, index, max_segments, true)
 }
@@ -123,7 +124,7 @@ fn bay_case(seed: u64, index: usize, max_segments: usize, clipped: bool) -> Case
         let off = offset(&mut rng);
         stand_off(&mut rng, &parts[second].2, off)
     };
-    let dangling = rng.unit() < 0.25 && !clipped;
+    let dangling = rng.unit() < 0.25;
     let kind = |rng: &mut Rng| {
         if rng.unit() < 0.3 {
             "ConnectorPin"
@@ -144,16 +145,16 @@ fn bay_case(seed: u64, index: usize, max_segments: usize, clipped: bool) -> Case
     }
     let mut stations = vec![a];
     stations.extend(clips.iter().map(|(base, _)| base[0]));
-    stations.push(b);
+    if !(dangling && clipped) {
+        stations.push(b);
+    }
     let legs: Vec<f64> = stations.windows(2).map(|w| norm(sub(w[1], w[0]))).collect();
     let distance: f64 = legs.iter().sum();
     let slack = rng.uniform(1.05, 1.8);
     let (length, end, connector_b) = if dangling {
-        (
-            rng.uniform(150.0, 900.0),
-            "Free()".to_string(),
-            String::new(),
-        )
+        let tail = rng.uniform(150.0, 900.0);
+        let held = if clipped { slack * distance } else { 0.0 };
+        (held + tail, "Free()".to_string(), String::new())
     } else {
         (
             slack * distance,
