@@ -152,10 +152,13 @@ fn a_hose_crossing_over_itself_is_rejected_by_check_and_solve_with_the_place() {
 
 #[test]
 fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
-    // A closed box across the taut hose's middle (x 100..300 mm), its clamps outside:
-    // every start the solver can guess (hanging, bowed, arched, straight: all straight
-    // for a hose as long as its clamps are apart) passes through it. The user gave no
-    // route, so the hint asks for one rather than to move it.
+    // A closed box across the taut hose's middle (x 100..300 mm, 200 mm square), its
+    // clamps outside: every start the solver can guess (hanging, bowed, arched,
+    // straight: all straight for a hose as long as its clamps are apart) passes through
+    // it, and no way around it fits in 400 mm (over it, clear by the radius, at least
+    // `2·√(80² + 112.9²) + 200 + 2·20` = 517 mm with the 20 mm edges along the clamps).
+    // The user gave no route, so the hint asks for one rather than to move it, and says
+    // how long the way around is.
     let text = straight_400mm_hose();
     let unrouted = text.replace("route: Some([(0, 0, 0), (400, 0, 0)])", "route: None");
     assert_ne!(unrouted, text, "the route was not found");
@@ -172,6 +175,18 @@ fn a_hose_without_a_route_that_no_guess_clears_is_told_to_give_one() {
             "{stderr}"
         );
         assert!(!stderr.contains("move the rod's `route`"), "{stderr}");
+        let way: f64 = stderr
+            .split("the shortest way around the parts the solver finds is about ")
+            .nth(1)
+            .and_then(|rest| rest.split(" mm").next())
+            .and_then(|mm| mm.parse().ok())
+            .unwrap_or_else(|| panic!("no way's length in {stderr}"));
+        let around = 2.0 * (80f64.powi(2) + 112.9f64.powi(2)).sqrt() + 240.0;
+        assert!(around <= way && way <= 1.2 * around, "{way} mm: {stderr}");
+        assert!(
+            stderr.contains("between s = 0 mm and s = 400 mm"),
+            "{stderr}"
+        );
     }
     // The box around the clamps: no route can help, the hint says to move the support.
     let results = check_and_solve(&unrouted, &box_obj(true));

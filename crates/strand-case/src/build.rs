@@ -67,6 +67,9 @@ pub struct BuiltCase {
     /// Clips placed by `at_point`: their names and the distance (m) from the given point
     /// to the nominal centreline it was projected onto, in file order.
     pub clip_projections: Vec<(String, f64)>,
+    /// When no start clears: a rod (its index) and a hint more precise than "give a
+    /// route" for its start error (how long the way around the parts is).
+    pub(crate) start_hint: Option<(usize, strand_solve::StartHint)>,
 }
 
 /// What a build takes beyond the case file: the meshes a motion moves, and the state a
@@ -247,6 +250,7 @@ pub(crate) fn build(
         start: Start::Hanging,
         moved_bodies: Vec::new(),
         clip_projections: projections,
+        start_hint: None,
     };
     built.start = if extras.warm.is_some() {
         Start::Given

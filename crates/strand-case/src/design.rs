@@ -632,5 +632,6 @@ fn along(
         start: b.start,
         moved_bodies: b.moved_bodies.clone(),
         clip_projections: b.clip_projections.clone(),
+        start_hint: b.start_hint.clone(),
     }))
 }

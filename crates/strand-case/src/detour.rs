@@ -42,6 +42,7 @@ use std::sync::Arc;
 use nalgebra::{Point3, Vector3};
 use strand_contact::{ObstacleMesh, closest_segment_segment};
 use strand_rod::RodState;
+use strand_solve::{StartHint, WayAround};
 use strand_system::{RodSpec, Station, System, SystemState, rod_state_along, rod_stations};
 
 use crate::clearance::{RADIUS_SLACK, clear, needed_from};
@@ -68,6 +69,10 @@ const LATTICES: usize = 3;
 
 /// Segments of a laid piece a later way is kept apart from, at most.
 const LAID_SEGMENTS: usize = 128;
+
+/// How much longer than its stretch a way may be that the search for a too short
+/// stretch's shortest way looks for ([`shortfall`]).
+const SHORTFALL_REACH: f64 = 3.0;
 
 /// How far (in hose radii) a way leaves a clip and reaches it along the cable's
 /// direction through it, at least: a way that reached a clip's back from its front
@@ -186,6 +191,75 @@ pub(crate) fn detoured(
         laid.push((r, rod_state_along(system, r, &hanging.bodies, &pieces)?));
     }
     (!laid.is_empty()).then_some(laid)
+}
+
+/// For the first rod held at both ends or by a clip (no route) with a stretch between
+/// two stations whose hanging guess passes through a part and that is shorter than
+/// the shortest way around the parts found between them (leaving and reaching its
+/// stations along their clamps and clips; searched up to [`SHORTFALL_REACH`] times
+/// the stretch on the coarsest lattice), the rod and what to tell the user
+/// ([`StartHint::Lengthen`]). `None` when every way found fits or none is found.
+pub(crate) fn shortfall(
+    system: &System,
+    hanging: &SystemState,
+    environment: &[Arc<ObstacleMesh>],
+) -> Option<(usize, StartHint)> {
+    system.rods.iter().enumerate().find_map(|(r, spec)| {
+        let (start_held, end_held) = (spec.start.support.is_held(), spec.end.support.is_held());
+        let clipped = system.clips.iter().any(|c| c.rod.0 == r);
+        if spec.route.is_some() || !(start_held && end_held || clipped) {
+            return None;
+        }
+        let p = &hanging.rods[r].positions;
+        let radius = spec.rod.section().outer_radius;
+        let clearance = radius * (1.0 + RADIUS_SLACK);
+        let stations = rod_stations(system, r, &hanging.bodies);
+        let leads = Leads::of(spec, &stations, environment);
+        stations.windows(2).enumerate().find_map(|(k, pair)| {
+            let (a, b) = (&pair[0], &pair[1]);
+            let through = p
+                .get(a.vertex..=b.vertex)?
+                .windows(2)
+                .any(|w| !clear(environment, &w[0], &w[1], radius));
+            if !through {
+                return None;
+            }
+            let (from, to) = (leads.from(k), leads.to(k + 1));
+            let stretch = b.s - a.s;
+            let search = Search {
+                environment,
+                laid: &Laid::nothing(),
+                origin: from,
+                to,
+                spacing: stretch * COARSE_SPACING,
+                clearance,
+                length: SHORTFALL_REACH * stretch,
+            };
+            let (found, expansions) = search.run();
+            let way = taut(environment, &Laid::nothing(), found?, clearance);
+            let length = (from - a.position).norm()
+                + way.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>()
+                + (b.position - to).norm();
+            let mm = |x: f64| (x * 1e3).round() as u32;
+            if std::env::var_os("STRAND_TRACE").is_some() {
+                eprintln!(
+                    "detour: the shortest way between s = {:.1} and {:.1} mm: {:.1} mm \
+                     ({expansions} nodes expanded)",
+                    a.s * 1e3,
+                    b.s * 1e3,
+                    length * 1e3
+                );
+            }
+            (length > stretch).then(|| {
+                let hint = StartHint::Lengthen(Box::new(WayAround {
+                    from_s_mm: mm(a.s),
+                    to_s_mm: mm(b.s),
+                    way_mm: (length * 1e3).ceil() as u32,
+                }));
+                (r, hint)
+            })
+        })
+    })
 }
 
 /// The shortest way found from `from` to `to` (both included) whose segments keep
@@ -503,7 +577,6 @@ pub(crate) struct Laid {
 
 impl Laid {
     /// Nothing laid yet.
-    #[cfg(test)]
     pub(crate) fn nothing() -> Self {
         Laid {
             segments: Vec::new(),

@@ -1,7 +1,9 @@
 //! Solving a built case: with contact against its environment when it has one.
 
 use strand_solve::contact::Contact;
-use strand_solve::{Constraints, Solution, SolveError, SolverSettings, solve, solve_constrained};
+use strand_solve::{
+    Constraints, Solution, SolveError, SolverSettings, StartHint, solve, solve_constrained,
+};
 use strand_system::SystemState;
 
 use crate::BuiltCase;
@@ -27,7 +29,8 @@ impl BuiltCase {
         settings: &SolverSettings,
     ) -> Result<Solution, SolveError> {
         match self.contact() {
-            Some(contact) => solve_constrained(&self.model, &contact, initial, settings),
+            Some(contact) => solve_constrained(&self.model, &contact, initial, settings)
+                .map_err(|e| self.with_start_hint(e)),
             None => solve(&self.model, initial, settings),
         }
     }
@@ -45,6 +48,21 @@ impl BuiltCase {
         self.model.enforce_supports(&mut start);
         contact
             .check_start(&self.model, &start)
-            .map_err(SolveError::StartsInside)
+            .map_err(|e| self.with_start_hint(SolveError::StartsInside(e)))
+    }
+
+    /// `error` with a start error's hint made precise where the build found it: when
+    /// no start cleared and a rod is too short for the shortest way around the parts,
+    /// how long that way is.
+    fn with_start_hint(&self, mut error: SolveError) -> SolveError {
+        if let (Some((rod, better)), SolveError::StartsInside(inside)) =
+            (&self.start_hint, &mut error)
+            && let Some((name, hint)) = inside.start_hint_mut()
+            && *hint == StartHint::GiveRoute
+            && self.model.system().rods[*rod].name == name
+        {
+            *hint = better.clone();
+        }
+        error
     }
 }

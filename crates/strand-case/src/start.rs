@@ -31,7 +31,7 @@ use strand_rod::RodState;
 use strand_system::{RouteShape, System, SystemState, initial_state, initial_state_with};
 
 use crate::BuiltCase;
-use crate::detour::detoured;
+use crate::detour::{detoured, shortfall};
 use crate::drape::draped;
 use crate::nominal::use_guesses;
 use crate::placement::placed_bodies;
@@ -73,6 +73,7 @@ impl BuiltCase {
             }
             self.initial = given;
         }
+        self.start_hint = shortfall(&system, &self.initial, &self.environment);
         if system.rods.iter().any(|r| r.route.is_some()) {
             // Nothing clears: the check names the overlap of the route as drawn, the
             // geometry the user gave, not of its smoothed curve.
@@ -557,6 +558,97 @@ mod tests {
         assert_laid_through_its_stations(&built);
         let solution = assert_at_rest(&built, "free end");
         assert!(solution.report.stable, "unstable");
+    }
+
+    /// A 600 mm hose (radius 5 mm, 60 segments) pinned either side of a closed wall
+    /// 100 mm thick and 600 mm square, 150 mm from its middle: every guess passes
+    /// through the wall, and no way around it fits in 600 mm (around its edge it is
+    /// at least `2·√(100² + 300²) + 100` = 732 mm). The error says how long the way the
+    /// solver finds is (no shorter than that bound; within 20 % of it: the way is
+    /// found on a lattice whose nodes keep half its diagonal more from the wall, 827
+    /// mm), how much longer than the rod that is, and where; the same hose made as
+    /// long as it says (2 % more) starts clear of the wall (hanging under it) and
+    /// converges.
+    #[test]
+    fn a_hose_too_short_for_the_way_around_a_part_is_told_how_long_the_way_is() {
+        let hose = |length_mm: f64| {
+            format!(
+                r#"(
+                    units: (length: "mm"),
+                    sections: {{ "s": Explicit(ea: 2e4, ga: 5e3, ei: 5e-3, gj: 4e-3,
+                                              mass_per_length: 0.1, outer_radius: 5) }},
+                    connectors: {{
+                        "a": (position: (-150, 0, 0), direction: (1, 0, 0), normal: (0, 0, 1)),
+                        "b": (position: (150, 0, 0), direction: (1, 0, 0), normal: (0, 0, 1)),
+                    }},
+                    rods: [(name: "c", section: "s", length: {length_mm}, segments: 60,
+                            start: ConnectorPin("a"), end: ConnectorPin("b"))],
+                    environment: [(name: "wall", obj: "wall.obj", unit: "mm")],
+                    gravity: (0, 0, -9.81),
+                )"#
+            )
+        };
+        let wall = box_obj([-50.0, -300.0, -300.0], [50.0, 300.0, 300.0]);
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("wall.obj"), &wall).unwrap();
+        let build = |length_mm: f64| {
+            let path = dir.path().join("hose.ron");
+            std::fs::write(&path, hose(length_mm)).unwrap();
+            Case::from_path(&path).unwrap().build(None).unwrap()
+        };
+        let short = build(600.0);
+        let Err(strand_solve::SolveError::StartsInside(mut error)) = short.check_start() else {
+            panic!("a 600 mm hose starts clear");
+        };
+        let (rod, hint) = error.start_hint_mut().expect("a start error");
+        assert_eq!(rod, "c");
+        let strand_solve::StartHint::Lengthen(way) = hint else {
+            panic!("hint {hint:?}");
+        };
+        let strand_solve::WayAround {
+            from_s_mm,
+            to_s_mm,
+            way_mm,
+        } = **way;
+        assert_eq!((from_s_mm, to_s_mm), (0, 600));
+        let around = 2.0 * (100f64.powi(2) + 300f64.powi(2)).sqrt() + 100.0;
+        let way = f64::from(way_mm);
+        assert!(
+            around <= way && way <= 1.2 * around,
+            "way {way} mm, around {around} mm"
+        );
+        let message = error.to_string();
+        let more = format!(
+            "about {way_mm} mm, {} mm more than the rod's 600 mm",
+            way_mm - 600
+        );
+        assert!(message.contains(&more), "{message}");
+        let long = build(1.02 * way);
+        long.check_start().unwrap();
+        let solution = long
+            .solve_from(long.initial.clone(), &long.settings)
+            .unwrap();
+        assert!(solution.report.converged, "{:?}", solution.report);
+    }
+
+    /// An OBJ of the closed axis-aligned box from `min` to `max` (its units).
+    fn box_obj(min: [f64; 3], max: [f64; 3]) -> String {
+        let mut obj = String::new();
+        for k in 0..8 {
+            let pick = |bit: usize, i: usize| if k & bit == 0 { min[i] } else { max[i] };
+            obj += &format!("v {} {} {}\n", pick(1, 0), pick(2, 1), pick(4, 2));
+        }
+        for [a, b, c, d] in [
+            [1, 3, 4, 2],
+            [5, 6, 8, 7],
+            [1, 2, 6, 5],
+            [3, 7, 8, 4],
+            [1, 5, 7, 3],
+            [2, 4, 8, 6],
+        ] {
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+        obj
     }
 
     /// `text` written into a new folder and built.

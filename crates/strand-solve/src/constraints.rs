@@ -86,9 +86,21 @@ pub enum ConstraintError {
     Gaps(#[from] strand_contact::GapError),
 }
 
+impl ConstraintError {
+    /// The rod a start error names and its hint (`None` for the other errors).
+    pub fn start_hint_mut(&mut self) -> Option<(&str, &mut StartHint)> {
+        match self {
+            ConstraintError::StartsThrough { rod, hint, .. }
+            | ConstraintError::StartsOverlapping { rod, hint, .. }
+            | ConstraintError::StartsEnclosed { rod, hint, .. } => Some((rod, hint)),
+            _ => None,
+        }
+    }
+}
+
 /// What a user changes when a rod starts inside an obstacle: it depends on whether
 /// the start is the rod's own `route` or the solver's guess.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum StartHint {
     /// The rod has a route: move it (or the supports, or the obstacle).
     MoveRoute,
@@ -105,11 +117,46 @@ pub enum StartHint {
     /// (only the guess of where it hangs) puts the end inside the part or within the
     /// hose's radius of it, and no start from a clear place nearby cleared either.
     MoveJunction,
+    /// The rod has no route and its stretch between two stations (held ends and
+    /// clips) is shorter than the shortest way around the parts found between them.
+    Lengthen(Box<WayAround>),
+}
+
+/// A stretch of a rod between two stations (held ends and clips) and the shortest way
+/// around the parts found between them ([`StartHint::Lengthen`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WayAround {
+    /// Arc length (mm, rounded) where the stretch starts.
+    pub from_s_mm: u32,
+    /// Arc length (mm, rounded) where it ends.
+    pub to_s_mm: u32,
+    /// The shortest way found between its stations (mm, rounded up), leaving and
+    /// reaching them along their clamps and clips.
+    pub way_mm: u32,
 }
 
 impl std::fmt::Display for StartHint {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
+            StartHint::Lengthen(way) => {
+                let WayAround {
+                    from_s_mm,
+                    to_s_mm,
+                    way_mm,
+                } = **way;
+                let stretch = to_s_mm.saturating_sub(from_s_mm);
+                return write!(
+                    f,
+                    "the rod has no `route`, and no start the solver guesses clears the \
+                     obstacles: between s = {from_s_mm} mm and s = {to_s_mm} mm (its ends or \
+                     clips there) the shortest way around the parts the solver finds is \
+                     about {way_mm} mm, {} mm more than the rod's {stretch} mm there: \
+                     lengthen the rod there (its `length`, or a clip's `at`), move its \
+                     supports or clips, or give the rod a `route` (a list of points, or \
+                     `route_file`) that passes clear of the parts",
+                    way_mm.saturating_sub(stretch)
+                );
+            }
             StartHint::MoveRoute => {
                 "move the rod's `route`, supports or the obstacle so that the hose starts \
                  clear of it"

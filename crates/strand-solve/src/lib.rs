@@ -31,7 +31,7 @@ pub mod stiffness;
 
 pub use activity::{Activity, activity};
 pub use constraints::{
-    ConstraintError, Constraints, FarVertex, Row, RowKey, StartHint, limit_rows,
+    ConstraintError, Constraints, FarVertex, Row, RowKey, StartHint, WayAround, limit_rows,
 };
 pub use iteration::{ROUND_OFF_RESOLVED, ROUND_OFF_STALL};
 pub use linear::{PatternAnalysis, SparseCholesky};

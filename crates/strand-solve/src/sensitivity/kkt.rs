@@ -133,7 +133,10 @@ pub(crate) fn rows_at(
             Some(unknowns) => c.rows_touching(model, state, unknowns, &mut rows),
             None => c.rows(model, state, &mut rows),
         }
-        .map_err(|source| SensitivityError::Constraint { parameter, source })?;
+        .map_err(|source| SensitivityError::Constraint {
+            parameter,
+            source: Box::new(source),
+        })?;
     }
     Ok(rows)
 }

@@ -194,8 +194,8 @@ pub enum SensitivityError {
     Constraint {
         /// The parameter stepped.
         parameter: usize,
-        /// The contact error.
-        source: ConstraintError,
+        /// The contact error (boxed: it names rods and obstacles).
+        source: Box<ConstraintError>,
     },
     /// The settings are invalid.
     #[error(transparent)]
