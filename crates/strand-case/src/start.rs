@@ -705,11 +705,8 @@ mod tests {
     #[test]
     fn a_junction_given_inside_a_part_starts_at_the_nearest_clear_place_and_converges() {
         let dir = tempfile::tempdir().unwrap();
-        let corners = "v -100 -100 -200\nv 100 -100 -200\nv -100 100 -200\nv 100 100 -200\n\
-                       v -100 -100 0\nv 100 -100 0\nv -100 100 0\nv 100 100 0\n";
-        let faces = "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n\
-                     f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
-        std::fs::write(dir.path().join("box.obj"), format!("{corners}{faces}")).unwrap();
+        let part = box_obj([-100.0, -100.0, -200.0], [100.0, 100.0, 0.0]);
+        std::fs::write(dir.path().join("box.obj"), part).unwrap();
         let path = dir.path().join("tee.ron");
         let text = r#"(
             units: (length: "mm"),
@@ -771,9 +768,7 @@ mod tests {
         assert_eq!(built.initial.bodies[0].position.z, 0.05);
         // Given 1 m deep inside a part 2 m wide, beyond the places the search tests
         // (16 spacings of 32 mm): the error names the junction's position to move.
-        let deep = format!("{corners}{faces}")
-            .replace("100", "1000")
-            .replace("-200", "-2000");
+        let deep = box_obj([-1000.0, -1000.0, -2000.0], [1000.0, 1000.0, 0.0]);
         std::fs::write(dir.path().join("box.obj"), deep).unwrap();
         std::fs::write(&path, text.replace("(0, 0, -100)", "(0, 0, -1000)")).unwrap();
         let built = Case::from_path(&path).unwrap().build(None).unwrap();
