@@ -18,10 +18,11 @@
 //!
 //! A clipped rod is routed from station to station (its held ends and clips, in
 //! arc-length order): each stretch whose hanging guess passes through a part gets
-//! its own way within its own length (leaving a clip along the cable's direction
-//! through it for one edge, as from a clamp), the others keep the hanging guess, and
-//! each way keeps twice its clearance from the stretches laid before it (else the
-//! hose would start inside itself where a way doubles back past a clip). Where no
+//! its own way within its own length (leaving and reaching a clip along the cable's
+//! direction through it for at least [`CLIP_LEAD_RADII`] radii, as a clamp for one
+//! edge), the others keep the hanging guess, and each way keeps twice its clearance
+//! from the stretches laid before it and from the clips' leads still to come (else
+//! the hose would start inside itself where a way doubles back past a clip). Where no
 //! way fits from one edge along the clamps (long edges turned away from each other
 //! eat the length), the way leaves the stations themselves. A free end's stretch
 //! beyond its last clip keeps its hanging guess where that clears, else is draped
@@ -79,17 +80,18 @@ const SHORTFALL_REACH: f64 = 3.0;
 /// would double back past it, and the hose would start inside itself.
 const CLIP_LEAD_RADII: f64 = 4.0;
 
-/// The rods of `system` held at both ends or by a clip (no route) whose `hanging`
-/// guess passes within their radius of a mesh, each laid along ways around the
-/// `environment` ([`detour`]) between its stations (held ends and clips,
+/// The rods of `system` laid from station to station ([`laid_by_stations`]) whose
+/// `hanging` guess passes within their radius of a mesh, each laid along ways around
+/// the `environment` ([`detour`]) between its stations (held ends and clips,
 /// [`rod_stations`]) where the hanging guess between them is not clear, and along the
-/// hanging guess where it is: from a clamped end or a clip one reference edge along
-/// its direction, from a pinned end straight on. A free end's stretch beyond the last
-/// station hangs from it, or where that passes through a part is draped over the
-/// parts ([`drape`], its first heading turned by the first right angle that clears). The ways keep
-/// the radius and 5 % from the meshes, and with `corners` half a reference edge more
-/// (the rod's edges cut the ways' corners by up to that). `None` when no rod needs
-/// one or one finds no clear way within its length between two stations.
+/// hanging guess where it is: leaving and reaching its stations along their leads
+/// ([`Leads`]: a clamp's edge, a clip's few radii; a pinned end directly). A free
+/// end's stretch beyond the last station hangs from it, or where that passes through
+/// a part is draped over the parts ([`drape`], its first heading turned by the first
+/// right angle that clears). The ways keep the radius and 5 % from the meshes, and
+/// with `corners` half a reference edge more (the rod's edges cut the ways' corners by
+/// up to that). `None` when no rod needs one or one finds no clear way within its
+/// length between two stations.
 pub(crate) fn detoured(
     system: &System,
     hanging: &SystemState,
@@ -101,11 +103,10 @@ pub(crate) fn detoured(
     }
     let mut laid = Vec::new();
     for (r, spec) in system.rods.iter().enumerate() {
-        let (start_held, end_held) = (spec.start.support.is_held(), spec.end.support.is_held());
-        let clipped = system.clips.iter().any(|c| c.rod.0 == r);
-        if spec.route.is_some() || !(start_held && end_held || clipped) {
+        if !laid_by_stations(system, r) {
             continue;
         }
+        let (start_held, end_held) = (spec.start.support.is_held(), spec.end.support.is_held());
         let p = &hanging.rods[r].positions;
         let radius = spec.rod.section().outer_radius;
         let clear_between = |from: usize, to: usize| {
@@ -193,10 +194,19 @@ pub(crate) fn detoured(
     (!laid.is_empty()).then_some(laid)
 }
 
-/// For the first rod held at both ends or by a clip (no route) with a stretch between
-/// two stations whose hanging guess passes through a part and that is shorter than
-/// the shortest way around the parts found between them (leaving and reaching its
-/// stations along their clamps and clips; searched up to [`SHORTFALL_REACH`] times
+/// Whether rod `r` of `system` is one the routed start lays from station to station:
+/// no route, and held at both ends or by a clip (a rod dangling from one held end
+/// without clips is the drape's, [`crate::drape`]).
+fn laid_by_stations(system: &System, r: usize) -> bool {
+    let spec = &system.rods[r];
+    let held = spec.start.support.is_held() && spec.end.support.is_held();
+    spec.route.is_none() && (held || system.clips.iter().any(|c| c.rod.0 == r))
+}
+
+/// For the first rod laid from station to station ([`laid_by_stations`]) with a
+/// stretch between two stations whose hanging guess passes through a part and that is
+/// shorter than the shortest way around the parts found between them (leaving and
+/// reaching its stations along their leads; searched up to [`SHORTFALL_REACH`] times
 /// the stretch on the coarsest lattice), the rod and what to tell the user
 /// ([`StartHint::Lengthen`]). `None` when every way found fits or none is found.
 pub(crate) fn shortfall(
@@ -205,9 +215,7 @@ pub(crate) fn shortfall(
     environment: &[Arc<ObstacleMesh>],
 ) -> Option<(usize, StartHint)> {
     system.rods.iter().enumerate().find_map(|(r, spec)| {
-        let (start_held, end_held) = (spec.start.support.is_held(), spec.end.support.is_held());
-        let clipped = system.clips.iter().any(|c| c.rod.0 == r);
-        if spec.route.is_some() || !(start_held && end_held || clipped) {
+        if !laid_by_stations(system, r) {
             return None;
         }
         let p = &hanging.rods[r].positions;
